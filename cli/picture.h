@@ -1,0 +1,20 @@
+// A PNG picture of a planar layout: faces coloured by the conformal factor, edges on top.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/compact_mesh.h"
+
+namespace ricci::cli {
+
+//! Renders texture coordinates in [0,1]^2 to a size x size PNG. Faces are coloured by the mean
+//! of the per-vertex value (blue low, red high); edges are drawn when there are few enough.
+//! \throws IoError when the file cannot be written.
+void write_layout_png(const std::string& path, const CompactMesh& mesh,
+                      const std::vector<Eigen::Vector2d>& uv, const Eigen::VectorXd& value,
+                      int size = 800);
+
+}  // namespace ricci::cli

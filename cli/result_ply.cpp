@@ -1,0 +1,87 @@
+#include "result_ply.h"
+
+#include <cstdint>
+#include <fstream>
+#include <limits>
+
+#include "ricci/errors.h"
+
+namespace ricci::cli {
+
+namespace {
+
+class PlyOut {
+ public:
+  PlyOut(std::ofstream& out, bool ascii) : out_(out), ascii_(ascii) {
+    out_.precision(std::numeric_limits<double>::max_digits10);
+  }
+  template <class T>
+  void put(T value) {
+    if (ascii_) {
+      if (!first_) out_ << ' ';
+      if constexpr (sizeof(T) == 1) {
+        out_ << static_cast<int>(value);
+      } else {
+        out_ << value;
+      }
+    } else {
+      out_.write(reinterpret_cast<const char*>(&value), sizeof(T));  // little endian host
+    }
+    first_ = false;
+  }
+  void end_row() {
+    if (ascii_) out_ << '\n';
+    first_ = true;
+  }
+
+ private:
+  std::ofstream& out_;
+  bool ascii_;
+  bool first_ = true;
+};
+
+}  // namespace
+
+void write_result_ply(const std::string& path, const CompactMesh& mesh, const FlowResult& result,
+                      const ResultLayout& layout, bool ascii) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw IoError("cannot write '" + path + "' (missing folder or no permission)");
+  const bool has_layout = !layout.position.empty();
+  const bool has_texture = !layout.texture.empty();
+  out << "ply\nformat " << (ascii ? "ascii" : "binary_little_endian") << " 1.0\n";
+  out << "comment ricci-flow result: unified discrete surface Ricci flow\n";
+  out << "element vertex " << mesh.num_vertices() << "\n";
+  for (const char* p : {"x", "y", "z", "ricci_u", "ricci_radius", "ricci_curvature",
+                        "ricci_target"}) {
+    out << "property double " << p << "\n";
+  }
+  if (has_layout) out << "property double layout_x\nproperty double layout_y\nproperty double layout_z\n";
+  if (has_texture) out << "property float texture_u\nproperty float texture_v\n";
+  out << "element face " << mesh.num_faces() << "\n";
+  out << "property list uchar int vertex_indices\nend_header\n";
+  PlyOut ply(out, ascii);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const Eigen::Vector3d& p = mesh.positions()[v];
+    for (double x : {p.x(), p.y(), p.z(), result.u[v], result.radius[v], result.curvature[v],
+                     result.target[v]}) {
+      ply.put(x);
+    }
+    if (has_layout) {
+      for (int c = 0; c < 3; ++c) ply.put(layout.position[v][c]);
+    }
+    if (has_texture) {
+      ply.put(static_cast<float>(layout.texture[v].x()));
+      ply.put(static_cast<float>(layout.texture[v].y()));
+    }
+    ply.end_row();
+  }
+  for (const auto& t : mesh.faces()) {
+    ply.put(std::uint8_t{3});
+    for (int v : t) ply.put(static_cast<std::int32_t>(v));
+    ply.end_row();
+  }
+  out.flush();
+  if (!out) throw IoError("writing '" + path + "' failed (disk full?)");
+}
+
+}  // namespace ricci::cli

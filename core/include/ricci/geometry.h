@@ -1,0 +1,64 @@
+// The three background geometries E2, H2, S2: the only place where they differ.
+//
+// Edge length law (paper, Section 3, eqn. unified_circle_packing_edge_lengths), written with
+// m = 2 eta e^(ui+uj) + eps_i e^(2ui) + eps_j e^(2uj) in a form free of cancellation:
+//   E2:  l^2          = m
+//   H2:  sinh^2(l/2)  = m / ((1 - eps_i e^(2ui)) (1 - eps_j e^(2uj)))
+//   S2:  sin^2(l/2)   = m / ((1 + eps_i e^(2ui)) (1 + eps_j e^(2uj)))
+// which is the paper's cosh l = ..., cos l = ... after subtracting 1 (see DESIGN.md, section 1).
+#pragma once
+
+#include <array>
+#include <string>
+
+namespace ricci {
+
+enum class Geometry { Euclidean, Hyperbolic, Spherical };
+
+//! "euclidean", "hyperbolic", "spherical".
+std::string to_string(Geometry g);
+
+//! Curvature kappa of the background: 0 (E2), -1 (H2), +1 (S2).
+double background_curvature(Geometry g);
+
+//! u = log r (E2), log tanh(r/2) (H2), log tan(r/2) (S2).
+double conformal_factor_from_radius(Geometry g, double radius);
+
+//! Inverse of conformal_factor_from_radius; NaN where no radius exists (H2 with u >= 0).
+double radius_from_conformal_factor(Geometry g, double u);
+
+//! Length of the edge ij and its partial derivatives in u_i and u_j.
+struct EdgeLength {
+  double length = 0;
+  double d_ui = 0;
+  double d_uj = 0;
+  bool valid = false;  //!< false where the length law has no real positive solution
+};
+
+//! Length of edge ij from the conformal factors, scheme coefficients and conformal structure.
+EdgeLength edge_length(Geometry g, double ui, double uj, int eps_i, int eps_j, double eta);
+
+//! The eta for which edge_length(g, ui, uj, eps_i, eps_j, eta).length == length.
+double conformal_structure_from_length(Geometry g, double length, double ui, double uj, int eps_i,
+                                       int eps_j);
+
+//! Corner angles of one triangle and their derivatives in the edge lengths.
+//! Lengths and angles are indexed by corner: l[k] is the edge opposite corner k.
+struct TriangleAngles {
+  std::array<double, 3> angle{};
+  std::array<std::array<double, 3>, 3> d_angle_d_length{};  //!< [corner][edge]
+  bool valid = false;  //!< false when the triangle inequality (or S2's perimeter < 2 pi) fails
+};
+
+//! True when the three lengths form a non-degenerate triangle of the geometry.
+bool is_valid_triangle(Geometry g, const std::array<double, 3>& l);
+
+//! Corner angles from the cosine law of the geometry, by the half-angle formula.
+TriangleAngles corner_angles(Geometry g, const std::array<double, 3>& l);
+
+//! Area of a triangle with the given lengths and angles: Heron (E2), angle defect (H2),
+//! angle excess (S2).
+double triangle_area(Geometry g, const std::array<double, 3>& l,
+                     const std::array<double, 3>& angle);
+
+}  // namespace ricci

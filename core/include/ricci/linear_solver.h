@@ -1,0 +1,47 @@
+// Sparse symmetric positive definite solves: CHOLMOD (default) or Eigen's SimplicialLDLT.
+// Symbolic analysis once per sparsity pattern, numeric factorization per call.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace ricci {
+
+enum class LinearSolverKind { Cholmod, Ldlt };
+
+std::string to_string(LinearSolverKind k);
+//! "cholmod" or "ldlt". \throws InvalidArgumentError otherwise.
+LinearSolverKind linear_solver_from_string(const std::string& name);
+
+class LinearSolver {
+ public:
+  explicit LinearSolver(LinearSolverKind kind);
+  ~LinearSolver();
+  LinearSolver(const LinearSolver&) = delete;
+  LinearSolver& operator=(const LinearSolver&) = delete;
+
+  //! Symbolic analysis (fill-reducing ordering); call again only when the pattern changes.
+  void analyze(const Eigen::SparseMatrix<double>& a);
+  //! Numeric factorization of a + shift I. Returns false when it is not positive definite.
+  //! \pre analyze() was called with a matrix of the same pattern.
+  bool factorize(const Eigen::SparseMatrix<double>& a, double shift = 0);
+  //! Solves with the last successful factorization.
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
+
+  LinearSolverKind kind() const { return kind_; }
+  int num_analyses() const { return num_analyses_; }
+  int num_factorizations() const { return num_factorizations_; }
+
+ private:
+  struct Impl;
+  LinearSolverKind kind_;
+  std::unique_ptr<Impl> impl_;
+  int num_analyses_ = 0;
+  int num_factorizations_ = 0;
+};
+
+}  // namespace ricci

@@ -1,0 +1,37 @@
+// The discrete metric at a conformal factor u: edge lengths, corner angles and their
+// derivatives, evaluated once per Newton iterate and shared by curvature and Hessian.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/compact_mesh.h"
+#include "ricci/geometry.h"
+#include "ricci/scheme.h"
+
+namespace ricci {
+
+struct MetricState {
+  std::vector<EdgeLength> edges;      //!< per edge: l and dl/du at both endpoints
+  std::vector<TriangleAngles> faces;  //!< per face: corner angles and d angle / d l
+  int num_invalid_edges = 0;          //!< edges whose length law has no solution
+  int num_invalid_faces = 0;          //!< faces violating the triangle inequality
+  int first_invalid_face = -1;
+  bool valid() const { return num_invalid_edges == 0 && num_invalid_faces == 0; }
+  //! Edge lengths as a plain array.
+  std::vector<double> lengths() const;
+};
+
+//! Lengths and angles of the circle packing metric (eps, eta, u).
+MetricState evaluate_metric(const CompactMesh& mesh, const ConformalStructure& structure,
+                            const Eigen::VectorXd& u);
+
+//! Discrete Gauss curvature: 2 pi - sum of angles inside, pi - sum on the boundary.
+//! \pre state.valid()
+Eigen::VectorXd curvature(const CompactMesh& mesh, const MetricState& state);
+
+//! Total area of the metric in its background geometry. \pre state.valid()
+double total_area(const CompactMesh& mesh, Geometry geometry, const MetricState& state);
+
+}  // namespace ricci

@@ -1,0 +1,85 @@
+// Newton's method on the Ricci energy: the one algorithm behind all 18 schemes.
+//
+//   solve H du = Kbar - K over the free vertices, u += alpha du,
+// with H = dK/du (hessian.h), alpha from a backtracking line search on |Kbar - K|^2 that never
+// leaves the set where every triangle is valid. E2 fixes the scaling gauge by pinning one vertex
+// when no u is held fixed; S2, whose Hessian is indefinite and singular along the sphere's
+// Moebius maps at the solution, takes Levenberg-Marquardt steps (H^2 + mu I) du = H (Kbar - K).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/compact_mesh.h"
+#include "ricci/linear_solver.h"
+#include "ricci/scheme.h"
+#include "ricci/target.h"
+
+namespace ricci {
+
+struct FlowProgress {
+  int iteration = 0;
+  double residual = 0;  //!< max |K - Kbar| over the vertices with a curvature target
+};
+
+struct FlowOptions {
+  double tolerance = 1e-10;  //!< converged when max |K - Kbar| <= tolerance
+  int max_iterations = 100;  //!< Newton iterations
+  LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
+  int max_step_halvings = 40;  //!< line search: smallest step is 2^-max_step_halvings
+  //! Called once per iteration; returning false cancels the flow.
+  std::function<bool(const FlowProgress&)> progress;
+};
+
+//! Wall-clock seconds per phase.
+struct FlowTimes {
+  double setup = 0, assembly = 0, analysis = 0, factorization = 0, solve = 0, line_search = 0,
+         total = 0;
+};
+
+struct FlowResult {
+  bool converged = false;
+  std::string failure;  //!< why the flow stopped, when !converged
+
+  Eigen::VectorXd u;          //!< conformal factor per vertex
+  Eigen::VectorXd radius;     //!< circle radius r(u) of the geometry; NaN where undefined
+  Eigen::VectorXd curvature;  //!< K of the result
+  Eigen::VectorXd target;     //!< Kbar; NaN where u was held fixed
+  std::vector<double> edge_lengths;
+  double area = 0;  //!< total area in the background geometry
+
+  int iterations = 0;
+  double residual = 0;  //!< max |K - Kbar| at the end
+  std::vector<double> residual_history;  //!< residual before each iteration, and at the end
+  std::vector<double> step_history;      //!< accepted step length alpha per iteration
+  int num_analyses = 0, num_factorizations = 0;
+  FlowTimes times;
+};
+
+//! The length scale applied to the input before initialization: 1 in E2; in H2 and S2 the scale
+//! giving the area Gauss-Bonnet asks for (area 1 when fixed vertices leave it open), reduced in
+//! S2 until every triangle's perimeter is at most pi.
+double initial_length_scale(const CompactMesh& mesh, Geometry geometry,
+                            const TargetCurvature& target);
+
+//! Checks the target and builds the scheme's initial structure at initial_length_scale().
+//! \throws InvalidTargetError, InvalidArgumentError
+ConformalStructure prepare_flow(const CompactMesh& mesh, Geometry geometry,
+                                const SchemeOptions& scheme, const TargetCurvature& target);
+
+//! Runs the flow from structure.u0. Never throws for non-convergence: the result says why.
+//! \throws InvalidTargetError, InvalidArgumentError for inputs that admit no flow.
+FlowResult run_ricci_flow(const CompactMesh& mesh, const ConformalStructure& structure,
+                          const TargetCurvature& target, const FlowOptions& options = {});
+
+//! One call for the common case: prepare_flow, run_ricci_flow.
+//! \throws ConvergenceError when the flow does not reach the tolerance, and what
+//!   prepare_flow throws.
+FlowResult compute_ricci_flow(const CompactMesh& mesh, Geometry geometry,
+                              const SchemeOptions& scheme, const TargetCurvature& target,
+                              const FlowOptions& options = {});
+
+}  // namespace ricci

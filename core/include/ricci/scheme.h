@@ -1,0 +1,63 @@
+// The six schemes as data: per-vertex eps in {+1, 0, -1}, per-edge eta, and the
+// initial conformal factor u0 (paper, Section 3 table; Appendix Step 1).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/compact_mesh.h"
+#include "ricci/geometry.h"
+
+namespace ricci {
+
+enum class Scheme {
+  Tangential,         //!< eps = +1, eta = 1
+  Thurston,           //!< eps = +1, eta = cos(Phi)
+  InversiveDistance,  //!< eps = +1, eta from the input lengths
+  Yamabe,             //!< eps = 0, eta from the input lengths
+  VirtualRadius,      //!< eps = -1, eta from the input lengths
+  Mixed,              //!< eps per vertex (caller), eta from the input lengths
+};
+
+//! "tangential", "thurston", "inversive-distance", "yamabe", "virtual-radius", "mixed".
+std::string to_string(Scheme s);
+//! Inverse of to_string. \throws InvalidArgumentError for an unknown name.
+Scheme scheme_from_string(const std::string& name);
+Geometry geometry_from_string(const std::string& name);
+
+//! True for the schemes whose initial metric reproduces the input lengths.
+bool reproduces_input_lengths(Scheme s);
+
+struct SchemeOptions {
+  Scheme scheme = Scheme::Yamabe;
+  //! Thurston's intersection angle Phi in radians, in [0, pi/2].
+  double intersection_angle = 1.0471975511965976;  // pi / 3
+  //! Mixed scheme: eps per vertex, each +1, 0 or -1.
+  std::vector<int> eps;
+  //! Virtual radius (eps = -1) and eps = 0 vertices of the mixed scheme: initial radius as a
+  //! fraction of the median length of the vertex's edges (DESIGN.md: 0.3 converged, 1 stalled).
+  double virtual_radius_fraction = 0.3;
+};
+
+//! A circle packing metric up to the conformal factor: (eps, eta) and the starting u.
+struct ConformalStructure {
+  Geometry geometry = Geometry::Euclidean;
+  std::vector<int> eps;        //!< per vertex
+  std::vector<double> eta;     //!< per edge
+  Eigen::VectorXd u0;          //!< initial conformal factor per vertex
+  double length_scale = 1;     //!< input lengths were multiplied by this (H2, S2)
+};
+
+//! Builds eps, eta and u0 for the scheme from the mesh's input lengths times length_scale.
+//! Inversive distance: r = min incident length / 3; Yamabe: u = 0 (E2) or r = the median incident
+//! length (H2, S2); virtual radius: r = virtual_radius_fraction x median incident length;
+//! tangential and Thurston: radii fitted to the input lengths (their eta is prescribed, so the
+//! input metric is not reproduced). eta then solves the length law exactly.
+//! \pre length_scale > 0, and in S2 every scaled triangle has perimeter below 2 pi.
+//! \throws InvalidArgumentError for a bad angle or eps array.
+ConformalStructure initialize_scheme(const CompactMesh& mesh, Geometry geometry,
+                                     const SchemeOptions& options, double length_scale = 1);
+
+}  // namespace ricci

@@ -1,0 +1,48 @@
+// Target curvature Kbar and the vertices whose conformal factor is held fixed instead.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/compact_mesh.h"
+#include "ricci/geometry.h"
+
+namespace ricci {
+
+struct TargetCurvature {
+  //! Kbar per vertex; ignored (and reported as NaN) where the vertex is fixed.
+  Eigen::VectorXd curvature;
+  //! Per vertex: 1 where u keeps its initial value instead of reaching a curvature.
+  std::vector<char> fixed;
+
+  bool is_fixed(int v) const { return fixed[v] != 0; }
+  int num_fixed() const;
+
+  //! Kbar = 0 at every vertex (closed surfaces: flat torus, hyperbolic metric, round sphere).
+  static TargetCurvature zero(const CompactMesh& mesh);
+  //! u fixed on the boundary (boundary lengths kept), Kbar = 0 inside: least area distortion.
+  static TargetCurvature free_boundary(const CompactMesh& mesh);
+  //! Explicit Kbar per vertex; NaN entries mean "u fixed at this vertex".
+  static TargetCurvature from_values(const CompactMesh& mesh, const Eigen::VectorXd& values);
+  //! free_boundary on surfaces with boundary, zero on closed ones.
+  static TargetCurvature automatic(const CompactMesh& mesh);
+};
+
+//! Checks that a solution can exist: sizes, finite values, Kbar < 2 pi inside and < pi on the
+//! boundary, and, when every vertex has a curvature target, discrete Gauss-Bonnet
+//! sum Kbar + kappa A = 2 pi chi with a positive area A in H2 and S2.
+//! \throws InvalidTargetError naming the violated condition and what to change.
+void check_target(const CompactMesh& mesh, Geometry geometry, const TargetCurvature& target);
+
+//! The area Gauss-Bonnet asks of the result: |2 pi chi - sum Kbar| in H2 and S2 when every
+//! vertex has a curvature target, 0 when the area is not determined (E2, or fixed vertices).
+double gauss_bonnet_area(const CompactMesh& mesh, Geometry geometry,
+                         const TargetCurvature& target);
+
+//! The geometry suited to the topology: S2 for closed genus 0, H2 for closed genus >= 2,
+//! E2 otherwise (torus, and every surface with boundary).
+Geometry automatic_geometry(const CompactMesh& mesh);
+
+}  // namespace ricci

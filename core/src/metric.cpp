@@ -1,0 +1,59 @@
+#include "ricci/metric.h"
+
+namespace ricci {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+std::vector<double> MetricState::lengths() const {
+  std::vector<double> l(edges.size());
+  for (size_t e = 0; e < edges.size(); ++e) l[e] = edges[e].length;
+  return l;
+}
+
+MetricState evaluate_metric(const CompactMesh& mesh, const ConformalStructure& structure,
+                            const Eigen::VectorXd& u) {
+  MetricState state;
+  const Geometry g = structure.geometry;
+  state.edges.resize(mesh.num_edges());
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const auto [i, j] = mesh.edge_vertices(e);
+    state.edges[e] =
+        edge_length(g, u[i], u[j], structure.eps[i], structure.eps[j], structure.eta[e]);
+    if (!state.edges[e].valid) ++state.num_invalid_edges;
+  }
+  state.faces.resize(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const std::array<double, 3> l = {state.edges[mesh.face_edge(f, 0)].length,
+                                     state.edges[mesh.face_edge(f, 1)].length,
+                                     state.edges[mesh.face_edge(f, 2)].length};
+    state.faces[f] = corner_angles(g, l);
+    if (!state.faces[f].valid) {
+      if (state.num_invalid_faces++ == 0) state.first_invalid_face = f;
+    }
+  }
+  return state;
+}
+
+Eigen::VectorXd curvature(const CompactMesh& mesh, const MetricState& state) {
+  Eigen::VectorXd k(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) k[v] = mesh.is_boundary_vertex(v) ? kPi : 2 * kPi;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) k[mesh.face_vertex(f, c)] -= state.faces[f].angle[c];
+  }
+  return k;
+}
+
+double total_area(const CompactMesh& mesh, Geometry geometry, const MetricState& state) {
+  double area = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const std::array<double, 3> l = {state.edges[mesh.face_edge(f, 0)].length,
+                                     state.edges[mesh.face_edge(f, 1)].length,
+                                     state.edges[mesh.face_edge(f, 2)].length};
+    area += triangle_area(geometry, l, state.faces[f].angle);
+  }
+  return area;
+}
+
+}  // namespace ricci

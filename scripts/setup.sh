@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# One-command setup for a Debian 12 machine (run as root, or with sudo available).
+# Installs the Debian packages the project needs and fetches, into ignored folders,
+# MeshLab's source package (headers and vcglib) and the CGAL CC0 mesh data set.
+# Idempotent: when everything is present it returns in about a second.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+third_party="$here/third_party"
+meshlab_version="2020.09+dfsg1-2"
+cgal_demo_package="libcgal-demo"
+
+packages=(
+  build-essential cmake pkg-config dpkg-dev clang-format
+  libeigen3-dev libsuitesparse-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev
+  "meshlab=$meshlab_version"
+  xvfb xauth xdotool x11-apps imagemagick
+  python3 python3-numpy
+)
+
+as_root() {
+  if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
+}
+
+missing_packages() {
+  local p name
+  for p in "${packages[@]}"; do
+    name=${p%%=*}
+    dpkg-query -W -f='${Status}' "$name" 2>/dev/null | grep -q "install ok installed" || echo "$p"
+  done
+}
+
+# --- Debian packages
+missing=$(missing_packages)
+if [ -n "$missing" ]; then
+  echo "setup: installing Debian packages: $(echo $missing)"
+  as_root apt-get update -qq
+  # shellcheck disable=SC2086
+  DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq --no-install-recommends $missing
+fi
+
+# --- deb-src lines, derived from the machine's own sources file (no address is written here)
+ensure_deb_src() {
+  local own=/etc/apt/sources.list.d/debian.sources
+  local src=/etc/apt/sources.list.d/ricci-flow-deb-src.sources
+  if [ -f "$src" ] || grep -qs '^Types:.*deb-src' "$own"; then return; fi
+  if [ ! -f "$own" ]; then
+    echo "setup: $own not found; add deb-src lines for bookworm by hand and rerun" >&2
+    exit 1
+  fi
+  sed -e 's/^Types:.*/Types: deb-src/' "$own" | as_root tee "$src" >/dev/null
+  as_root apt-get update -qq
+}
+
+# --- MeshLab's source package, exactly the installed version (headers and vcglib)
+meshlab_src="$third_party/meshlab"
+if [ ! -f "$meshlab_src/.complete" ]; then
+  ensure_deb_src
+  rm -rf "$meshlab_src" && mkdir -p "$meshlab_src"
+  echo "setup: fetching meshlab=$meshlab_version source into $meshlab_src"
+  (cd "$meshlab_src" && apt-get source -qq "meshlab=$meshlab_version" >/dev/null)
+  dir=$(find "$meshlab_src" -maxdepth 1 -mindepth 1 -type d -name 'meshlab-*' | head -1)
+  [ -d "$dir/vcglib" ] || { echo "setup: $dir has no vcglib/" >&2; exit 1; }
+  ln -sfn "$(basename "$dir")" "$meshlab_src/source"
+  touch "$meshlab_src/.complete"
+fi
+
+# --- CGAL's CC0 mesh data set (real meshes of every topology), for tests and benchmarks
+cgal_data="$third_party/cgal-data"
+if [ ! -f "$cgal_data/.complete" ]; then
+  rm -rf "$cgal_data" && mkdir -p "$cgal_data"
+  echo "setup: fetching $cgal_demo_package's mesh data set into $cgal_data"
+  (cd "$cgal_data" && apt-get download -qq "$cgal_demo_package" >/dev/null)
+  deb=$(ls "$cgal_data"/${cgal_demo_package}_*.deb | head -1)
+  dpkg-deb -x "$deb" "$cgal_data/pkg"
+  tarball=$(find "$cgal_data/pkg" -name 'data.tar.gz' | head -1)
+  if [ -z "$tarball" ]; then
+    echo "setup: $deb has no data.tar.gz" >&2
+    exit 1
+  fi
+  tar -xzf "$tarball" -C "$cgal_data" data/meshes
+  rm -rf "$cgal_data/pkg" "$deb"
+  touch "$cgal_data/.complete"
+fi
