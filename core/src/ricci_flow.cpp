@@ -84,6 +84,7 @@ class NewtonSolver {
   SparseMatrix normal_matrix_;  // S2: H^2
   bool analyzed_ = false;
   double lm_weight_ = 1;  // S2: mu = lm_weight * |r|
+  int short_steps_ = 0;   // consecutive iterations whose step was cut by invalid triangles
   FlowTimes times_;
 };
 
@@ -205,6 +206,7 @@ FlowResult NewtonSolver::run() {
     const double phi = 0.5 * r.squaredNorm();
     double alpha = 1;
     bool accepted = false;
+    bool blocked_by_validity = false;  // a longer step left the valid set
     MetricState trial_state;
     Eigen::VectorXd trial_u = u;
     Eigen::VectorXd trial_k;
@@ -213,7 +215,10 @@ FlowResult NewtonSolver::run() {
         if (free_index_[v] >= 0) trial_u[v] = u[v] + alpha * du[free_index_[v]];
       }
       trial_state = evaluate_metric(mesh_, structure_, trial_u);
-      if (!trial_state.valid()) continue;
+      if (!trial_state.valid()) {
+        blocked_by_validity = true;
+        continue;
+      }
       trial_k = curvature(mesh_, trial_state);
       const double trial_phi =
           0.5 * free_residual(trial_k, target_, free_index_, n).squaredNorm();
@@ -230,6 +235,23 @@ FlowResult NewtonSolver::run() {
       if (!trial_state.valid()) s << " while keeping every triangle valid (" << describe_invalid(trial_state) << ")";
       s << "; the solution may not exist on this triangulation (edge flips help), or try "
            "another scheme";
+      result.failure = s.str();
+      break;
+    }
+    // Steps cut short by degenerating triangles for many iterations with little progress:
+    // the flow is running into the boundary of the valid set, where no solution lies.
+    constexpr int kStallWindow = 10;
+    short_steps_ = (blocked_by_validity && alpha <= 1.0 / 64) ? short_steps_ + 1 : 0;
+    if (short_steps_ >= kStallWindow &&
+        result.residual > 0.5 * result.residual_history[result.residual_history.size() - kStallWindow]) {
+      std::ostringstream s;
+      s << "stalled at iteration " << it << ": for " << kStallWindow
+        << " iterations the step was cut below 1/64 to keep triangles from degenerating, and "
+           "max |K - Kbar| only went from "
+        << result.residual_history[result.residual_history.size() - kStallWindow] << " to "
+        << result.residual
+        << "; the target is not reachable on this triangulation (edge flips help), or try the "
+           "tangential scheme, whose triangles are always valid";
       result.failure = s.str();
       break;
     }

@@ -1,0 +1,105 @@
+#include "test_meshes.h"
+
+#include <cmath>
+#include <map>
+
+#include "ricci/mesh_io.h"
+
+namespace ricci::test {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+CompactMesh bumpy_disk(int n) {
+  // The square grid on [-1,1]^2 mapped onto the unit disk by the elliptical grid map.
+  CompactMesh grid = square_grid(n);
+  std::vector<Eigen::Vector3d> p = grid.positions();
+  for (auto& q : p) {
+    const double x = 2 * q.x() - 1, y = 2 * q.y() - 1;
+    const double u = x * std::sqrt(1 - y * y / 2), v = y * std::sqrt(1 - x * x / 2);
+    q = Eigen::Vector3d(u, v, 0.3 * std::exp(-2 * (u * u + v * v)));
+  }
+  return CompactMesh(p, grid.faces());
+}
+
+CompactMesh square_grid(int n) {
+  std::vector<Eigen::Vector3d> p;
+  std::vector<std::array<int, 3>> f;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) p.emplace_back(double(i) / n, double(j) / n, 0.0);
+  }
+  auto id = [n](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      f.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      f.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return CompactMesh(p, f);
+}
+
+CompactMesh torus(int n, int m, double major, double minor) {
+  std::vector<Eigen::Vector3d> p;
+  std::vector<std::array<int, 3>> f;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const double a = 2 * kPi * i / n, b = 2 * kPi * j / m;
+      p.emplace_back((major + minor * std::cos(b)) * std::cos(a),
+                     (major + minor * std::cos(b)) * std::sin(a), minor * std::sin(b));
+    }
+  }
+  auto id = [n, m](int i, int j) { return ((i + n) % n) * m + (j + m) % m; };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      f.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      f.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return CompactMesh(p, f);
+}
+
+CompactMesh ellipsoid(int levels, double a, double b, double c) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Eigen::Vector3d> p = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0},
+                                    {0, -1, t}, {0, 1, t},  {0, -1, -t}, {0, 1, -t},
+                                    {t, 0, -1}, {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (auto& q : p) q.normalize();
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<int, int>, int> midpoint;
+    auto mid = [&](int i, int j) {
+      const auto key = std::minmax(i, j);
+      auto it = midpoint.find(key);
+      if (it != midpoint.end()) return it->second;
+      p.push_back((p[i] + p[j]).normalized());
+      return midpoint[key] = static_cast<int>(p.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> g;
+    for (const auto& t3 : f) {
+      const int ab = mid(t3[0], t3[1]), bc = mid(t3[1], t3[2]), ca = mid(t3[2], t3[0]);
+      g.push_back({t3[0], ab, ca});
+      g.push_back({t3[1], bc, ab});
+      g.push_back({t3[2], ca, bc});
+      g.push_back({ab, bc, ca});
+    }
+    f = g;
+  }
+  for (auto& q : p) q = Eigen::Vector3d(a * q.x(), b * q.y(), c * q.z());
+  return CompactMesh(p, f);
+}
+
+std::string cgal_mesh_path(const std::string& name) {
+  return std::string(RICCI_CGAL_DATA_DIR) + "/" + name;
+}
+
+CompactMesh cgal_mesh(const std::string& name) {
+  VcgMesh m;
+  read_mesh(cgal_mesh_path(name), m);
+  return compact_mesh_from_vcg(m);
+}
+
+}  // namespace ricci::test

@@ -1,0 +1,24 @@
+// Meshes shared by the tests: generated smooth meshes of each topology, and real meshes from
+// the CC0 data set of Debian's libcgal-demo (fetched by scripts/setup.sh).
+#pragma once
+
+#include <string>
+
+#include "ricci/compact_mesh.h"
+
+namespace ricci::test {
+
+//! A bumpy disk: an n x n grid mapped onto the unit disk, lifted to z = 0.3 exp(-2 r^2).
+CompactMesh bumpy_disk(int n);
+//! The planar square [0,1]^2 split into n x n cells of two triangles.
+CompactMesh square_grid(int n);
+//! A torus of revolution, n x m quads split into triangles.
+CompactMesh torus(int n, int m, double major = 1.0, double minor = 0.4);
+//! An icosahedron subdivided `levels` times and projected to an ellipsoid with semi-axes a, b, c.
+CompactMesh ellipsoid(int levels, double a = 1.0, double b = 1.0, double c = 1.0);
+//! A mesh from the CGAL data set, e.g. "eight.off".
+CompactMesh cgal_mesh(const std::string& name);
+//! Path of a file in the CGAL data set.
+std::string cgal_mesh_path(const std::string& name);
+
+}  // namespace ricci::test
