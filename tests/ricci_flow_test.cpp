@@ -1,1 +1,287 @@
+// The flow itself: convergence of every geometry and scheme on smooth meshes of a topology that
+// admits them, quadratic convergence (few Newton iterations), Gauss-Bonnet, and the invariants
+// of each scheme checked independently of the solver.
+#include "ricci/ricci_flow.h"
+
+#include <cmath>
+#include <map>
+
 #include <gtest/gtest.h>
+
+#include "ricci/errors.h"
+#include "ricci/metric.h"
+#include "test_meshes.h"
+
+namespace ricci {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+const Scheme kSchemes[] = {Scheme::Tangential, Scheme::Thurston,      Scheme::InversiveDistance,
+                           Scheme::Yamabe,     Scheme::VirtualRadius, Scheme::Mixed};
+
+SchemeOptions options_for(Scheme scheme, const CompactMesh& mesh) {
+  SchemeOptions o;
+  o.scheme = scheme;
+  o.eps.resize(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) o.eps[v] = v % 3 - 1;
+  return o;
+}
+
+void expect_gauss_bonnet(const CompactMesh& mesh, Geometry g, const FlowResult& r) {
+  const double lhs = r.curvature.sum() + background_curvature(g) * r.area;
+  EXPECT_NEAR(lhs, 2 * kPi * mesh.euler_characteristic(), 1e-9);
+}
+
+// One Newton run on mesh, recorded as a test property; asserts convergence in few iterations.
+FlowResult expect_converges(const std::string& mesh_name, const CompactMesh& mesh, Geometry g,
+                            Scheme scheme, const TargetCurvature& target, int max_iterations) {
+  FlowOptions options;
+  options.tolerance = 1e-10;
+  const FlowResult r = compute_ricci_flow(mesh, g, options_for(scheme, mesh), target, options);
+  EXPECT_TRUE(r.converged);
+  EXPECT_LE(r.residual, 1e-9);
+  EXPECT_LE(r.iterations, max_iterations)
+      << mesh_name << " " << to_string(g) << " " << to_string(scheme) << ": Newton should converge quadratically";
+  std::printf("[ newton   ] %-16s %-10s %-18s %d iterations, max |K - Kbar| = %.1e\n", mesh_name.c_str(),
+              to_string(g).c_str(), to_string(scheme).c_str(), r.iterations, r.residual);
+  ::testing::Test::RecordProperty(mesh_name + "_" + to_string(g) + "_" + to_string(scheme), r.iterations);
+  expect_gauss_bonnet(mesh, g, r);
+  EXPECT_EQ(r.num_analyses, 1) << "symbolic factorization once per connectivity";
+  EXPECT_GE(r.num_factorizations, r.iterations);
+  return r;
+}
+
+// Radius from u by the geometry's own formula, written out here independently of the library.
+double radius_of(Geometry g, double u) {
+  if (g == Geometry::Euclidean) return std::exp(u);
+  if (g == Geometry::Hyperbolic) return 2 * std::atanh(std::exp(u));
+  return 2 * std::atan(std::exp(u));
+}
+
+TEST(RicciFlow, EverySchemeConvergesOnDisksInE2) {
+  const std::map<std::string, CompactMesh> meshes = {{"bumpy_disk", test::bumpy_disk(16)},
+                                                     {"nefertiti", test::cgal_mesh("nefertiti.off")}};
+  for (const auto& [name, mesh] : meshes) {
+    for (Scheme s : kSchemes) {
+      const FlowResult r = expect_converges(name, mesh, Geometry::Euclidean, s,
+                                            TargetCurvature::free_boundary(mesh), 8);
+      // Free boundary: u keeps its initial value on the boundary, so boundary lengths of the
+      // schemes that reproduce the input stay those of the input.
+      if (reproduces_input_lengths(s)) {
+        for (int e = 0; e < mesh.num_edges(); ++e) {
+          if (mesh.is_boundary_edge(e)) {
+            EXPECT_NEAR(r.edge_lengths[e] / mesh.input_lengths()[e], 1.0, 1e-12);
+          }
+        }
+      }
+      for (int v = 0; v < mesh.num_vertices(); ++v) {
+        EXPECT_EQ(std::isnan(r.target[v]), mesh.is_boundary_vertex(v));
+      }
+    }
+  }
+}
+
+TEST(RicciFlow, EverySchemeConvergesOnTorusInE2) {
+  const CompactMesh mesh = test::torus(24, 12);
+  for (Scheme s : kSchemes) {
+    const FlowResult r = expect_converges("torus", mesh, Geometry::Euclidean, s, TargetCurvature::zero(mesh), 8);
+    // E2 gauge: the result is scaled to the input's area.
+    EXPECT_NEAR(r.area / mesh.input_area(), 1.0, 1e-10);
+  }
+}
+
+TEST(RicciFlow, EverySchemeConvergesOnGenusTwoInH2) {
+  const CompactMesh mesh = test::cgal_mesh("eight.off");
+  for (Scheme s : kSchemes) {
+    const FlowResult r = expect_converges("eight", mesh, Geometry::Hyperbolic, s, TargetCurvature::zero(mesh), 8);
+    EXPECT_NEAR(r.area, 4 * kPi, 1e-8);  // -2 pi chi
+  }
+}
+
+TEST(RicciFlow, EverySchemeConvergesOnGenusZeroInS2) {
+  const std::map<std::string, CompactMesh> meshes = {{"ellipsoid", test::ellipsoid(3, 1.0, 0.8, 0.7)},
+                                                     {"sphere", test::cgal_mesh("sphere.off")}};
+  for (const auto& [name, mesh] : meshes) {
+    for (Scheme s : kSchemes) {
+      const FlowResult r = expect_converges(name, mesh, Geometry::Spherical, s, TargetCurvature::zero(mesh), 10);
+      EXPECT_NEAR(r.area, 4 * kPi, 1e-8);
+    }
+  }
+}
+
+TEST(RicciFlow, YamabePreservesLengthCrossRatios) {
+  // l_ij = e^((ui+uj)/2) L_ij: the cross-ratio of every interior edge's quadrilateral is kept.
+  const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
+  const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh),
+                                          TargetCurvature::free_boundary(mesh));
+  auto cross_ratio = [&](const std::vector<double>& l, int h) {
+    const int t = mesh.twin(h);
+    const int f = h / 3, g = t / 3, c = h % 3, d = t % 3;
+    // Face f: edges (c+1), (c+2) around; face g likewise.
+    return (l[mesh.face_edge(f, (c + 1) % 3)] * l[mesh.face_edge(g, (d + 1) % 3)]) /
+           (l[mesh.face_edge(f, (c + 2) % 3)] * l[mesh.face_edge(g, (d + 2) % 3)]);
+  };
+  int checked = 0;
+  for (int h = 0; h < mesh.num_halfedges(); ++h) {
+    if (mesh.twin(h) < 0) continue;
+    EXPECT_NEAR(cross_ratio(r.edge_lengths, h) / cross_ratio(mesh.input_lengths(), h), 1.0, 1e-9);
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000);
+  // And the result really moved away from the input.
+  double max_change = 0;
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    max_change = std::max(max_change, std::abs(r.edge_lengths[e] / mesh.input_lengths()[e] - 1));
+  }
+  EXPECT_GT(max_change, 0.1);
+}
+
+TEST(RicciFlow, TangentialPackingsTouchInEveryGeometry) {
+  struct Case {
+    Geometry g;
+    CompactMesh mesh;
+  };
+  const Case cases[] = {{Geometry::Euclidean, test::torus(16, 8)},
+                        {Geometry::Hyperbolic, test::cgal_mesh("eight.off")},
+                        {Geometry::Spherical, test::ellipsoid(2)}};
+  for (const auto& c : cases) {
+    const FlowResult r = compute_ricci_flow(c.mesh, c.g, options_for(Scheme::Tangential, c.mesh),
+                                            TargetCurvature::zero(c.mesh));
+    for (int e = 0; e < c.mesh.num_edges(); ++e) {
+      const auto [i, j] = c.mesh.edge_vertices(e);
+      EXPECT_NEAR(r.edge_lengths[e], radius_of(c.g, r.u[i]) + radius_of(c.g, r.u[j]), 1e-12 * (1 + r.edge_lengths[e]));
+    }
+  }
+}
+
+TEST(RicciFlow, InversiveDistanceIsPreserved) {
+  // The classical inversive distance of two circles, from the result's lengths and radii:
+  //   E2: l^2 = ri^2 + rj^2 + 2 I ri rj;  H2: cosh l = cosh ri cosh rj + I sinh ri sinh rj;
+  //   S2: cos l = cos ri cos rj - I sin ri sin rj.  It must equal the initial eta.
+  struct Case {
+    Geometry g;
+    CompactMesh mesh;
+  };
+  const Case cases[] = {{Geometry::Euclidean, test::cgal_mesh("nefertiti.off")},
+                        {Geometry::Hyperbolic, test::cgal_mesh("eight.off")},
+                        {Geometry::Spherical, test::ellipsoid(2, 1.0, 0.9, 0.8)}};
+  for (const auto& c : cases) {
+    const SchemeOptions options = options_for(Scheme::InversiveDistance, c.mesh);
+    const TargetCurvature target = TargetCurvature::automatic(c.mesh);
+    const ConformalStructure s = prepare_flow(c.mesh, c.g, options, target);
+    const FlowResult r = run_ricci_flow(c.mesh, s, target);
+    ASSERT_TRUE(r.converged) << r.failure;
+    for (int e = 0; e < c.mesh.num_edges(); ++e) {
+      const auto [i, j] = c.mesh.edge_vertices(e);
+      const double ri = radius_of(c.g, r.u[i]), rj = radius_of(c.g, r.u[j]), l = r.edge_lengths[e];
+      double inversive;
+      if (c.g == Geometry::Euclidean) {
+        inversive = (l * l - ri * ri - rj * rj) / (2 * ri * rj);
+      } else if (c.g == Geometry::Hyperbolic) {
+        inversive = (std::cosh(l) - std::cosh(ri) * std::cosh(rj)) / (std::sinh(ri) * std::sinh(rj));
+      } else {
+        inversive = (std::cos(ri) * std::cos(rj) - std::cos(l)) / (std::sin(ri) * std::sin(rj));
+      }
+      EXPECT_NEAR(inversive / s.eta[e], 1.0, 1e-8) << to_string(c.g) << " edge " << e;
+    }
+  }
+}
+
+TEST(RicciFlow, PrescribedBoundaryCurvatureOnADisk) {
+  // Every boundary vertex gets an equal share of 2 pi, interior flat: a disk-like polygon.
+  const CompactMesh mesh = test::bumpy_disk(12);
+  TargetCurvature target = TargetCurvature::zero(mesh);
+  int nb = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) nb += mesh.is_boundary_vertex(v);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (mesh.is_boundary_vertex(v)) target.curvature[v] = 2 * kPi / nb;
+  }
+  const FlowResult r = expect_converges("bumpy_disk", mesh, Geometry::Euclidean, Scheme::Yamabe, target, 10);
+  for (int v = 0; v < mesh.num_vertices(); ++v) EXPECT_FALSE(std::isnan(r.target[v]));
+}
+
+TEST(RicciFlow, LdltAndCholmodAgree) {
+  const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
+  FlowOptions cholmod, ldlt;
+  ldlt.linear_solver = LinearSolverKind::Ldlt;
+  const auto target = TargetCurvature::free_boundary(mesh);
+  const FlowResult a = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), target, cholmod);
+  const FlowResult b = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), target, ldlt);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_LE((a.u - b.u).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+TEST(RicciFlow, ResultHasHistoryAndTimings) {
+  const CompactMesh mesh = test::bumpy_disk(10);
+  int calls = 0;
+  FlowOptions options;
+  options.progress = [&](const FlowProgress&) { return ++calls > 0; };
+  const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh),
+                                          TargetCurvature::free_boundary(mesh), options);
+  EXPECT_EQ(static_cast<int>(r.residual_history.size()), r.iterations + 1);
+  EXPECT_EQ(static_cast<int>(r.step_history.size()), r.iterations);
+  EXPECT_EQ(calls, r.iterations + 1);
+  // The merit line search makes the residual fall at every iteration.
+  for (size_t i = 1; i < r.residual_history.size(); ++i) {
+    EXPECT_LT(r.residual_history[i], r.residual_history[i - 1]);
+  }
+  EXPECT_GT(r.times.total, 0.0);
+  EXPECT_GE(r.times.total, r.times.factorization);
+}
+
+TEST(RicciFlow, CancelStopsTheFlow) {
+  const CompactMesh mesh = test::bumpy_disk(10);
+  FlowOptions options;
+  options.progress = [](const FlowProgress& p) { return p.iteration < 1; };
+  const auto target = TargetCurvature::free_boundary(mesh);
+  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), target);
+  const FlowResult r = run_ricci_flow(mesh, s, target, options);
+  EXPECT_FALSE(r.converged);
+  EXPECT_NE(r.failure.find("cancelled"), std::string::npos);
+}
+
+TEST(RicciFlow, IterationLimitIsReported) {
+  const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
+  FlowOptions options;
+  options.max_iterations = 1;
+  try {
+    compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh),
+                       TargetCurvature::free_boundary(mesh), options);
+    FAIL() << "expected ConvergenceError";
+  } catch (const ConvergenceError& e) {
+    EXPECT_NE(std::string(e.what()).find("no convergence in 1 iterations"), std::string::npos) << e.what();
+    EXPECT_EQ(e.iterations(), 1);
+    EXPECT_GT(e.residual(), 1e-10);
+  }
+}
+
+TEST(RicciFlow, StallOnARealMeshIsExplained) {
+  // A torus scan on a fixed triangulation: Yamabe runs into degenerate triangles (DESIGN.md).
+  const CompactMesh mesh = test::cgal_mesh("elk.off");
+  try {
+    compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), TargetCurvature::zero(mesh));
+    FAIL() << "expected ConvergenceError";
+  } catch (const ConvergenceError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("stalled at iteration"), std::string::npos) << m;
+    EXPECT_NE(m.find("degenerat"), std::string::npos) << m;
+    EXPECT_LT(e.iterations(), 100);
+  }
+  // The tangential packing, whose triangles are always valid, converges on the same mesh.
+  const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Tangential, mesh),
+                                          TargetCurvature::zero(mesh));
+  EXPECT_TRUE(r.converged);
+}
+
+TEST(RicciFlow, TopologyThatCannotCarryTheGeometryIsRefusedUpFront) {
+  const CompactMesh torus = test::torus(10, 6);
+  EXPECT_THROW(compute_ricci_flow(torus, Geometry::Spherical, options_for(Scheme::Yamabe, torus),
+                                  TargetCurvature::zero(torus)),
+               InvalidTargetError);
+  EXPECT_THROW(compute_ricci_flow(torus, Geometry::Hyperbolic, options_for(Scheme::Yamabe, torus),
+                                  TargetCurvature::zero(torus)),
+               InvalidTargetError);
+}
+
+}  // namespace
+}  // namespace ricci

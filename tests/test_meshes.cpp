@@ -72,7 +72,7 @@ CompactMesh ellipsoid(int levels, double a, double b, double c) {
   for (int level = 0; level < levels; ++level) {
     std::map<std::pair<int, int>, int> midpoint;
     auto mid = [&](int i, int j) {
-      const auto key = std::minmax(i, j);
+      const std::pair<int, int> key(std::min(i, j), std::max(i, j));
       auto it = midpoint.find(key);
       if (it != midpoint.end()) return it->second;
       p.push_back((p[i] + p[j]).normalized());

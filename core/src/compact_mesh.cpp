@@ -131,7 +131,7 @@ void CompactMesh::build_edges() {
     for (int c = 0; c < 3; ++c) {
       const int h = 3 * f + c;
       const int a = halfedge_tail(h), b = halfedge_head(h);
-      const auto key = std::minmax(a, b);
+      const std::pair<int, int> key(std::min(a, b), std::max(a, b));
       auto it = edge_of.find(key);
       if (it == edge_of.end()) {
         const int e = num_edges();
