@@ -141,8 +141,8 @@ void write_layout_png(const std::string& path, const CompactMesh& mesh,
     return Eigen::Vector2d(margin + t.x() * (size - 2 * margin),
                            size - margin - t.y() * (size - 2 * margin));
   };
-  const double lo = value.minCoeff(), hi = value.maxCoeff();
-  const double span = hi > lo ? hi - lo : 1;
+  // White where the value is 0 (for u: lengths as in the input), blue below, red above.
+  const double extent = std::max(value.cwiseAbs().maxCoeff(), 1e-300);
   for (int f = 0; f < mesh.num_faces(); ++f) {
     std::array<Eigen::Vector2d, 3> p;
     double mean = 0;
@@ -150,7 +150,7 @@ void write_layout_png(const std::string& path, const CompactMesh& mesh,
       p[c] = to_pixel(uv[mesh.face_vertex(f, c)]);
       mean += value[mesh.face_vertex(f, c)] / 3;
     }
-    fill_triangle(img, p, ramp((mean - lo) / span));
+    fill_triangle(img, p, ramp(0.5 + 0.5 * mean / extent));
   }
   if (mesh.num_faces() <= 20000) {
     for (int e = 0; e < mesh.num_edges(); ++e) {

@@ -11,7 +11,8 @@
 namespace ricci::cli {
 
 //! Renders texture coordinates in [0,1]^2 to a size x size PNG. Faces are coloured by the mean
-//! of the per-vertex value (blue low, red high); edges are drawn when there are few enough.
+//! of the per-vertex value: white at 0, blue below, red above, saturated at the largest |value|;
+//! edges are drawn when there are few enough.
 //! \throws IoError when the file cannot be written.
 void write_layout_png(const std::string& path, const CompactMesh& mesh,
                       const std::vector<Eigen::Vector2d>& uv, const Eigen::VectorXd& value,

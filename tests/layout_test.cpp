@@ -1,1 +1,65 @@
+// Planar layout of flat disk metrics: it reproduces the metric, flips no triangle, and stays
+// accurate on real meshes with obtuse triangles.
+#include "ricci/layout.h"
+
+#include <cmath>
+
 #include <gtest/gtest.h>
+
+#include "ricci/errors.h"
+#include "ricci/ricci_flow.h"
+#include "test_meshes.h"
+
+namespace ricci {
+namespace {
+
+TEST(Layout, FlatInputIsReproducedUpToARigidMotion) {
+  const CompactMesh grid = test::square_grid(20);
+  const PlanarLayout layout = layout_disk(grid, grid.input_lengths());
+  EXPECT_EQ(layout.num_flipped_faces, 0);
+  EXPECT_LE(layout.max_relative_length_error, 1e-11);
+  // Distances between all vertex pairs (not only edges) match the input square.
+  for (int i = 0; i < grid.num_vertices(); i += 37) {
+    for (int j = 0; j < grid.num_vertices(); j += 41) {
+      const double d_in = (grid.positions()[i] - grid.positions()[j]).norm();
+      const double d_out = (layout.position[i] - layout.position[j]).norm();
+      EXPECT_NEAR(d_in, d_out, 1e-12);
+    }
+  }
+}
+
+TEST(Layout, ConvergedMetricsOfRealDisksAreLaidOutExactly) {
+  for (const char* name : {"nefertiti.off", "mushroom.off", "three_peaks.off"}) {
+    const CompactMesh mesh = test::cgal_mesh(name);
+    SchemeOptions options;
+    options.scheme = Scheme::Tangential;  // always valid triangles, also on scans
+    const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options, TargetCurvature::free_boundary(mesh));
+    const PlanarLayout layout = layout_disk(mesh, r.edge_lengths);
+    EXPECT_EQ(layout.num_flipped_faces, 0) << name;
+    EXPECT_LE(layout.max_relative_length_error, 1e-9) << name;
+  }
+}
+
+TEST(Layout, TextureCoordinatesFillTheUnitSquareKeepingAspect) {
+  const std::vector<Eigen::Vector2d> p = {{-2, 1}, {2, 1}, {0, 2}};
+  const auto uv = normalized_texture_coordinates(p);
+  for (const auto& t : uv) {
+    EXPECT_GE(t.minCoeff(), 0.0);
+    EXPECT_LE(t.maxCoeff(), 1.0);
+  }
+  EXPECT_NEAR(uv[1].x() - uv[0].x(), 1.0, 1e-15);
+  EXPECT_NEAR(uv[2].y() - uv[0].y(), 0.25, 1e-15);  // aspect 4:1 kept
+}
+
+TEST(Layout, RefusesSurfacesThatAreNotDisks) {
+  const CompactMesh torus = test::torus(8, 5);
+  try {
+    layout_disk(torus, torus.input_lengths());
+    FAIL() << "expected InvalidArgumentError";
+  } catch (const InvalidArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("closed genus-1 surface"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ricci

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Set up, build with warnings as errors, and run every test: once in a Release build, and once
+# more in a build with the address and undefined-behaviour sanitizers.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+bash "$root/scripts/setup.sh"
+
+echo "== release build and tests"
+bash "$root/scripts/build.sh" test -DCMAKE_BUILD_TYPE=Release -DRICCI_WARNINGS_AS_ERRORS=ON
+ctest --test-dir "$root/build/test" --output-on-failure --parallel "$(nproc)"
+
+echo "== sanitizer build (address, undefined) and tests"
+bash "$root/scripts/build.sh" asan -DCMAKE_BUILD_TYPE=Debug -DRICCI_SANITIZE=ON \
+  -DRICCI_WARNINGS_AS_ERRORS=ON
+ASAN_OPTIONS=detect_leaks=1 ctest --test-dir "$root/build/asan" --output-on-failure \
+  --parallel "$(nproc)"
