@@ -12,7 +12,7 @@ cgal_demo_package="libcgal-demo"
 
 packages=(
   build-essential cmake pkg-config dpkg-dev clang-format
-  libeigen3-dev libsuitesparse-dev
+  libeigen3-dev libsuitesparse-dev libopenblas0-pthread
   libgtest-dev libgmock-dev libbenchmark-dev
   qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev
   "meshlab=$meshlab_version"
