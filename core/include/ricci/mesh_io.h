@@ -28,9 +28,10 @@ class VcgMesh : public vcg::tri::TriMesh<std::vector<vcgmesh::Vertex>, std::vect
 void read_mesh(const std::string& path, VcgMesh& mesh);
 
 //! Index arrays of a vcg::tri mesh (deleted elements skipped, vertices in storage order).
-//! \throws InvalidMeshError as CompactMesh does.
+//! If vertex_index is given, it receives the compact index of every slot of m.vert (-1 where
+//! deleted). \throws InvalidMeshError as CompactMesh does.
 template <class MeshT>
-CompactMesh compact_mesh_from_vcg(const MeshT& m) {
+CompactMesh compact_mesh_from_vcg(const MeshT& m, std::vector<int>* vertex_index = nullptr) {
   std::vector<int> index(m.vert.size(), -1);
   std::vector<Eigen::Vector3d> positions;
   positions.reserve(m.vn);
@@ -48,6 +49,7 @@ CompactMesh compact_mesh_from_vcg(const MeshT& m) {
     for (int c = 0; c < 3; ++c) t[c] = index[f.cV(c) - &m.vert[0]];
     faces.push_back(t);
   }
+  if (vertex_index) *vertex_index = index;
   return CompactMesh(std::move(positions), std::move(faces));
 }
 

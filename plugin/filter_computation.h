@@ -1,0 +1,120 @@
+// What the filter computes, apart from any MeshLab API: read a vcg mesh, run the flow and the
+// layout the settings ask for, and write the results back. Nothing is written unless everything
+// succeeded, so a failed filter leaves the mesh as it was.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <vcg/complex/algorithms/update/color.h>
+#include <vcg/complex/complex.h>
+
+#include "filter_settings.h"
+#include "ricci/layout.h"
+#include "ricci/mesh_io.h"
+#include "ricci/ricci_flow.h"
+
+namespace ricci::plugin {
+
+//! The per-vertex data the filter reads, in compact vertex order.
+struct MeshInput {
+  CompactMesh mesh;
+  std::vector<int> compact_index;  //!< per slot of the vcg vertex vector; -1 where deleted
+  std::vector<char> selected;      //!< vertex selection flags
+  std::vector<double> quality;     //!< vertex quality; empty when the mesh has none
+};
+
+struct FilterComputation {
+  Geometry geometry = Geometry::Euclidean;
+  FlowResult result;
+  std::optional<PlanarLayout> layout;   //!< Euclidean disks
+  std::vector<Eigen::Vector2d> texture;  //!< the layout in [0,1]^2
+};
+
+//! Reads positions, faces, selection and (when present) quality of the live vertices.
+//! \throws InvalidMeshError when the mesh cannot be used.
+template <class MeshT>
+MeshInput read_mesh_input(const MeshT& m) {
+  std::vector<int> index;
+  CompactMesh mesh = compact_mesh_from_vcg(m, &index);
+  MeshInput in{std::move(mesh), std::move(index), {}, {}};
+  in.selected.assign(in.mesh.num_vertices(), 0);
+  const bool has_quality = vcg::tri::HasPerVertexQuality(m);
+  if (has_quality) in.quality.assign(in.mesh.num_vertices(), 0.0);
+  for (size_t i = 0; i < m.vert.size(); ++i) {
+    const int v = in.compact_index[i];
+    if (v < 0) continue;
+    in.selected[v] = m.vert[i].IsS();
+    if (has_quality) in.quality[v] = static_cast<double>(m.vert[i].cQ());
+  }
+  return in;
+}
+
+//! Runs the flow (and the layout of a Euclidean disk).
+//! \throws the core's errors, and ConvergenceError when the flow does not converge.
+FilterComputation compute(const MeshInput& input, const FilterSettings& settings,
+                          const std::function<bool(const FlowProgress&)>& progress = {});
+
+//! Lines for the log: topology, geometry, scheme, iterations, residual, layout quality, time.
+std::vector<std::string> summary(const MeshInput& input, const FilterSettings& settings,
+                                 const FilterComputation& c);
+
+//! Writes the results: custom attributes ricci_u, ricci_radius, ricci_curvature, ricci_target
+//! (float) and, with a layout, ricci_layout (Point3) and vertex texture coordinates; vertex
+//! quality = u with a color ramp. The caller enables the optional components first (quality,
+//! color, texture coordinates) as the settings ask.
+template <class MeshT>
+void write_results(MeshT& m, const MeshInput& input, const FilterSettings& settings,
+                   const FilterComputation& c) {
+  using Allocator = vcg::tri::Allocator<MeshT>;
+  using Scalar = typename MeshT::ScalarType;
+  using Point3 = vcg::Point3<Scalar>;
+  auto u = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_u");
+  auto radius = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_radius");
+  auto curvature = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_curvature");
+  auto target = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_target");
+  const bool write_uv = c.layout && settings.write_texture_coordinates;
+  if (write_uv) vcg::tri::RequirePerVertexTexCoord(m);
+  if (settings.write_quality) vcg::tri::RequirePerVertexQuality(m);
+  std::optional<typename MeshT::template PerVertexAttributeHandle<Point3>> layout;
+  if (c.layout) layout = Allocator::template GetPerVertexAttribute<Point3>(m, "ricci_layout");
+  for (size_t i = 0; i < m.vert.size(); ++i) {
+    const int v = input.compact_index[i];
+    if (v < 0) continue;
+    auto& vertex = m.vert[i];
+    u[vertex] = static_cast<Scalar>(c.result.u[v]);
+    radius[vertex] = static_cast<Scalar>(c.result.radius[v]);
+    curvature[vertex] = static_cast<Scalar>(c.result.curvature[v]);
+    target[vertex] = static_cast<Scalar>(c.result.target[v]);
+    if (layout) {
+      const Eigen::Vector2d& p = c.layout->position[v];
+      (*layout)[vertex] = Point3(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()), 0);
+    }
+    if (write_uv) {
+      vertex.T().U() = static_cast<Scalar>(c.texture[v].x());
+      vertex.T().V() = static_cast<Scalar>(c.texture[v].y());
+      vertex.T().N() = 0;
+    }
+    if (settings.write_quality) vertex.Q() = static_cast<Scalar>(c.result.u[v]);
+  }
+  if (settings.write_quality && vcg::tri::HasPerVertexColor(m)) {
+    vcg::tri::UpdateColor<MeshT>::PerVertexQualityRamp(m);
+  }
+}
+
+//! Moves the vertices of `layer`, a copy of the input mesh, to the planar layout (z = 0).
+//! \pre c.layout, and layer has the input's vertex slots.
+template <class MeshT>
+void place_at_layout(MeshT& layer, const MeshInput& input, const FilterComputation& c) {
+  using Scalar = typename MeshT::ScalarType;
+  for (size_t i = 0; i < layer.vert.size(); ++i) {
+    const int v = input.compact_index[i];
+    if (v < 0) continue;
+    const Eigen::Vector2d& p = c.layout->position[v];
+    layer.vert[i].P() = vcg::Point3<Scalar>(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()), 0);
+  }
+}
+
+}  // namespace ricci::plugin

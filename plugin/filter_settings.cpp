@@ -1,0 +1,138 @@
+#include "filter_settings.h"
+
+#include <cmath>
+
+#include "ricci/errors.h"
+
+namespace ricci::plugin {
+
+namespace {
+
+using Kind = ParameterSpec::Kind;
+
+const std::vector<Scheme> kSchemes = {Scheme::Tangential, Scheme::Thurston,
+                                      Scheme::InversiveDistance, Scheme::Yamabe,
+                                      Scheme::VirtualRadius, Scheme::Mixed};
+
+int enum_index(const ParameterValues& values, const ParameterSpec& spec) {
+  const auto it = values.find(spec.name);
+  const double v = it == values.end() ? spec.default_value : it->second;
+  const int n = static_cast<int>(spec.enum_labels.size());
+  if (!(v >= 0 && v < n) || v != std::floor(v)) {
+    throw InvalidArgumentError("parameter '" + spec.name + "': choice " + std::to_string(v) +
+                               " is not one of the " + std::to_string(n) + " options");
+  }
+  return static_cast<int>(v);
+}
+
+const ParameterSpec& spec(const std::string& name) {
+  for (const auto& s : parameter_specs()) {
+    if (s.name == name) return s;
+  }
+  throw InvalidArgumentError("no parameter named '" + name + "'");
+}
+
+double number(const ParameterValues& values, const std::string& name) {
+  const auto it = values.find(name);
+  return it == values.end() ? spec(name).default_value : it->second;
+}
+
+}  // namespace
+
+const std::vector<ParameterSpec>& parameter_specs() {
+  static const std::vector<ParameterSpec> specs = {
+      {"geometry", Kind::Enum, 0,
+       {"Auto by topology", "Euclidean (E2)", "Hyperbolic (H2)", "Spherical (S2)"},
+       "Background geometry",
+       "Geometry of the triangles of the result. Auto: spherical for a closed genus-0 surface, "
+       "Euclidean for a torus and for every surface with boundary, hyperbolic for closed genus "
+       ">= 2."},
+      {"scheme", Kind::Enum, 3,
+       {"Tangential circle packing", "Thurston circle packing", "Inversive distance circle packing",
+        "Yamabe flow", "Virtual radius circle packing", "Mixed (eps per vertex)"},
+       "Scheme",
+       "How edge lengths depend on the conformal factor u. Yamabe, inversive distance and virtual "
+       "radius start from the mesh's own metric; tangential and Thurston packings prescribe the "
+       "circle pattern (always-valid triangles, robust on scans)."},
+      {"thurstonAngle", Kind::Float, 60, {}, "Thurston intersection angle (degrees)",
+       "Angle Phi in [0, 90] at which neighbouring circles intersect; eta = cos(Phi). Used by the "
+       "Thurston scheme only."},
+      {"mixedEps", Kind::Enum, 0,
+       {"Selected vertices +1, others 0", "Sign of vertex quality (+1, 0, -1)"},
+       "Mixed scheme: eps from",
+       "Where the mixed scheme takes each vertex's eps: +1 circle packing, 0 Yamabe, -1 virtual "
+       "radius."},
+      {"target", Kind::Enum, 0,
+       {"Auto (free boundary, or zero when closed)", "Free boundary", "Zero curvature everywhere",
+        "Per vertex from vertex quality"},
+       "Target curvature",
+       "Free boundary: u = 0 on the boundary (its lengths kept), flat inside: least area "
+       "distortion. Zero: Kbar = 0 at every vertex (flat torus, hyperbolic metric, round sphere). "
+       "Vertex quality: Kbar in radians per vertex; NaN holds that vertex's u fixed."},
+      {"tolerance", Kind::Float, 1e-10, {}, "Tolerance", "Converged when max |K - Kbar| <= this."},
+      {"maxIterations", Kind::Int, 100, {}, "Iteration limit", "Newton iterations at most."},
+      {"linearSolver", Kind::Enum, 0, {"CHOLMOD (supernodal Cholesky)", "Eigen SimplicialLDLT"},
+       "Linear solver", "Sparse Cholesky used for the Newton steps."},
+      {"maxStepHalvings", Kind::Int, 40, {}, "Step control: max halvings",
+       "Line search: a Newton step is halved at most this many times to keep every triangle valid "
+       "and reduce the curvature error."},
+      {"writeUV", Kind::Bool, 1, {}, "Write UV (vertex texture coordinates)",
+       "For a planar layout (Euclidean disk), store it as vertex texture coordinates in [0,1]^2."},
+      {"writeQuality", Kind::Bool, 1, {}, "Vertex quality = u, with color ramp",
+       "Store the conformal factor u as vertex quality and color the mesh by it."},
+      {"layoutLayer", Kind::Bool, 0, {}, "Add a layer with the layout",
+       "Add a new mesh layer whose vertices are at the planar layout (z = 0)."},
+  };
+  return specs;
+}
+
+FilterSettings settings_from_values(const ParameterValues& values) {
+  for (const auto& [name, value] : values) spec(name);  // unknown names are a programming error
+  FilterSettings s;
+  s.geometry = static_cast<GeometryChoice>(enum_index(values, spec("geometry")));
+  s.scheme = kSchemes[enum_index(values, spec("scheme"))];
+  s.thurston_angle_degrees = number(values, "thurstonAngle");
+  s.mixed_eps = static_cast<MixedEpsSource>(enum_index(values, spec("mixedEps")));
+  s.target = static_cast<TargetChoice>(enum_index(values, spec("target")));
+  s.tolerance = number(values, "tolerance");
+  if (!(s.tolerance > 0)) {
+    throw InvalidArgumentError("parameter 'tolerance' must be positive, got " +
+                               std::to_string(s.tolerance));
+  }
+  const double iterations = number(values, "maxIterations");
+  const double halvings = number(values, "maxStepHalvings");
+  if (!(iterations >= 0 && iterations <= 1e6) || !(halvings >= 0 && halvings <= 200)) {
+    throw InvalidArgumentError("parameters 'maxIterations' (0..1000000) and 'maxStepHalvings' "
+                               "(0..200) are out of range");
+  }
+  s.max_iterations = static_cast<int>(iterations);
+  s.max_step_halvings = static_cast<int>(halvings);
+  s.linear_solver = enum_index(values, spec("linearSolver")) == 0 ? LinearSolverKind::Cholmod
+                                                                  : LinearSolverKind::Ldlt;
+  s.write_texture_coordinates = number(values, "writeUV") != 0;
+  s.write_quality = number(values, "writeQuality") != 0;
+  s.add_layout_layer = number(values, "layoutLayer") != 0;
+  return s;
+}
+
+std::string filter_name() { return "Ricci Flow: Conformal Parameterization"; }
+
+std::string filter_info() {
+  return "Computes a discrete metric of prescribed curvature that is conformal to the mesh, by "
+         "Newton's method on the Ricci energy, and for disks its layout in the plane (UV). One "
+         "algorithm for 3 background geometries x 6 schemes, after M. Zhang, R. Guo, W. Zeng, "
+         "F. Luo, S.-T. Yau and X. Gu, <i>The Unified Surface Ricci Flow</i>.<br><br>"
+         "<b>Which scheme:</b> <i>Yamabe</i> (default) keeps the mesh's own conformal structure "
+         "and suits smooth, well-shaped meshes; <i>inversive distance</i> and <i>virtual "
+         "radius</i> also start from the mesh's metric; <i>tangential</i> and <i>Thurston</i> "
+         "circle packings always keep valid triangles and converge on rough scans, at the price "
+         "of a prescribed circle pattern; <i>mixed</i> takes eps per vertex (selection or quality "
+         "sign).<br><br>"
+         "<b>Results:</b> per-vertex attributes ricci_u, ricci_radius, ricci_curvature, "
+         "ricci_target and, with a planar layout, ricci_layout; vertex quality = u with a color "
+         "ramp; vertex texture coordinates for Euclidean disks. The mesh must be one connected, "
+         "manifold, orientable triangle mesh without degenerate faces; otherwise it is left "
+         "unchanged and the log says why.";
+}
+
+}  // namespace ricci::plugin

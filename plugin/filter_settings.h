@@ -1,0 +1,61 @@
+// The filter's parameters as plain data, independent of MeshLab's plugin API: the table every
+// adapter turns into its own dialog, and the translation of chosen values into core options.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "ricci/geometry.h"
+#include "ricci/linear_solver.h"
+#include "ricci/ricci_flow.h"
+#include "ricci/scheme.h"
+
+namespace ricci::plugin {
+
+enum class GeometryChoice { Auto, Euclidean, Hyperbolic, Spherical };
+enum class MixedEpsSource { Selection, QualitySign };
+enum class TargetChoice { Auto, FreeBoundary, Zero, VertexQuality };
+
+//! Everything the filter needs to know, in core terms.
+struct FilterSettings {
+  GeometryChoice geometry = GeometryChoice::Auto;
+  Scheme scheme = Scheme::Yamabe;
+  double thurston_angle_degrees = 60;
+  MixedEpsSource mixed_eps = MixedEpsSource::Selection;
+  TargetChoice target = TargetChoice::Auto;
+  double tolerance = 1e-10;
+  int max_iterations = 100;
+  LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
+  int max_step_halvings = 40;
+  bool write_texture_coordinates = true;
+  bool write_quality = true;
+  bool add_layout_layer = false;
+};
+
+//! One dialog parameter.
+struct ParameterSpec {
+  enum class Kind { Enum, Float, Int, Bool };
+  std::string name;  //!< the name in .mlx scripts
+  Kind kind;
+  double default_value;
+  std::vector<std::string> enum_labels;  //!< Enum only
+  std::string description;               //!< the dialog's label
+  std::string tooltip;
+};
+
+//! The parameters in dialog order.
+const std::vector<ParameterSpec>& parameter_specs();
+
+//! Values by parameter name: enum index, number, or 0/1.
+using ParameterValues = std::map<std::string, double>;
+
+//! Translates values (missing ones take their defaults).
+//! \throws InvalidArgumentError for an out-of-range enum index, tolerance or count.
+FilterSettings settings_from_values(const ParameterValues& values);
+
+//! The filter's menu name and its help text.
+std::string filter_name();
+std::string filter_info();
+
+}  // namespace ricci::plugin
