@@ -33,15 +33,17 @@ struct FilterComputation {
   std::vector<Eigen::Vector2d> texture;  //!< the layout in [0,1]^2
 };
 
-//! Reads positions, faces, selection and (when present) quality of the live vertices.
+//! Reads positions, faces, selection and, if has_quality, the quality of the live vertices.
+//! (MeshLab's meshes always carry a quality field; whether it holds data is in the MeshModel's
+//! data mask, which the caller passes as has_quality.)
 //! \throws InvalidMeshError when the mesh cannot be used.
 template <class MeshT>
-MeshInput read_mesh_input(const MeshT& m) {
+MeshInput read_mesh_input(const MeshT& m, bool has_quality) {
   std::vector<int> index;
   CompactMesh mesh = compact_mesh_from_vcg(m, &index);
   MeshInput in{std::move(mesh), std::move(index), {}, {}};
   in.selected.assign(in.mesh.num_vertices(), 0);
-  const bool has_quality = vcg::tri::HasPerVertexQuality(m);
+  has_quality = has_quality && vcg::tri::HasPerVertexQuality(m);
   if (has_quality) in.quality.assign(in.mesh.num_vertices(), 0.0);
   for (size_t i = 0; i < m.vert.size(); ++i) {
     const int v = in.compact_index[i];

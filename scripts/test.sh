@@ -6,11 +6,12 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 bash "$root/scripts/setup.sh"
 
 echo "== release build and tests"
-bash "$root/scripts/build.sh" test -DCMAKE_BUILD_TYPE=Release -DRICCI_WARNINGS_AS_ERRORS=ON
+bash "$root/scripts/build.sh" test -DCMAKE_BUILD_TYPE=Release -DRICCI_WARNINGS_AS_ERRORS=ON \
+  -DRICCI_BUILD_PLUGIN=ON
 ctest --test-dir "$root/build/test" --output-on-failure --parallel "$(nproc)"
 
 echo "== sanitizer build (address, undefined) and tests"
 bash "$root/scripts/build.sh" asan -DCMAKE_BUILD_TYPE=Debug -DRICCI_SANITIZE=ON \
-  -DRICCI_WARNINGS_AS_ERRORS=ON
+  -DRICCI_WARNINGS_AS_ERRORS=ON -DRICCI_BUILD_PLUGIN=ON
 ASAN_OPTIONS=detect_leaks=1 ctest --test-dir "$root/build/asan" --output-on-failure \
   --parallel "$(nproc)"

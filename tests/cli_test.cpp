@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ply_reader.h"
 #include "test_meshes.h"
 
 namespace {
@@ -48,62 +49,7 @@ CliRun ricci_flow(const std::string& args) {
 
 std::string cgal(const std::string& name) { return ricci::test::cgal_mesh_path(name); }
 
-// A minimal reader of the binary little-endian PLY that ricci-flow writes.
-struct Ply {
-  std::vector<std::string> vertex_properties;
-  std::map<std::string, std::vector<double>> vertex;
-  std::vector<std::array<int, 3>> faces;
-};
-
-Ply read_ply(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  Ply ply;
-  std::string line;
-  std::vector<std::string> types;
-  int nv = 0, nf = 0;
-  bool in_vertex = false;
-  while (std::getline(in, line) && line != "end_header") {
-    std::istringstream s(line);
-    std::string word;
-    s >> word;
-    if (word == "format") {
-      s >> word;
-      EXPECT_EQ(word, "binary_little_endian");
-    } else if (word == "element") {
-      s >> word;
-      in_vertex = word == "vertex";
-      (in_vertex ? nv : nf) = [&] { int n; s >> n; return n; }();
-    } else if (word == "property" && in_vertex) {
-      std::string type, name;
-      s >> type >> name;
-      types.push_back(type);
-      ply.vertex_properties.push_back(name);
-    }
-  }
-  for (int v = 0; v < nv; ++v) {
-    for (size_t p = 0; p < types.size(); ++p) {
-      double x;
-      if (types[p] == "double") {
-        in.read(reinterpret_cast<char*>(&x), 8);
-      } else {
-        float f;
-        in.read(reinterpret_cast<char*>(&f), 4);
-        x = f;
-      }
-      ply.vertex[ply.vertex_properties[p]].push_back(x);
-    }
-  }
-  for (int f = 0; f < nf; ++f) {
-    std::uint8_t count;
-    in.read(reinterpret_cast<char*>(&count), 1);
-    EXPECT_EQ(count, 3);
-    std::array<std::int32_t, 3> t;
-    in.read(reinterpret_cast<char*>(t.data()), 12);
-    ply.faces.push_back({t[0], t[1], t[2]});
-  }
-  EXPECT_TRUE(in.good());
-  return ply;
-}
+using ricci::test::read_ply;
 
 void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
@@ -112,7 +58,7 @@ TEST(Cli, DiskResultFollowsThePlyContract) {
   const CliRun r = ricci_flow(cgal("nefertiti.off") + " -o " + out + " --report " + report + " --picture " + png);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("converged in"), std::string::npos) << r.out;
-  const Ply ply = read_ply(out);
+  const ricci::test::PlyData ply = read_ply(out);
   const std::vector<std::string> expected = {"x", "y", "z", "ricci_u", "ricci_radius", "ricci_curvature",
                                              "ricci_target", "layout_x", "layout_y", "layout_z",
                                              "texture_u", "texture_v"};
@@ -168,7 +114,7 @@ TEST(Cli, ClosedSurfacesInTheirOwnGeometry) {
     const CliRun r = ricci_flow(cgal(c.mesh) + " -o " + out + " --scheme inversive-distance");
     ASSERT_EQ(r.exit_code, 0) << c.mesh << ": " << r.err;
     EXPECT_NE(r.out.find(c.geometry + " geometry"), std::string::npos) << r.out;  // auto by topology
-    const Ply ply = read_ply(out);
+    const ricci::test::PlyData ply = read_ply(out);
     EXPECT_EQ(ply.vertex_properties.size(), 7u) << "no single-valued layout for closed surfaces yet";
     for (double k : ply.vertex.at("ricci_curvature")) EXPECT_NEAR(k, 0.0, 1e-9);
   }

@@ -90,7 +90,7 @@ bool FilterRicciFlowPlugin::applyFilter(QAction*, MeshDocument& md,
   MeshModel& m = *md.mm();
   try {
     const FilterSettings settings = settings_from_values(values_of(parameters));
-    const MeshInput input = read_mesh_input(m.cm);
+    const MeshInput input = read_mesh_input(m.cm, m.hasDataMask(MeshModel::MM_VERTQUALITY));
     double first = -1;
     const FilterComputation c = compute(input, settings, [&](const ricci::FlowProgress& p) {
       if (first < 0) first = p.residual;

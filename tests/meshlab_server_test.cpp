@@ -1,0 +1,133 @@
+// The plugin inside the real meshlabserver (Debian's MeshLab 2020.09, under xvfb-run, from a
+// private prefix): every sample script on real meshes of each topology, and bad meshes.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "ply_reader.h"
+#include "test_meshes.h"
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct ServerRun {
+  int exit_code = -1;
+  std::string log;
+};
+
+std::string temp(const std::string& name) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  return ::testing::TempDir() + "/ricci_meshlab_" + info->name() + "_" + name;
+}
+
+std::string script(const std::string& name) {
+  return std::string(RICCI_SOURCE_DIR) + "/plugin/scripts/" + name;
+}
+
+ServerRun meshlabserver(const std::string& input, const std::string& output, const std::string& mlx) {
+  const std::string log = temp("server.log");
+  std::remove(output.c_str());
+  const std::string cmd = "xvfb-run -a " + std::string(RICCI_MESHLAB_PREFIX) + "/bin/meshlabserver -i " +
+                          input + " -o " + output + " -m vq vt -s " + mlx + " >" + log + " 2>&1 </dev/null";
+  const int status = std::system(cmd.c_str());
+  ServerRun r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(log);
+  std::stringstream s;
+  s << in.rdbuf();
+  r.log = s.str();
+  return r;
+}
+
+bool exists(const std::string& path) { return std::ifstream(path).good(); }
+
+TEST(MeshlabServer, EuclideanScriptFlattensADisk) {
+  const std::string out = temp("disk.ply");
+  const ServerRun r = meshlabserver(ricci::test::cgal_mesh_path("nefertiti.off"), out, script("ricci_flow_euclidean.mlx"));
+  ASSERT_EQ(r.exit_code, 0) << r.log;
+  EXPECT_NE(r.log.find("Converged in"), std::string::npos) << r.log;
+  const ricci::test::PlyData ply = ricci::test::read_ply(out);
+  ASSERT_TRUE(ply.has_vertex("quality") && ply.has_vertex("texture_u") && ply.has_vertex("texture_v"));
+  const ricci::CompactMesh mesh = ricci::test::cgal_mesh("nefertiti.off");
+  ASSERT_EQ(ply.vertex.at("quality").size(), static_cast<size_t>(mesh.num_vertices()));
+  double max_u = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const double u = ply.vertex.at("quality")[v];
+    ASSERT_TRUE(std::isfinite(u));
+    // Yamabe with a free boundary: u stays 0 on the boundary.
+    if (mesh.is_boundary_vertex(v)) {
+      EXPECT_EQ(u, 0.0);
+    }
+    max_u = std::max(max_u, std::abs(u));
+    EXPECT_GE(ply.vertex.at("texture_u")[v], 0.0);
+    EXPECT_LE(ply.vertex.at("texture_v")[v], 1.0);
+  }
+  EXPECT_GT(max_u, 0.1);
+  // The UV map is the flat metric's layout, scaled: interior angle sums are 2 pi, none flipped.
+  std::vector<double> angle_sum(mesh.num_vertices(), 0.0);
+  const auto& tu = ply.vertex.at("texture_u");
+  const auto& tv = ply.vertex.at("texture_v");
+  for (const auto& t : ply.faces) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = t[c], b = t[(c + 1) % 3], d = t[(c + 2) % 3];
+      const double ux = tu[b] - tu[a], uy = tv[b] - tv[a], vx = tu[d] - tu[a], vy = tv[d] - tv[a];
+      EXPECT_GT(ux * vy - uy * vx, 0.0) << "flipped UV triangle";
+      angle_sum[a] += std::atan2(ux * vy - uy * vx, ux * vx + uy * vy);
+    }
+  }
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!mesh.is_boundary_vertex(v)) {
+      EXPECT_NEAR(angle_sum[v], 2 * kPi, 1e-4);  // float UVs
+    }
+  }
+}
+
+TEST(MeshlabServer, EachGeometryScriptOnItsTopology) {
+  struct Case {
+    std::string mesh, mlx, geometry;
+  };
+  const Case cases[] = {{"pipe.off", "ricci_flow_euclidean.mlx", "euclidean"},
+                        {"eight.off", "ricci_flow_hyperbolic.mlx", "hyperbolic"},
+                        {"sphere.off", "ricci_flow_spherical.mlx", "spherical"},
+                        {"nefertiti.off", "ricci_flow_auto.mlx", "euclidean"},
+                        {"sphere.off", "ricci_flow_auto.mlx", "spherical"},
+                        {"pipe.off", "ricci_flow_auto.mlx", "euclidean"},
+                        {"eight.off", "ricci_flow_auto.mlx", "hyperbolic"}};
+  for (const auto& c : cases) {
+    const std::string out = temp("closed.ply");
+    const ServerRun r = meshlabserver(ricci::test::cgal_mesh_path(c.mesh), out, script(c.mlx));
+    ASSERT_EQ(r.exit_code, 0) << c.mesh << " " << c.mlx << "\n" << r.log;
+    EXPECT_NE(r.log.find(c.geometry + " geometry"), std::string::npos) << r.log;
+    const ricci::test::PlyData ply = ricci::test::read_ply(out);
+    ASSERT_TRUE(ply.has_vertex("quality")) << c.mesh;
+    double lo = INFINITY, hi = -INFINITY;
+    for (double u : ply.vertex.at("quality")) {
+      ASSERT_TRUE(std::isfinite(u));
+      lo = std::min(lo, u);
+      hi = std::max(hi, u);
+    }
+    EXPECT_GT(hi - lo, 1e-3) << c.mesh << ": quality holds u, which varies";
+  }
+}
+
+TEST(MeshlabServer, BadMeshFailsWithTheReasonAndNoOutput) {
+  const std::string bowtie = temp("bowtie.off");
+  std::ofstream(bowtie) << "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n";
+  const std::string out = temp("never.ply");
+  ServerRun r = meshlabserver(bowtie, out, script("ricci_flow_auto.mlx"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.log.find("Ricci flow failed, the mesh is unchanged: mesh: 1 non-manifold vertices"), std::string::npos) << r.log;
+  EXPECT_FALSE(exists(out));
+  r = meshlabserver(ricci::test::cgal_mesh_path("pipe.off"), out, script("ricci_flow_spherical.mlx"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.log.find("spherical geometry needs sum Kbar < 2 pi chi"), std::string::npos) << r.log;
+  EXPECT_FALSE(exists(out));
+}
+
+}  // namespace

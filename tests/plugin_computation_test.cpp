@@ -1,0 +1,148 @@
+// The plugin's computation and result writing on MeshLab's own mesh type (CMeshO), without a
+// GUI: attributes, UVs and quality are written on success, and nothing at all on failure.
+#include "filter_computation.h"
+
+#include <cmath>
+
+#include <common/ml_mesh_type.h>
+#include <gtest/gtest.h>
+#include <wrap/io_trimesh/import.h>
+
+#include "ricci/errors.h"
+#include "test_meshes.h"
+
+namespace ricci::plugin {
+namespace {
+
+void load(CMeshO& m, const std::string& name) {
+  int mask = 0;
+  ASSERT_EQ(vcg::tri::io::Importer<CMeshO>::Open(m, test::cgal_mesh_path(name).c_str(), mask), 0);
+}
+
+// CMeshO always has quality and color; texture coordinates are optional.
+void enable_outputs(CMeshO& m) { m.vert.EnableTexCoord(); }
+
+bool has_attribute(CMeshO& m, const char* name) {
+  return vcg::tri::HasPerVertexAttribute(m, name);
+}
+
+TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
+  CMeshO m;
+  load(m, "nefertiti.off");
+  const FilterSettings settings = settings_from_values({});
+  const MeshInput input = read_mesh_input(m, false);
+  int progress_calls = 0;
+  const FilterComputation c = compute(input, settings, [&](const FlowProgress&) { return ++progress_calls > 0; });
+  ASSERT_TRUE(c.layout.has_value());
+  EXPECT_GT(progress_calls, 1);
+  enable_outputs(m);
+  write_results(m, input, settings, c);
+  for (const char* name : {"ricci_u", "ricci_radius", "ricci_curvature", "ricci_target", "ricci_layout"}) {
+    EXPECT_TRUE(has_attribute(m, name)) << name;
+  }
+  auto u = vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<float>(m, "ricci_u");
+  auto k = vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<float>(m, "ricci_curvature");
+  auto target = vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<float>(m, "ricci_target");
+  auto layout = vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<vcg::Point3f>(m, "ricci_layout");
+  const CompactMesh& mesh = input.mesh;
+  bool colors_differ = false;
+  for (size_t i = 0; i < m.vert.size(); ++i) {
+    const auto& v = m.vert[i];
+    EXPECT_FLOAT_EQ(v.cQ(), u[v]);
+    EXPECT_FLOAT_EQ(u[v], static_cast<float>(c.result.u[input.compact_index[i]]));
+    EXPECT_EQ(std::isnan(target[v]), mesh.is_boundary_vertex(input.compact_index[i]));
+    if (!mesh.is_boundary_vertex(input.compact_index[i])) {
+      EXPECT_NEAR(k[v], 0.0f, 1e-6f);
+    }
+    EXPECT_GE(v.cT().U(), 0.0f);
+    EXPECT_LE(v.cT().U(), 1.0f);
+    EXPECT_GE(v.cT().V(), 0.0f);
+    EXPECT_LE(v.cT().V(), 1.0f);
+    EXPECT_EQ(layout[v].Z(), 0.0f);
+    colors_differ = colors_differ || !(v.cC() == m.vert[0].cC());
+  }
+  EXPECT_TRUE(colors_differ) << "quality color ramp";
+  const auto lines = summary(input, settings, c);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_NE(lines[1].find("Converged in"), std::string::npos);
+}
+
+TEST(PluginComputation, ClosedSurfacesGetMetricButNoLayout) {
+  for (const char* name : {"sphere.off", "eight.off", "pipe.off"}) {
+    CMeshO m;
+    load(m, name);
+    const FilterSettings settings = settings_from_values({{"scheme", 2}});
+    const MeshInput input = read_mesh_input(m, false);
+    const FilterComputation c = compute(input, settings);
+    EXPECT_FALSE(c.layout.has_value());
+    enable_outputs(m);
+    write_results(m, input, settings, c);
+    EXPECT_TRUE(has_attribute(m, "ricci_u"));
+    EXPECT_FALSE(has_attribute(m, "ricci_layout"));
+    EXPECT_NE(summary(input, settings, c)[2].find("No layout written"), std::string::npos);
+  }
+}
+
+TEST(PluginComputation, MixedEpsFromSelectionAndTargetFromQuality) {
+  CMeshO m;
+  load(m, "nefertiti.off");
+  for (size_t i = 0; i < m.vert.size(); ++i) {
+    if (i % 2 == 0) m.vert[i].SetS();
+  }
+  const MeshInput free_input = read_mesh_input(m, false);
+  // Quality = the free-boundary target: 0 inside, NaN (u fixed) on the boundary.
+  for (size_t i = 0; i < m.vert.size(); ++i) {
+    m.vert[i].Q() = free_input.mesh.is_boundary_vertex(free_input.compact_index[i]) ? NAN : 0.0f;
+  }
+  const MeshInput input = read_mesh_input(m, true);
+  const FilterComputation by_quality = compute(input, settings_from_values({{"scheme", 5}, {"target", 3}}));
+  const FilterComputation by_preset = compute(input, settings_from_values({{"scheme", 5}, {"target", 1}}));
+  EXPECT_LE((by_quality.result.u - by_preset.result.u).cwiseAbs().maxCoeff(), 1e-12);
+  // The selection really made the scheme mixed: the result differs from plain Yamabe.
+  const FilterComputation yamabe = compute(input, settings_from_values({{"scheme", 3}, {"target", 1}}));
+  EXPECT_GT((yamabe.result.radius - by_preset.result.radius).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(PluginComputation, FailureLeavesTheMeshUntouched) {
+  struct Case {
+    const char* mesh;
+    ParameterValues values;
+    const char* reason;
+  };
+  const Case cases[] = {
+      {"blobby_3cc.off", {}, "connected components"},
+      {"pipe.off", {{"geometry", 3}}, "spherical geometry needs"},
+      {"elk.off", {{"scheme", 3}}, "stalled"},
+      {"nefertiti.off", {{"target", 3}}, "no vertex quality"},
+      {"sphere.off", {{"target", 1}}, "needs a boundary"},
+  };
+  for (const auto& c : cases) {
+    CMeshO m;
+    load(m, c.mesh);
+    for (auto& v : m.vert) v.Q() = 0.5f;  // data that must survive
+    std::vector<vcg::Point3f> before;
+    std::vector<vcg::Color4b> colors_before;
+    for (const auto& v : m.vert) {
+      before.push_back(v.cP());
+      colors_before.push_back(v.cC());
+    }
+    try {
+      const MeshInput input = read_mesh_input(m, false);
+      compute(input, settings_from_values(c.values));
+      ADD_FAILURE() << c.mesh << ": expected an error";
+    } catch (const ricci::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.reason), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(has_attribute(m, "ricci_u"));
+    EXPECT_FALSE(m.vert.IsTexCoordEnabled());
+    ASSERT_EQ(m.vert.size(), before.size());
+    for (size_t i = 0; i < before.size(); ++i) {
+      EXPECT_EQ(m.vert[i].cP(), before[i]);
+      EXPECT_EQ(m.vert[i].cQ(), 0.5f);
+      EXPECT_TRUE(m.vert[i].cC() == colors_before[i]);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ricci::plugin

@@ -1,0 +1,26 @@
+// An independent reader of binary little-endian PLY files, for the end-to-end tests: what
+// ricci-flow and meshlabserver write is read back without vcglib.
+#pragma once
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace ricci::test {
+
+struct PlyData {
+  std::string format;
+  std::vector<std::string> vertex_properties;  //!< in file order
+  std::map<std::string, std::string> vertex_types;
+  std::map<std::string, std::vector<double>> vertex;  //!< values by property name
+  std::vector<std::array<int, 3>> faces;
+  std::vector<std::vector<double>> face_texcoords;  //!< the per-face texcoord list, if any
+  bool has_vertex(const std::string& name) const { return vertex.count(name) > 0; }
+};
+
+//! Reads vertex scalar properties and triangle faces (vertex_indices, optional texcoord list).
+//! Fails the current test (gtest) on anything it does not understand.
+PlyData read_ply(const std::string& path);
+
+}  // namespace ricci::test
