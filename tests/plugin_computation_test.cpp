@@ -6,6 +6,7 @@
 
 #include <common/ml_mesh_type.h>
 #include <gtest/gtest.h>
+#include <vcg/complex/append.h>
 #include <wrap/io_trimesh/import.h>
 
 #include "ricci/errors.h"
@@ -65,6 +66,24 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   const auto lines = summary(input, settings, c);
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_NE(lines[1].find("Converged in"), std::string::npos);
+
+  // The optional layout layer: a copy of the mesh moved onto the plane, edges at the flat lengths.
+  CMeshO layer;
+  vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(layer, m);
+  place_at_layout(layer, input, c);
+  for (const auto& f : layer.face) {
+    for (int e = 0; e < 3; ++e) {
+      EXPECT_EQ(f.cP(e).Z(), 0.0f);
+      const int a = input.compact_index[vcg::tri::Index(layer, f.cV(e))];
+      const int b = input.compact_index[vcg::tri::Index(layer, f.cV((e + 1) % 3))];
+      for (int edge = 0; edge < mesh.num_edges(); ++edge) {
+        const auto ends = mesh.edge_vertices(edge);
+        if ((ends[0] == a && ends[1] == b) || (ends[0] == b && ends[1] == a)) {
+          EXPECT_NEAR(vcg::Distance(f.cP(e), f.cP((e + 1) % 3)) / c.result.edge_lengths[edge], 1.0, 1e-5);
+        }
+      }
+    }
+  }
 }
 
 TEST(PluginComputation, ClosedSurfacesGetMetricButNoLayout) {
