@@ -2,6 +2,9 @@
 # only next to its binary (../lib/x86_64-linux-gnu/meshlab/plugins), and a symlinked binary
 # resolves to /usr/bin, so the binaries are copied and everything else is linked.
 # Inputs: PREFIX, PLUGIN (our .so), MESHLAB_LIB_DIR (Debian's lib/x86_64-linux-gnu/meshlab).
+if(NOT EXISTS "${MESHLAB_LIB_DIR}/libmeshlab-common.so")
+  message(FATAL_ERROR "make_prefix: no libmeshlab-common.so in '${MESHLAB_LIB_DIR}'")
+endif()
 set(lib "${PREFIX}/lib/x86_64-linux-gnu/meshlab")
 file(REMOVE_RECURSE "${PREFIX}")
 file(MAKE_DIRECTORY "${PREFIX}/bin" "${lib}/plugins")
