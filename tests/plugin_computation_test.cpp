@@ -23,12 +23,19 @@ void load(CMeshO& m, const std::string& name) {
 // CMeshO always has quality and color; texture coordinates are optional.
 void enable_outputs(CMeshO& m) { m.vert.EnableTexCoord(); }
 
+// vcglib's mesh destructor leaves custom attributes allocated (MeshLab frees them itself).
+struct FreeAttributesAtExit {
+  CMeshO& m;
+  ~FreeAttributesAtExit() { m.ClearAttributes(); }
+};
+
 bool has_attribute(CMeshO& m, const char* name) {
   return vcg::tri::HasPerVertexAttribute(m, name);
 }
 
 TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   CMeshO m;
+  FreeAttributesAtExit cleanup{m};
   load(m, "nefertiti.off");
   const FilterSettings settings = settings_from_values({});
   const MeshInput input = read_mesh_input(m, false);
@@ -69,6 +76,7 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
 
   // The optional layout layer: a copy of the mesh moved onto the plane, edges at the flat lengths.
   CMeshO layer;
+  FreeAttributesAtExit layer_cleanup{layer};
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(layer, m);
   place_at_layout(layer, input, c);
   for (const auto& f : layer.face) {
@@ -89,6 +97,7 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
 TEST(PluginComputation, ClosedSurfacesGetMetricButNoLayout) {
   for (const char* name : {"sphere.off", "eight.off", "pipe.off"}) {
     CMeshO m;
+    FreeAttributesAtExit cleanup{m};
     load(m, name);
     const FilterSettings settings = settings_from_values({{"scheme", 2}});
     const MeshInput input = read_mesh_input(m, false);
