@@ -7,9 +7,6 @@
 
 namespace ricci::bench {
 
-//! Splits every triangle into four at its edge midpoints, `levels` times (faces x 4^levels).
-CompactMesh subdivide_midpoint(const CompactMesh& mesh, int levels);
-
 //! lion-head.off (a disk, 16674 faces) subdivided `levels` times; cached per level.
 const CompactMesh& lion_head(int levels);
 

@@ -1,6 +1,7 @@
 #include "test_meshes.h"
 
 #include <cmath>
+#include <algorithm>
 #include <map>
 
 #include "ricci/mesh_io.h"
@@ -70,26 +71,39 @@ CompactMesh ellipsoid(int levels, double a, double b, double c) {
                                        {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   for (auto& q : p) q.normalize();
   for (int level = 0; level < levels; ++level) {
+    CompactMesh finer = subdivide_midpoint(CompactMesh(p, f), 1);
+    p = finer.positions();
+    f = finer.faces();
+    for (auto& q : p) q.normalize();
+  }
+  for (auto& q : p) q = Eigen::Vector3d(a * q.x(), b * q.y(), c * q.z());
+  return CompactMesh(p, f);
+}
+
+CompactMesh subdivide_midpoint(const CompactMesh& mesh, int levels) {
+  std::vector<Eigen::Vector3d> p = mesh.positions();
+  std::vector<std::array<int, 3>> f = mesh.faces();
+  for (int level = 0; level < levels; ++level) {
     std::map<std::pair<int, int>, int> midpoint;
     auto mid = [&](int i, int j) {
       const std::pair<int, int> key(std::min(i, j), std::max(i, j));
       auto it = midpoint.find(key);
       if (it != midpoint.end()) return it->second;
-      p.push_back((p[i] + p[j]).normalized());
+      p.push_back(0.5 * (p[i] + p[j]));
       return midpoint[key] = static_cast<int>(p.size()) - 1;
     };
     std::vector<std::array<int, 3>> g;
-    for (const auto& t3 : f) {
-      const int ab = mid(t3[0], t3[1]), bc = mid(t3[1], t3[2]), ca = mid(t3[2], t3[0]);
-      g.push_back({t3[0], ab, ca});
-      g.push_back({t3[1], bc, ab});
-      g.push_back({t3[2], ca, bc});
+    g.reserve(4 * f.size());
+    for (const auto& t : f) {
+      const int ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+      g.push_back({t[0], ab, ca});
+      g.push_back({t[1], bc, ab});
+      g.push_back({t[2], ca, bc});
       g.push_back({ab, bc, ca});
     }
-    f = g;
+    f = std::move(g);
   }
-  for (auto& q : p) q = Eigen::Vector3d(a * q.x(), b * q.y(), c * q.z());
-  return CompactMesh(p, f);
+  return CompactMesh(std::move(p), std::move(f));
 }
 
 std::string cgal_mesh_path(const std::string& name) {

@@ -1,4 +1,4 @@
-// Meshes shared by the tests: generated smooth meshes of each topology, and real meshes from
+// Meshes shared by the tests and benchmarks: generated smooth meshes of each topology, and real meshes from
 // the CC0 data set of Debian's libcgal-demo (fetched by scripts/setup.sh).
 #pragma once
 
@@ -16,6 +16,8 @@ CompactMesh square_grid(int n);
 CompactMesh torus(int n, int m, double major = 1.0, double minor = 0.4);
 //! An icosahedron subdivided `levels` times and projected to an ellipsoid with semi-axes a, b, c.
 CompactMesh ellipsoid(int levels, double a = 1.0, double b = 1.0, double c = 1.0);
+//! Splits every triangle into four at its edge midpoints, `levels` times (faces x 4^levels).
+CompactMesh subdivide_midpoint(const CompactMesh& mesh, int levels);
 //! A mesh from the CGAL data set, e.g. "eight.off".
 CompactMesh cgal_mesh(const std::string& name);
 //! Path of a file in the CGAL data set.
