@@ -91,6 +91,7 @@ int run(const ricci::cli::Options& o) {
   flow.tolerance = o.tolerance;
   flow.max_iterations = o.max_iterations;
   flow.linear_solver = linear_solver_from_string(o.solver);
+  flow.edge_flips = o.edge_flips;
   if (show_progress) {
     flow.progress = [](const FlowProgress& p) {
       std::fprintf(stderr, "\riteration %3d   max |K - Kbar| = %.3e ", p.iteration, p.residual);
@@ -115,8 +116,9 @@ int run(const ricci::cli::Options& o) {
   const bool planar = result.converged && geometry == Geometry::Euclidean && !mesh.is_closed() &&
                       mesh.genus() == 0 && mesh.num_boundary_loops() == 1;
   if (planar) {
-    layout = layout_disk(mesh, result.edge_lengths, flow.linear_solver);
+    layout = layout_disk(result_triangulation(mesh, result), result.edge_lengths, flow.linear_solver);
     summary.layout = &layout;
+    summary.flipped_input_faces = count_flipped_faces(mesh, layout.position);
     for (const auto& p : layout.position) written.position.emplace_back(p.x(), p.y(), 0.0);
     written.texture = normalized_texture_coordinates(layout.position);
   }
@@ -139,11 +141,11 @@ int run(const ricci::cli::Options& o) {
     std::printf("%s: %s, %d vertices, %d faces; %s geometry, %s scheme\n", o.input.c_str(),
                 mesh.topology_name().c_str(), mesh.num_vertices(), mesh.num_faces(),
                 to_string(geometry).c_str(), to_string(scheme.scheme).c_str());
-    std::printf("converged in %d Newton iterations: max |K - Kbar| = %.2e (%.3f s)\n",
-                result.iterations, result.residual, result.times.total);
+    std::printf("converged in %d Newton iterations, %d edge flips: max |K - Kbar| = %.2e (%.3f s)\n",
+                result.iterations, result.num_flips, result.residual, result.times.total);
     if (planar) {
-      std::printf("layout: %d flipped faces, max relative length error %.2e\n",
-                  layout.num_flipped_faces, layout.max_relative_length_error);
+      std::printf("layout: %d of the input's faces flipped, max relative length error %.2e\n",
+                  summary.flipped_input_faces, layout.max_relative_length_error);
     }
     std::printf("wrote %s\n", o.output.c_str());
     if (!o.picture.empty()) std::printf("wrote %s\n", o.picture.c_str());

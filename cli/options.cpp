@@ -53,6 +53,8 @@ prescribed curvature conformal to the input mesh, and for disks its layout in th
   --tolerance X            converged when max |K - Kbar| <= X                      [1e-10]
   --max-iterations N       Newton iteration limit                                  [100]
   --solver cholmod|ldlt    sparse Cholesky: CHOLMOD or Eigen's SimplicialLDLT      [cholmod]
+  --no-flips               keep the input triangulation (by default edges are flipped
+                           to keep it (power) Delaunay, which real meshes need)
   --report FILE.json       convergence history, timings and errors of the result
   --picture FILE.png       picture of the planar layout (euclidean disks)
   --ascii                  write ASCII PLY instead of binary
@@ -97,6 +99,8 @@ Options parse_options(int argc, const char* const* argv) {
       o.report = value(i, a);
     } else if (a == "--picture") {
       o.picture = value(i, a);
+    } else if (a == "--no-flips") {
+      o.edge_flips = false;
     } else if (a == "--ascii") {
       o.ascii = true;
     } else if (a == "--quiet") {

@@ -18,6 +18,7 @@ struct Options {
   double tolerance = 1e-10;
   int max_iterations = 100;
   std::string solver = "cholmod";
+  bool edge_flips = true;
   std::string report;              // JSON report path
   std::string picture;             // PNG of the layout
   bool ascii = false;

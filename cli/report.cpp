@@ -92,12 +92,15 @@ void write_report(const std::string& path, const CompactMesh& mesh, const RunSum
   j << "  \"residual\": " << number(result.residual) << ",\n";
   j << "  \"residual_history\": " << array(result.residual_history) << ",\n";
   j << "  \"step_history\": " << array(result.step_history) << ",\n";
+  j << "  \"edge_flips\": " << result.num_flips << ",\n";
+  j << "  \"connectivity_changes\": " << result.connectivity_changes << ",\n";
   j << "  \"symbolic_analyses\": " << result.num_analyses << ",\n";
   j << "  \"numeric_factorizations\": " << result.num_factorizations << ",\n";
   j << "  \"seconds\": {\"read\": " << number(run.read_seconds) << ", \"setup\": "
     << number(t.setup) << ", \"assembly\": " << number(t.assembly) << ", \"analysis\": "
     << number(t.analysis) << ", \"factorization\": " << number(t.factorization)
     << ", \"solve\": " << number(t.solve) << ", \"line_search\": " << number(t.line_search)
+    << ", \"flips\": " << number(t.flips)
     << ", \"flow_total\": " << number(t.total) << "},\n";
   j << "  \"errors\": {\"max_abs_curvature_error\": " << number(max_err)
     << ", \"mean_abs_curvature_error\": " << number(counted ? sum_err / counted : 0.0)
@@ -105,7 +108,8 @@ void write_report(const std::string& path, const CompactMesh& mesh, const RunSum
     << ", \"initial_length_error\": " << number(run.initial_length_error) << "},\n";
   j << "  \"area\": " << number(result.area) << ",\n";
   if (run.layout) {
-    j << "  \"layout\": {\"kind\": \"plane\", \"flipped_faces\": " << run.layout->num_flipped_faces
+    j << "  \"layout\": {\"kind\": \"plane\", \"flipped_faces\": " << run.flipped_input_faces
+      << ", \"flipped_faces_of_flow_triangulation\": " << run.layout->num_flipped_faces
       << ", \"max_relative_length_error\": " << number(run.layout->max_relative_length_error)
       << "}\n";
   } else {

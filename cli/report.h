@@ -20,6 +20,7 @@ struct RunSummary {
   double length_scale = 1;
   double initial_length_error = 0;  //!< max relative error of the initial metric vs input
   const PlanarLayout* layout = nullptr;
+  int flipped_input_faces = 0;  //!< input faces turned over by the layout (after edge flips)
   double read_seconds = 0;
 };
 

@@ -79,11 +79,14 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
   options.max_iterations = settings.max_iterations;
   options.linear_solver = settings.linear_solver;
   options.max_step_halvings = settings.max_step_halvings;
+  options.edge_flips = settings.edge_flips;
   options.progress = progress;
   c.result = compute_ricci_flow(mesh, c.geometry, scheme, target, options);
   if (c.geometry == Geometry::Euclidean && !mesh.is_closed() && mesh.genus() == 0 &&
       mesh.num_boundary_loops() == 1) {
-    c.layout = layout_disk(mesh, c.result.edge_lengths, settings.linear_solver);
+    c.layout = layout_disk(result_triangulation(mesh, c.result), c.result.edge_lengths,
+                           settings.linear_solver);
+    c.flipped_input_faces = count_flipped_faces(mesh, c.layout->position);
     c.texture = normalized_texture_coordinates(c.layout->position);
   }
   return c;
@@ -100,13 +103,14 @@ std::vector<std::string> summary(const MeshInput& input, const FilterSettings& s
   lines.push_back(s.str());
   s.str("");
   s.precision(3);
-  s << "Converged in " << c.result.iterations << " Newton iterations: max |K - Kbar| = "
+  s << "Converged in " << c.result.iterations << " Newton iterations with " << c.result.num_flips
+    << " edge flips: max |K - Kbar| = "
     << c.result.residual << " (" << c.result.times.total << " s)";
   lines.push_back(s.str());
   if (c.layout) {
     s.str("");
-    s << "Planar layout: " << c.layout->num_flipped_faces << " flipped faces, max relative edge "
-      << "length error " << c.layout->max_relative_length_error;
+    s << "Planar layout: " << c.flipped_input_faces << " of the mesh's faces flipped, max relative "
+      << "edge length error " << c.layout->max_relative_length_error;
     lines.push_back(s.str());
   } else {
     lines.push_back("No layout written: only Euclidean disks are laid out so far (this is a " +

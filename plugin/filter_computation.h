@@ -30,6 +30,7 @@ struct FilterComputation {
   Geometry geometry = Geometry::Euclidean;
   FlowResult result;
   std::optional<PlanarLayout> layout;   //!< Euclidean disks
+  int flipped_input_faces = 0;          //!< input faces the layout turns over (after flips)
   std::vector<Eigen::Vector2d> texture;  //!< the layout in [0,1]^2
 };
 

@@ -76,6 +76,9 @@ const std::vector<ParameterSpec>& parameter_specs() {
       {"maxStepHalvings", Kind::Int, 40, {}, "Step control: max halvings",
        "Line search: a Newton step is halved at most this many times to keep every triangle valid "
        "and reduce the curvature error."},
+      {"edgeFlips", Kind::Bool, 1, {}, "Edge flips (keep the triangulation Delaunay)",
+       "Flip edges during the flow so the triangulation stays (power) Delaunay for the current "
+       "metric; real meshes need it. The result comes back per vertex of the input."},
       {"writeUV", Kind::Bool, 1, {}, "Write UV (vertex texture coordinates)",
        "For a planar layout (Euclidean disk), store it as vertex texture coordinates in [0,1]^2."},
       {"writeQuality", Kind::Bool, 1, {}, "Vertex quality = u, with color ramp",
@@ -109,6 +112,7 @@ FilterSettings settings_from_values(const ParameterValues& values) {
   s.max_step_halvings = static_cast<int>(halvings);
   s.linear_solver = enum_index(values, spec("linearSolver")) == 0 ? LinearSolverKind::Cholmod
                                                                   : LinearSolverKind::Ldlt;
+  s.edge_flips = number(values, "edgeFlips") != 0;
   s.write_texture_coordinates = number(values, "writeUV") != 0;
   s.write_quality = number(values, "writeQuality") != 0;
   s.add_layout_layer = number(values, "layoutLayer") != 0;

@@ -28,6 +28,7 @@ struct FilterSettings {
   int max_iterations = 100;
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
   int max_step_halvings = 40;
+  bool edge_flips = true;
   bool write_texture_coordinates = true;
   bool write_quality = true;
   bool add_layout_layer = false;

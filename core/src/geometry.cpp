@@ -170,6 +170,21 @@ TriangleAngles corner_angles(Geometry g, const std::array<double, 3>& l) {
   return t;
 }
 
+double third_side(Geometry g, double x, double y, double angle) {
+  // The cosine law written without cancellation, with h = sin^2(angle / 2):
+  //   E2: (c/2)^2 = ((x-y)/2)^2 + x y h;  H2: sinh^2(c/2) = sinh^2((x-y)/2) + sinh x sinh y h;
+  //   S2: sin^2(c/2) = sin^2((x-y)/2) + sin x sin y h.
+  const double h = std::pow(std::sin(angle / 2), 2);
+  switch (g) {
+    case Geometry::Euclidean: return 2 * std::sqrt(std::pow((x - y) / 2, 2) + x * y * h);
+    case Geometry::Hyperbolic:
+      return 2 * std::asinh(std::sqrt(std::pow(std::sinh((x - y) / 2), 2) + std::sinh(x) * std::sinh(y) * h));
+    case Geometry::Spherical:
+      return 2 * std::asin(std::sqrt(std::pow(std::sin((x - y) / 2), 2) + std::sin(x) * std::sin(y) * h));
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 double triangle_area(Geometry g, const std::array<double, 3>& l,
                      const std::array<double, 3>& angle) {
   switch (g) {

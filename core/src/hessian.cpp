@@ -4,7 +4,7 @@
 
 namespace ricci {
 
-std::array<std::array<double, 3>, 3> face_angle_jacobian(const CompactMesh& mesh,
+std::array<std::array<double, 3>, 3> face_angle_jacobian(const Triangulation& mesh,
                                                          const MetricState& state, int f) {
   // d l_k / d u at each corner: edge k is opposite corner k and joins corners k+1 and k+2.
   double dl_du[3][3] = {};  // [edge k][corner]
@@ -28,7 +28,7 @@ std::array<std::array<double, 3>, 3> face_angle_jacobian(const CompactMesh& mesh
   return j;
 }
 
-HessianAssembler::HessianAssembler(const CompactMesh& mesh, std::vector<int> free_index)
+HessianAssembler::HessianAssembler(const Triangulation& mesh, std::vector<int> free_index)
     : mesh_(mesh), free_index_(std::move(free_index)) {
   const int n = static_cast<int>(
       std::count_if(free_index_.begin(), free_index_.end(), [](int i) { return i >= 0; }));

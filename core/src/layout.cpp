@@ -15,7 +15,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // Direction angle of every halfedge, integrated over a breadth-first tree of faces.
-std::vector<double> halfedge_directions(const CompactMesh& mesh,
+std::vector<double> halfedge_directions(const Triangulation& mesh,
                                         const std::vector<double>& lengths) {
   const int nf = mesh.num_faces();
   std::vector<std::array<double, 3>> angle(nf);
@@ -57,7 +57,7 @@ std::vector<double> halfedge_directions(const CompactMesh& mesh,
 
 }  // namespace
 
-PlanarLayout layout_disk(const CompactMesh& mesh, const std::vector<double>& lengths,
+PlanarLayout layout_disk(const Triangulation& mesh, const std::vector<double>& lengths,
                          LinearSolverKind solver_kind) {
   if (mesh.is_closed() || mesh.genus() != 0 || mesh.num_boundary_loops() != 1) {
     throw InvalidArgumentError("layout: the planar layout needs a disk, but the mesh is a " +
@@ -106,17 +106,23 @@ PlanarLayout layout_disk(const CompactMesh& mesh, const std::vector<double>& len
   centroid /= n;
   for (auto& p : layout.position) p -= centroid;
 
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    const Eigen::Vector2d a = layout.position[mesh.face_vertex(f, 1)] - layout.position[mesh.face_vertex(f, 0)];
-    const Eigen::Vector2d b = layout.position[mesh.face_vertex(f, 2)] - layout.position[mesh.face_vertex(f, 0)];
-    if (!(a.x() * b.y() - a.y() * b.x() > 0)) ++layout.num_flipped_faces;
-  }
+  layout.num_flipped_faces = count_flipped_faces(mesh, layout.position);
   for (int e = 0; e < mesh.num_edges(); ++e) {
     const auto [i, j] = mesh.edge_vertices(e);
     const double err = std::abs((layout.position[i] - layout.position[j]).norm() / lengths[e] - 1);
     layout.max_relative_length_error = std::max(layout.max_relative_length_error, err);
   }
   return layout;
+}
+
+int count_flipped_faces(const Triangulation& mesh, const std::vector<Eigen::Vector2d>& position) {
+  int flipped = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const Eigen::Vector2d a = position[mesh.face_vertex(f, 1)] - position[mesh.face_vertex(f, 0)];
+    const Eigen::Vector2d b = position[mesh.face_vertex(f, 2)] - position[mesh.face_vertex(f, 0)];
+    if (!(a.x() * b.y() - a.y() * b.x() > 0)) ++flipped;
+  }
+  return flipped;
 }
 
 std::vector<Eigen::Vector2d> normalized_texture_coordinates(

@@ -23,7 +23,11 @@ LinearSolverKind linear_solver_from_string(const std::string& name) {
   throw InvalidArgumentError("solver: unknown linear solver '" + name + "'; use cholmod or ldlt");
 }
 
-LinearSolver::LinearSolver(LinearSolverKind kind) : kind_(kind), impl_(std::make_unique<Impl>()) {}
+LinearSolver::LinearSolver(LinearSolverKind kind) : kind_(kind), impl_(std::make_unique<Impl>()) {
+  // A failed factorization is an expected answer here (the caller shifts and retries): no warning
+  // on stderr.
+  impl_->cholmod.cholmod().print = 0;
+}
 LinearSolver::~LinearSolver() = default;
 
 void LinearSolver::analyze(const Matrix& a) {

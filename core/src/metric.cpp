@@ -4,7 +4,12 @@ namespace ricci {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+
+std::array<double, 3> face_lengths(const Triangulation& mesh, const MetricState& state, int f) {
+  return {state.edges[mesh.face_edge(f, 0)].length, state.edges[mesh.face_edge(f, 1)].length,
+          state.edges[mesh.face_edge(f, 2)].length};
 }
+}  // namespace
 
 std::vector<double> MetricState::lengths() const {
   std::vector<double> l(edges.size());
@@ -12,7 +17,7 @@ std::vector<double> MetricState::lengths() const {
   return l;
 }
 
-MetricState evaluate_metric(const CompactMesh& mesh, const ConformalStructure& structure,
+MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure& structure,
                             const Eigen::VectorXd& u) {
   MetricState state;
   const Geometry g = structure.geometry;
@@ -25,10 +30,7 @@ MetricState evaluate_metric(const CompactMesh& mesh, const ConformalStructure& s
   }
   state.faces.resize(mesh.num_faces());
   for (int f = 0; f < mesh.num_faces(); ++f) {
-    const std::array<double, 3> l = {state.edges[mesh.face_edge(f, 0)].length,
-                                     state.edges[mesh.face_edge(f, 1)].length,
-                                     state.edges[mesh.face_edge(f, 2)].length};
-    state.faces[f] = corner_angles(g, l);
+    state.faces[f] = corner_angles(g, face_lengths(mesh, state, f));
     if (!state.faces[f].valid) {
       if (state.num_invalid_faces++ == 0) state.first_invalid_face = f;
     }
@@ -36,7 +38,22 @@ MetricState evaluate_metric(const CompactMesh& mesh, const ConformalStructure& s
   return state;
 }
 
-Eigen::VectorXd curvature(const CompactMesh& mesh, const MetricState& state) {
+void update_metric_at_edge(const Triangulation& mesh, const ConformalStructure& structure,
+                           const Eigen::VectorXd& u, int e, MetricState& state) {
+  const auto [i, j] = mesh.edge_vertices(e);
+  state.num_invalid_edges -= !state.edges[e].valid;
+  state.edges[e] = edge_length(structure.geometry, u[i], u[j], structure.eps[i], structure.eps[j],
+                               structure.eta[e]);
+  state.num_invalid_edges += !state.edges[e].valid;
+  for (int f : mesh.edge_faces(e)) {
+    if (f < 0) continue;
+    state.num_invalid_faces -= !state.faces[f].valid;
+    state.faces[f] = corner_angles(structure.geometry, face_lengths(mesh, state, f));
+    if (!state.faces[f].valid && state.num_invalid_faces++ == 0) state.first_invalid_face = f;
+  }
+}
+
+Eigen::VectorXd curvature(const Triangulation& mesh, const MetricState& state) {
   Eigen::VectorXd k(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) k[v] = mesh.is_boundary_vertex(v) ? kPi : 2 * kPi;
   for (int f = 0; f < mesh.num_faces(); ++f) {
@@ -45,13 +62,10 @@ Eigen::VectorXd curvature(const CompactMesh& mesh, const MetricState& state) {
   return k;
 }
 
-double total_area(const CompactMesh& mesh, Geometry geometry, const MetricState& state) {
+double total_area(const Triangulation& mesh, Geometry geometry, const MetricState& state) {
   double area = 0;
   for (int f = 0; f < mesh.num_faces(); ++f) {
-    const std::array<double, 3> l = {state.edges[mesh.face_edge(f, 0)].length,
-                                     state.edges[mesh.face_edge(f, 1)].length,
-                                     state.edges[mesh.face_edge(f, 2)].length};
-    area += triangle_area(geometry, l, state.faces[f].angle);
+    area += triangle_area(geometry, face_lengths(mesh, state, f), state.faces[f].angle);
   }
   return area;
 }

@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 
+#include "ricci/delaunay.h"
 #include "ricci/errors.h"
 #include "ricci/hessian.h"
 #include "ricci/metric.h"
@@ -57,12 +59,13 @@ class NewtonSolver {
   NewtonSolver(const CompactMesh& mesh, const ConformalStructure& structure,
                const TargetCurvature& target, const FlowOptions& options)
       : mesh_(mesh),
+        triangulation_(mesh),
         structure_(structure),
         target_(target),
         options_(options),
         spherical_(structure.geometry == Geometry::Spherical),
         free_index_(make_free_index()),
-        assembler_(mesh, free_index_),
+        assembler_(std::make_unique<HessianAssembler>(triangulation_, free_index_)),
         solver_(options.linear_solver) {}
 
   FlowResult run();
@@ -70,16 +73,19 @@ class NewtonSolver {
  private:
   std::vector<int> make_free_index() const;
   bool compute_step(const MetricState& state, const Eigen::VectorXd& r, Eigen::VectorXd& du);
+  // Flips to (power) Delaunay; a changed connectivity gets a new Hessian pattern and analysis.
+  void keep_delaunay(const Eigen::VectorXd& u, MetricState& state, FlowResult& result);
   void finish(FlowResult& result, const Eigen::VectorXd& u, const MetricState& state,
               const Eigen::VectorXd& k) const;
 
   const CompactMesh& mesh_;
-  const ConformalStructure& structure_;
+  Triangulation triangulation_;    // the input's, then as flipped
+  ConformalStructure structure_;  // eta changes with flips
   const TargetCurvature& target_;
   const FlowOptions& options_;
   const bool spherical_;
   std::vector<int> free_index_;
-  HessianAssembler assembler_;
+  std::unique_ptr<HessianAssembler> assembler_;
   LinearSolver solver_;
   SparseMatrix normal_matrix_;  // S2: H^2
   bool analyzed_ = false;
@@ -103,7 +109,7 @@ std::vector<int> NewtonSolver::make_free_index() const {
 bool NewtonSolver::compute_step(const MetricState& state, const Eigen::VectorXd& r,
                                 Eigen::VectorXd& du) {
   auto t = Clock::now();
-  const SparseMatrix& h = assembler_.assemble(state);
+  const SparseMatrix& h = assembler_->assemble(state);
   Eigen::VectorXd rhs = r;
   const SparseMatrix* system = &h;
   double shift = 0;
@@ -143,7 +149,7 @@ void NewtonSolver::finish(FlowResult& result, const Eigen::VectorXd& u, const Me
   result.u = u;
   result.curvature = k;
   result.edge_lengths = state.lengths();
-  result.area = state.valid() ? total_area(mesh_, g, state) : std::numeric_limits<double>::quiet_NaN();
+  result.area = state.valid() ? total_area(triangulation_, g, state) : std::numeric_limits<double>::quiet_NaN();
   result.radius.resize(u.size());
   result.target.resize(u.size());
   for (int v = 0; v < u.size(); ++v) {
@@ -151,17 +157,31 @@ void NewtonSolver::finish(FlowResult& result, const Eigen::VectorXd& u, const Me
     result.target[v] =
         target_.is_fixed(v) ? std::numeric_limits<double>::quiet_NaN() : target_.curvature[v];
   }
+  if (result.num_flips > 0) result.triangulation = triangulation_;
   result.num_analyses = solver_.num_analyses();
   result.num_factorizations = solver_.num_factorizations();
   result.times = times_;
 }
 
+void NewtonSolver::keep_delaunay(const Eigen::VectorXd& u, MetricState& state, FlowResult& result) {
+  if (!options_.edge_flips) return;
+  const auto t = Clock::now();
+  const FlipReport flips = make_delaunay(triangulation_, structure_, u, state, 10 * mesh_.num_edges());
+  result.num_flips += flips.flips;
+  if (flips.flips > 0) {
+    ++result.connectivity_changes;
+    assembler_ = std::make_unique<HessianAssembler>(triangulation_, free_index_);
+    analyzed_ = false;
+  }
+  times_.flips += seconds_since(t);
+}
+
 FlowResult NewtonSolver::run() {
   const auto start = Clock::now();
   FlowResult result;
-  const int n = assembler_.num_free();
+  const int n = assembler_->num_free();
   Eigen::VectorXd u = structure_.u0;
-  MetricState state = evaluate_metric(mesh_, structure_, u);
+  MetricState state = evaluate_metric(triangulation_, structure_, u);
   times_.setup = seconds_since(start);
   if (!state.valid()) {
     result.failure = "the initial metric of this scheme is not valid in " +
@@ -171,7 +191,8 @@ FlowResult NewtonSolver::run() {
     result.times.total = seconds_since(start);
     return result;
   }
-  Eigen::VectorXd k = curvature(mesh_, state);
+  keep_delaunay(u, state, result);
+  Eigen::VectorXd k = curvature(triangulation_, state);
   for (int it = 0;; ++it) {
     result.residual = max_residual(k, target_);
     result.residual_history.push_back(result.residual);
@@ -214,12 +235,12 @@ FlowResult NewtonSolver::run() {
       for (int v = 0; v < u.size(); ++v) {
         if (free_index_[v] >= 0) trial_u[v] = u[v] + alpha * du[free_index_[v]];
       }
-      trial_state = evaluate_metric(mesh_, structure_, trial_u);
+      trial_state = evaluate_metric(triangulation_, structure_, trial_u);
       if (!trial_state.valid()) {
         blocked_by_validity = true;
         continue;
       }
-      trial_k = curvature(mesh_, trial_state);
+      trial_k = curvature(triangulation_, trial_state);
       const double trial_phi =
           0.5 * free_residual(trial_k, target_, free_index_, n).squaredNorm();
       if (trial_phi <= (1 - 1e-4 * alpha) * phi) {
@@ -233,8 +254,10 @@ FlowResult NewtonSolver::run() {
       s << "stalled at iteration " << it << " with max |K - Kbar| = " << result.residual
         << ": no step of length >= 2^-" << options_.max_step_halvings << " reduces the residual";
       if (!trial_state.valid()) s << " while keeping every triangle valid (" << describe_invalid(trial_state) << ")";
-      s << "; the solution may not exist on this triangulation (edge flips help), or try "
-           "another scheme";
+      s << (options_.edge_flips ? "; the solution may not exist for this mesh"
+                                : "; the solution may not exist on this triangulation (edge "
+                                  "flips help)")
+        << ", or try another scheme";
       result.failure = s.str();
       break;
     }
@@ -250,8 +273,10 @@ FlowResult NewtonSolver::run() {
            "max |K - Kbar| only went from "
         << result.residual_history[result.residual_history.size() - kStallWindow] << " to "
         << result.residual
-        << "; the target is not reachable on this triangulation (edge flips help), or try the "
-           "tangential scheme, whose triangles are always valid";
+        << (options_.edge_flips ? "; the target is not reachable even with edge flips"
+                                : "; the target is not reachable on this triangulation (edge "
+                                  "flips help)")
+        << ", or try the tangential scheme, whose triangles are always valid";
       result.failure = s.str();
       break;
     }
@@ -259,14 +284,16 @@ FlowResult NewtonSolver::run() {
     result.step_history.push_back(alpha);
     u = trial_u;
     state = std::move(trial_state);
-    k = std::move(trial_k);
+    const int flips_before = result.num_flips;
+    keep_delaunay(u, state, result);
+    k = result.num_flips > flips_before ? curvature(triangulation_, state) : std::move(trial_k);
   }
   // E2 without fixed vertices: choose the scale of the input's total area.
   if (result.converged && structure_.geometry == Geometry::Euclidean && target_.num_fixed() == 0) {
-    const double c = 0.5 * std::log(mesh_.input_area() / total_area(mesh_, Geometry::Euclidean, state));
+    const double c = 0.5 * std::log(mesh_.input_area() / total_area(triangulation_, Geometry::Euclidean, state));
     u.array() += c;
-    state = evaluate_metric(mesh_, structure_, u);
-    k = curvature(mesh_, state);
+    state = evaluate_metric(triangulation_, structure_, u);
+    k = curvature(triangulation_, state);
     result.residual = max_residual(k, target_);
   }
   finish(result, u, state, k);

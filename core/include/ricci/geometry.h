@@ -56,6 +56,10 @@ bool is_valid_triangle(Geometry g, const std::array<double, 3>& l);
 //! Corner angles from the cosine law of the geometry, by the half-angle formula.
 TriangleAngles corner_angles(Geometry g, const std::array<double, 3>& l);
 
+//! Length of the side opposite the angle between sides x and y (the cosine law solved for the
+//! third side). NaN when the result is not a valid length.
+double third_side(Geometry g, double x, double y, double angle);
+
 //! Area of a triangle with the given lengths and angles: Heron (E2), angle defect (H2),
 //! angle excess (S2).
 double triangle_area(Geometry g, const std::array<double, 3>& l,

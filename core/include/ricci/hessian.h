@@ -7,7 +7,7 @@
 
 #include <Eigen/SparseCore>
 
-#include "ricci/compact_mesh.h"
+#include "ricci/triangulation.h"
 #include "ricci/metric.h"
 
 namespace ricci {
@@ -15,14 +15,14 @@ namespace ricci {
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 //! d theta / d u of one face: [corner][corner], symmetric (paper, Lemma "Symmetry").
-std::array<std::array<double, 3>, 3> face_angle_jacobian(const CompactMesh& mesh,
+std::array<std::array<double, 3>, 3> face_angle_jacobian(const Triangulation& mesh,
                                                          const MetricState& state, int f);
 
 //! Builds the sparsity pattern once per connectivity; assemble() then only writes values.
 class HessianAssembler {
  public:
   //! free_index[v] is the row of vertex v, or -1 where u is held fixed.
-  HessianAssembler(const CompactMesh& mesh, std::vector<int> free_index);
+  HessianAssembler(const Triangulation& mesh, std::vector<int> free_index);
 
   //! H restricted to the free vertices (both triangles stored). \pre state.valid()
   const SparseMatrix& assemble(const MetricState& state);
@@ -32,7 +32,7 @@ class HessianAssembler {
   const std::vector<int>& free_index() const { return free_index_; }
 
  private:
-  const CompactMesh& mesh_;
+  const Triangulation& mesh_;
   std::vector<int> free_index_;
   SparseMatrix matrix_;
   std::vector<std::array<int, 9>> slots_;  //!< per face, value index of (row corner, col corner)

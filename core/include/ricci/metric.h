@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "ricci/compact_mesh.h"
+#include "ricci/triangulation.h"
 #include "ricci/geometry.h"
 #include "ricci/scheme.h"
 
@@ -24,14 +24,19 @@ struct MetricState {
 };
 
 //! Lengths and angles of the circle packing metric (eps, eta, u).
-MetricState evaluate_metric(const CompactMesh& mesh, const ConformalStructure& structure,
+MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure& structure,
                             const Eigen::VectorXd& u);
+
+//! Recomputes edge e's length and the angles of its faces (after e was flipped or its eta
+//! changed), keeping the invalid counts up to date.
+void update_metric_at_edge(const Triangulation& mesh, const ConformalStructure& structure,
+                           const Eigen::VectorXd& u, int e, MetricState& state);
 
 //! Discrete Gauss curvature: 2 pi - sum of angles inside, pi - sum on the boundary.
 //! \pre state.valid()
-Eigen::VectorXd curvature(const CompactMesh& mesh, const MetricState& state);
+Eigen::VectorXd curvature(const Triangulation& mesh, const MetricState& state);
 
 //! Total area of the metric in its background geometry. \pre state.valid()
-double total_area(const CompactMesh& mesh, Geometry geometry, const MetricState& state);
+double total_area(const Triangulation& mesh, Geometry geometry, const MetricState& state);
 
 }  // namespace ricci

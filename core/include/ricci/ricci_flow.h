@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ struct FlowOptions {
   int max_iterations = 100;  //!< Newton iterations
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
   int max_step_halvings = 40;  //!< line search: smallest step is 2^-max_step_halvings
+  //! Keep the triangulation (power) Delaunay by edge flips, before the first and after every
+  //! step (delaunay.h). The result then may live on another triangulation of the same vertices.
+  bool edge_flips = true;
   //! Called once per iteration; returning false cancels the flow.
   std::function<bool(const FlowProgress&)> progress;
 };
@@ -37,7 +41,7 @@ struct FlowOptions {
 //! Wall-clock seconds per phase.
 struct FlowTimes {
   double setup = 0, assembly = 0, analysis = 0, factorization = 0, solve = 0, line_search = 0,
-         total = 0;
+         flips = 0, total = 0;
 };
 
 struct FlowResult {
@@ -48,7 +52,11 @@ struct FlowResult {
   Eigen::VectorXd radius;     //!< circle radius r(u) of the geometry; NaN where undefined
   Eigen::VectorXd curvature;  //!< K of the result
   Eigen::VectorXd target;     //!< Kbar; NaN where u was held fixed
-  std::vector<double> edge_lengths;
+  std::vector<double> edge_lengths;  //!< per edge of result_triangulation()
+  int num_flips = 0;                  //!< edge flips done during the flow
+  int connectivity_changes = 0;       //!< flip rounds that changed the triangulation
+  //! The final connectivity when flips changed it (edge indices as in the input).
+  std::optional<Triangulation> triangulation;
   double area = 0;  //!< total area in the background geometry
 
   int iterations = 0;
@@ -58,6 +66,11 @@ struct FlowResult {
   int num_analyses = 0, num_factorizations = 0;
   FlowTimes times;
 };
+
+//! The triangulation the result's edge lengths belong to: the flipped one, or the input's.
+inline const Triangulation& result_triangulation(const CompactMesh& mesh, const FlowResult& r) {
+  return r.triangulation ? *r.triangulation : mesh;
+}
 
 //! The length scale applied to the input before initialization: 1 in E2; in H2 and S2 the scale
 //! giving the area Gauss-Bonnet asks for (area 1 when fixed vertices leave it open), reduced in

@@ -1,0 +1,40 @@
+// Edge flips that keep the triangulation (power) Delaunay for the current metric (paper, last
+// paragraph; Gu, Luo, Sun, Wu for Yamabe flow with surgery).
+//
+// One criterion for every scheme and geometry: interior edge ij is (power) Delaunay when its
+// off-diagonal Hessian entry dK_i/du_j is <= 0, i.e. the dual edge of the power diagram has
+// non-negative length (paper, Section 4). For Euclidean Yamabe this is cot a + cot b >= 0.
+//
+// A flipped edge gets a new eta. Where all four vertices of the quadrilateral have eps = 0
+// (Yamabe), the lambda-lengths lambda = sqrt(2 eta) follow Ptolemy's relation, which keeps the
+// discrete conformal class (Penner coordinates); where all four have eps = +1 or all -1, eta
+// solves the length law for the current length of the new diagonal, which keeps the metric.
+// Quadrilaterals of mixed eps are not flipped.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "ricci/metric.h"
+#include "ricci/scheme.h"
+#include "ricci/triangulation.h"
+
+namespace ricci {
+
+//! True for a boundary edge, or an interior edge whose dK_i/du_j is at most `tolerance` times
+//! the size of its faces' angle derivatives. \pre state.valid() around e
+bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e,
+                 double tolerance = 1e-10);
+
+struct FlipReport {
+  int flips = 0;    //!< edges flipped
+  int blocked = 0;  //!< non-Delaunay edges that could not be flipped (non-convex quadrilateral,
+                    //!< the new diagonal already an edge, eta <= 0 or an invalid triangle after)
+};
+
+//! Flips non-Delaunay edges until none is left (or max_flips is reached), updating the flipped
+//! edges' eta in `structure` and the lengths and angles in `state`.
+//! \pre state == evaluate_metric(mesh, structure, u) and state.valid()
+FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure,
+                         const Eigen::VectorXd& u, MetricState& state, int max_flips);
+
+}  // namespace ricci

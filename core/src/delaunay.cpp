@@ -1,0 +1,125 @@
+#include "ricci/delaunay.h"
+
+#include <cmath>
+#include <unordered_set>
+
+#include "ricci/hessian.h"
+
+namespace ricci {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::uint64_t pair_key(int a, int b) {
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b)), hi = static_cast<std::uint64_t>(std::max(a, b));
+  return (hi << 32) | lo;
+}
+
+int corner_of(const Triangulation& mesh, int f, int v) {
+  for (int c = 0; c < 3; ++c) {
+    if (mesh.face_vertex(f, c) == v) return c;
+  }
+  return -1;
+}
+
+// lambda-length of a Yamabe edge: l = lambda e^((ui+uj)/2) in E2, and the same with sinh(l/2)
+// or sin(l/2) for l/2 in H2 and S2.
+double lambda(const ConformalStructure& s, int e) { return std::sqrt(2 * s.eta[e]); }
+
+}  // namespace
+
+bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, double tolerance) {
+  if (mesh.is_boundary_edge(e)) return true;
+  const auto [a, b] = mesh.edge_vertices(e);
+  double off_diagonal = 0, scale = 0;
+  for (int f : mesh.edge_faces(e)) {
+    const auto j = face_angle_jacobian(mesh, state, f);
+    const int ca = corner_of(mesh, f, a), cb = corner_of(mesh, f, b);
+    off_diagonal -= 0.5 * (j[ca][cb] + j[cb][ca]);  // dK_a/du_b = -d theta_a/d u_b
+    scale += std::abs(j[ca][ca]) + std::abs(j[cb][cb]);
+  }
+  return off_diagonal <= tolerance * scale;
+}
+
+FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure, const Eigen::VectorXd& u,
+                         MetricState& state, int max_flips) {
+  FlipReport report;
+  std::unordered_set<std::uint64_t> edges;
+  edges.reserve(2 * static_cast<size_t>(mesh.num_edges()));
+  for (int e = 0; e < mesh.num_edges(); ++e) edges.insert(pair_key(mesh.edge_vertices(e)[0], mesh.edge_vertices(e)[1]));
+  std::vector<int> stack;
+  std::vector<char> queued(mesh.num_edges(), 0);
+  for (int e = mesh.num_edges() - 1; e >= 0; --e) {
+    if (!mesh.is_boundary_edge(e)) {
+      stack.push_back(e);
+      queued[e] = 1;
+    }
+  }
+  const Geometry g = structure.geometry;
+  while (!stack.empty() && report.flips < max_flips) {
+    const int e = stack.back();
+    stack.pop_back();
+    queued[e] = 0;
+    if (is_delaunay(mesh, state, e)) continue;
+    const int h = mesh.edge_halfedge(e), t = mesh.twin(h);
+    const int f = h / 3, c = h % 3, fg = t / 3, d = t % 3;
+    const int k = mesh.face_vertex(f, c), a = mesh.face_vertex(f, (c + 1) % 3),
+              b = mesh.face_vertex(f, (c + 2) % 3), l = mesh.face_vertex(fg, d);
+    // The quadrilateral k, a, l, b must be convex at a and b for the new diagonal k-l.
+    const double angle_a = state.faces[f].angle[(c + 1) % 3] + state.faces[fg].angle[(d + 2) % 3];
+    const double angle_b = state.faces[f].angle[(c + 2) % 3] + state.faces[fg].angle[(d + 1) % 3];
+    if (k == l || edges.count(pair_key(k, l)) || !(angle_a < kPi) || !(angle_b < kPi)) {
+      ++report.blocked;
+      continue;
+    }
+    const int e_bk = mesh.face_edge(f, (c + 1) % 3), e_ka = mesh.face_edge(f, (c + 2) % 3);
+    const int e_al = mesh.face_edge(fg, (d + 1) % 3), e_lb = mesh.face_edge(fg, (d + 2) % 3);
+    const double old_eta = structure.eta[e];
+    double new_eta;
+    const auto& eps = structure.eps;
+    if (!(eps[k] == eps[a] && eps[a] == eps[b] && eps[b] == eps[l])) {
+      // Mixed quadrilaterals stay: their flip can leave the convex range of the energy (on
+      // eight.off in H2 it made the Hessian indefinite and the flow stall).
+      ++report.blocked;
+      continue;
+    }
+    if (eps[k] == 0 && eps[a] == 0 && eps[b] == 0 && eps[l] == 0) {
+      // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
+      const double lam = (lambda(structure, e_ka) * lambda(structure, e_lb) +
+                          lambda(structure, e_al) * lambda(structure, e_bk)) /
+                         lambda(structure, e);
+      new_eta = lam * lam / 2;
+    } else {
+      const double diagonal = third_side(g, state.edges[e_ka].length, state.edges[e_al].length, angle_a);
+      new_eta = conformal_structure_from_length(g, diagonal, u[k], u[l], eps[k], eps[l]);
+    }
+    // eta <= 0 leaves the range where the Ricci energy is convex (the paper's schemes ask eta > 0).
+    if (!(new_eta > 0) || !std::isfinite(new_eta)) {
+      ++report.blocked;
+      continue;
+    }
+    mesh.flip(e);
+    structure.eta[e] = new_eta;
+    update_metric_at_edge(mesh, structure, u, e, state);
+    if (!state.valid()) {
+      mesh.flip(e);  // back to a-b
+      structure.eta[e] = old_eta;
+      update_metric_at_edge(mesh, structure, u, e, state);
+      ++report.blocked;
+      continue;
+    }
+    edges.erase(pair_key(a, b));
+    edges.insert(pair_key(k, l));
+    ++report.flips;
+    for (int side : {e_bk, e_ka, e_al, e_lb}) {
+      if (!mesh.is_boundary_edge(side) && !queued[side]) {
+        stack.push_back(side);
+        queued[side] = 1;
+      }
+    }
+  }
+  return report;
+}
+
+}  // namespace ricci
