@@ -112,6 +112,7 @@ FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure, con
     edges.erase(pair_key(a, b));
     edges.insert(pair_key(k, l));
     ++report.flips;
+    report.sequence.push_back(e);
     for (int side : {e_bk, e_ka, e_al, e_lb}) {
       if (!mesh.is_boundary_edge(side) && !queued[side]) {
         stack.push_back(side);

@@ -168,6 +168,7 @@ void NewtonSolver::keep_delaunay(const Eigen::VectorXd& u, MetricState& state, F
   const auto t = Clock::now();
   const FlipReport flips = make_delaunay(triangulation_, structure_, u, state, 10 * mesh_.num_edges());
   result.num_flips += flips.flips;
+  result.flip_sequence.insert(result.flip_sequence.end(), flips.sequence.begin(), flips.sequence.end());
   if (flips.flips > 0) {
     ++result.connectivity_changes;
     assembler_ = std::make_unique<HessianAssembler>(triangulation_, free_index_);

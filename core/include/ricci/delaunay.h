@@ -12,6 +12,8 @@
 // Quadrilaterals of mixed eps are not flipped.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "ricci/metric.h"
@@ -26,7 +28,8 @@ bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e,
                  double tolerance = 1e-10);
 
 struct FlipReport {
-  int flips = 0;    //!< edges flipped
+  int flips = 0;              //!< edges flipped
+  std::vector<int> sequence;  //!< the flipped edges, in order
   int blocked = 0;  //!< non-Delaunay edges that could not be flipped (non-convex quadrilateral,
                     //!< the new diagonal already an edge, eta <= 0 or an invalid triangle after)
 };

@@ -55,6 +55,7 @@ struct FlowResult {
   std::vector<double> edge_lengths;  //!< per edge of result_triangulation()
   int num_flips = 0;                  //!< edge flips done during the flow
   int connectivity_changes = 0;       //!< flip rounds that changed the triangulation
+  std::vector<int> flip_sequence;     //!< every flipped edge, in order (replays the flips)
   //! The final connectivity when flips changed it (edge indices as in the input).
   std::optional<Triangulation> triangulation;
   double area = 0;  //!< total area in the background geometry

@@ -1,0 +1,130 @@
+// Edge flips: the flip routine on its own (Delaunay afterwards, metric kept, a valid
+// triangulation), and Yamabe with flips, whose result is discretely conformal to the input in
+// the Ptolemy sense, checked by replaying the flips with an independent Ptolemy rule.
+#include "ricci/delaunay.h"
+
+#include <cmath>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "ricci/metric.h"
+#include "ricci/ricci_flow.h"
+#include "test_meshes.h"
+
+namespace ricci {
+namespace {
+
+// A triangulation is valid: faces of three distinct vertices, no self-loops, no duplicate edges,
+// twins consistent with edge endpoints.
+void expect_valid_triangulation(const Triangulation& t) {
+  std::set<std::pair<int, int>> pairs;
+  for (int e = 0; e < t.num_edges(); ++e) {
+    const auto [a, b] = t.edge_vertices(e);
+    EXPECT_NE(a, b) << "self-loop at edge " << e;
+    EXPECT_TRUE(pairs.insert({a, b}).second) << "duplicate edge " << a << "-" << b;
+  }
+  for (int f = 0; f < t.num_faces(); ++f) {
+    EXPECT_NE(t.face_vertex(f, 0), t.face_vertex(f, 1));
+    EXPECT_NE(t.face_vertex(f, 1), t.face_vertex(f, 2));
+    EXPECT_NE(t.face_vertex(f, 2), t.face_vertex(f, 0));
+  }
+  for (int h = 0; h < t.num_halfedges(); ++h) {
+    const int tw = t.twin(h);
+    if (tw < 0) continue;
+    EXPECT_EQ(t.twin(tw), h);
+    EXPECT_EQ(t.halfedge_tail(tw), t.halfedge_head(h));
+    EXPECT_EQ(t.face_edge(tw / 3, tw % 3), t.face_edge(h / 3, h % 3));
+  }
+}
+
+TEST(Delaunay, FlipsOfThePackingSchemesKeepTheMetric) {
+  // The input metric of a scan (inversive distance reproduces it exactly) is far from Delaunay.
+  for (Geometry g : {Geometry::Euclidean, Geometry::Hyperbolic}) {
+    const CompactMesh mesh = test::cgal_mesh("mannequin-devil.off");
+    SchemeOptions options;
+    options.scheme = Scheme::InversiveDistance;
+    ConformalStructure s = initialize_scheme(mesh, g, options, g == Geometry::Euclidean ? 1.0 : 0.02);
+    Triangulation t = mesh;
+    MetricState state = evaluate_metric(t, s, s.u0);
+    ASSERT_TRUE(state.valid());
+    const Eigen::VectorXd k_before = curvature(t, state);
+    const double area_before = total_area(t, g, state);
+    int not_delaunay = 0;
+    for (int e = 0; e < t.num_edges(); ++e) not_delaunay += !is_delaunay(t, state, e);
+    const FlipReport report = make_delaunay(t, s, s.u0, state, 100 * t.num_edges());
+    EXPECT_GT(report.flips, not_delaunay / 2) << to_string(g);
+    expect_valid_triangulation(t);
+    // The state the routine kept up to date is the metric of the flipped triangulation.
+    const MetricState fresh = evaluate_metric(t, s, s.u0);
+    ASSERT_TRUE(fresh.valid());
+    for (int e = 0; e < t.num_edges(); ++e) {
+      EXPECT_NEAR(fresh.edges[e].length, state.edges[e].length, 1e-12 * state.edges[e].length);
+    }
+    int left = 0;
+    for (int e = 0; e < t.num_edges(); ++e) left += !is_delaunay(t, fresh, e);
+    EXPECT_LE(left, report.blocked) << to_string(g) << ": every edge is Delaunay unless its flip was blocked";
+    EXPECT_LT(left, t.num_edges() / 100);
+    // Same metric: every vertex keeps its angle sum, the surface its area.
+    EXPECT_LE((curvature(t, fresh) - k_before).cwiseAbs().maxCoeff(), 1e-9) << to_string(g);
+    EXPECT_NEAR(total_area(t, g, fresh) / area_before, 1.0, 1e-10);
+  }
+}
+
+TEST(Delaunay, FlipTwiceRestoresTheTriangulation) {
+  const CompactMesh mesh = test::torus(10, 6);
+  Triangulation t = mesh;
+  for (int e = 0; e < t.num_edges(); e += 7) {
+    const auto before = t.edge_vertices(e);
+    const auto opposite = t.opposite_vertices(e);
+    ASSERT_TRUE(t.flip(e));
+    EXPECT_EQ(t.edge_vertices(e)[0], std::min(opposite[0], opposite[1]));
+    EXPECT_EQ(t.edge_vertices(e)[1], std::max(opposite[0], opposite[1]));
+    expect_valid_triangulation(t);
+    ASSERT_TRUE(t.flip(e));
+    EXPECT_EQ(t.edge_vertices(e), before);
+  }
+  expect_valid_triangulation(t);
+  const CompactMesh disk = test::bumpy_disk(4);
+  Triangulation d = disk;
+  for (int e = 0; e < d.num_edges(); ++e) {
+    if (d.is_boundary_edge(e)) {
+      EXPECT_FALSE(d.flip(e));
+    }
+  }
+}
+
+TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInput) {
+  for (const char* name : {"elk.off", "lion-head.off"}) {
+    const CompactMesh mesh = test::cgal_mesh(name);
+    SchemeOptions options;
+    options.scheme = Scheme::Yamabe;
+    const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options, TargetCurvature::automatic(mesh));
+    ASSERT_TRUE(r.converged);
+    ASSERT_GT(r.num_flips, 100) << name;
+    // Replay the flips on the input's lambda-lengths (u = 0: lambda = input length) with
+    // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
+    Triangulation t = mesh;
+    std::vector<double> lambda = mesh.input_lengths();
+    for (int e : r.flip_sequence) {
+      const int h = t.edge_halfedge(e), tw = t.twin(h);
+      const int f = h / 3, c = h % 3, g = tw / 3, d = tw % 3;
+      const double ka = lambda[t.face_edge(f, (c + 2) % 3)], bk = lambda[t.face_edge(f, (c + 1) % 3)];
+      const double al = lambda[t.face_edge(g, (d + 1) % 3)], lb = lambda[t.face_edge(g, (d + 2) % 3)];
+      lambda[e] = (ka * lb + al * bk) / lambda[e];
+      ASSERT_TRUE(t.flip(e));
+    }
+    const Triangulation& final_t = result_triangulation(mesh, r);
+    for (int e = 0; e < t.num_edges(); ++e) {
+      ASSERT_EQ(t.edge_vertices(e), final_t.edge_vertices(e));
+      // The result's length is the lambda-length scaled by the conformal factors.
+      const auto [i, j] = t.edge_vertices(e);
+      EXPECT_NEAR(r.edge_lengths[e] / (lambda[e] * std::exp((r.u[i] + r.u[j]) / 2)), 1.0, 1e-9)
+          << name << " edge " << e;
+    }
+    expect_valid_triangulation(final_t);
+  }
+}
+
+}  // namespace
+}  // namespace ricci
