@@ -1,6 +1,6 @@
 // Time of a whole E2 Yamabe flow (free boundary, to max |K - Kbar| <= 1e-10) on a real disk scan
-// at about 17k, 67k, 267k and 1.07M faces, next to one CHOLMOD numeric factorization of the same
-// Hessian. Run by bench/run.sh in a Release build.
+// at about 17k, 67k, 267k and 1.07M faces, with and without edge flips, next to one CHOLMOD
+// numeric factorization of the same Hessian. Run by bench/run.sh in a Release build.
 #include <benchmark/benchmark.h>
 
 #include "bench_meshes.h"
@@ -18,12 +18,15 @@ SchemeOptions yamabe() {
   return o;
 }
 
+// range(0): subdivision level; range(1): 1 with edge flips (the default), 0 without.
 void BM_YamabeFlowToConvergence(benchmark::State& state) {
   const CompactMesh& mesh = lion_head(static_cast<int>(state.range(0)));
   const TargetCurvature target = TargetCurvature::free_boundary(mesh);
+  FlowOptions options;
+  options.edge_flips = state.range(1) != 0;
   FlowResult last;
   for (auto _ : state) {
-    last = compute_ricci_flow(mesh, Geometry::Euclidean, yamabe(), target);
+    last = compute_ricci_flow(mesh, Geometry::Euclidean, yamabe(), target, options);
     benchmark::DoNotOptimize(last.u.data());
   }
   state.counters["faces"] = mesh.num_faces();
@@ -34,6 +37,9 @@ void BM_YamabeFlowToConvergence(benchmark::State& state) {
   state.counters["s_analysis"] = last.times.analysis;
   state.counters["s_assembly_total"] = last.times.assembly;
   state.counters["s_line_search_total"] = last.times.line_search;
+  state.counters["edge_flips"] = last.num_flips;
+  state.counters["s_flips_total"] = last.times.flips;
+  state.counters["symbolic_analyses"] = last.num_analyses;
 }
 
 void BM_CholmodNumericFactorization(benchmark::State& state) {
@@ -56,7 +62,7 @@ void BM_CholmodNumericFactorization(benchmark::State& state) {
   state.counters["unknowns"] = n;
 }
 
-BENCHMARK(BM_YamabeFlowToConvergence)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
+BENCHMARK(BM_YamabeFlowToConvergence)->ArgsProduct({{0, 1, 2, 3}, {1, 0}})->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(3)->ReportAggregatesOnly(true);
 BENCHMARK(BM_CholmodNumericFactorization)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)->Repetitions(3)->ReportAggregatesOnly(true);
 
 }  // namespace
