@@ -79,5 +79,25 @@ TEST(RealMesh, FixedTriangulationStallsWhereFlipsConverge) {
   EXPECT_TRUE(flipped.converged);
 }
 
+TEST(RealMesh, StereographicStartForTheSphericalYamabeFlow) {
+  // The lift of the flattened punctured mesh starts the S2 flow near the round sphere.
+  SchemeOptions scheme;
+  FlowOptions direct;
+  direct.stereographic_start = false;
+  const CompactMesh blobby = test::cgal_mesh("blobby.off");
+  const TargetCurvature zero = TargetCurvature::zero(blobby);
+  const FlowResult lifted = compute_ricci_flow(blobby, Geometry::Spherical, scheme, zero);
+  const FlowResult plain = compute_ricci_flow(blobby, Geometry::Spherical, scheme, zero, direct);
+  EXPECT_LE(lifted.iterations, 5);
+  EXPECT_GT(plain.iterations, lifted.iterations);
+  EXPECT_LE((lifted.curvature - plain.curvature).cwiseAbs().maxCoeff(), 1e-9);
+  // cow.off: the direct flow does not converge; from the (partly reached) lift it does.
+  const CompactMesh cow = test::cgal_mesh("cow.off");
+  const TargetCurvature cow_zero = TargetCurvature::zero(cow);
+  EXPECT_TRUE(compute_ricci_flow(cow, Geometry::Spherical, scheme, cow_zero).converged);
+  const ConformalStructure s = prepare_flow(cow, Geometry::Spherical, scheme, cow_zero);
+  EXPECT_FALSE(run_ricci_flow(cow, s, cow_zero, direct).converged);
+}
+
 }  // namespace
 }  // namespace ricci

@@ -11,6 +11,7 @@
 #include "ricci/errors.h"
 #include "ricci/hessian.h"
 #include "ricci/metric.h"
+#include "ricci/spherical_start.h"
 
 namespace ricci {
 
@@ -72,7 +73,14 @@ class NewtonSolver {
 
  private:
   std::vector<int> make_free_index() const;
+  bool use_stereographic_start() const {
+    return spherical_ && options_.stereographic_start && mesh_.is_closed() && mesh_.genus() == 0 &&
+           target_.num_fixed() == 0 &&
+           std::all_of(structure_.eps.begin(), structure_.eps.end(), [](int e) { return e == 0; });
+  }
   bool compute_step(const MetricState& state, const Eigen::VectorXd& r, Eigen::VectorXd& du);
+  // S2 Yamabe: moves u towards the stereographic start (spherical_start.h) with flips.
+  void walk_to_stereographic_start(Eigen::VectorXd& u, MetricState& state, FlowResult& result);
   // Flips to (power) Delaunay; a changed connectivity gets a new Hessian pattern and analysis.
   void keep_delaunay(const Eigen::VectorXd& u, MetricState& state, FlowResult& result);
   void finish(FlowResult& result, const Eigen::VectorXd& u, const MetricState& state,
@@ -163,6 +171,33 @@ void NewtonSolver::finish(FlowResult& result, const Eigen::VectorXd& u, const Me
   result.times = times_;
 }
 
+void NewtonSolver::walk_to_stereographic_start(Eigen::VectorXd& u, MetricState& state,
+                                               FlowResult& result) {
+  Eigen::VectorXd lifted;
+  try {
+    lifted = stereographic_start(mesh_, structure_);
+  } catch (const Error&) {
+    return;  // the direct flow may still converge
+  }
+  if (!lifted.allFinite()) return;
+  // The lifted u need not give valid triangles on the current triangulation: walk there in the
+  // longest valid steps, flipping to Delaunay after each (Ptolemy keeps the conformal class).
+  for (int step = 0; step < 200; ++step) {
+    const Eigen::VectorXd d = lifted - u;
+    double alpha = 1;
+    MetricState trial;
+    for (; alpha > 1e-6; alpha *= 0.5) {
+      trial = evaluate_metric(triangulation_, structure_, u + alpha * d);
+      if (trial.valid()) break;
+    }
+    if (!trial.valid()) return;
+    u += alpha * d;
+    state = std::move(trial);
+    keep_delaunay(u, state, result);
+    if (alpha == 1) return;
+  }
+}
+
 void NewtonSolver::keep_delaunay(const Eigen::VectorXd& u, MetricState& state, FlowResult& result) {
   if (!options_.edge_flips) return;
   const auto t = Clock::now();
@@ -193,6 +228,7 @@ FlowResult NewtonSolver::run() {
     return result;
   }
   keep_delaunay(u, state, result);
+  if (use_stereographic_start()) walk_to_stereographic_start(u, state, result);
   Eigen::VectorXd k = curvature(triangulation_, state);
   for (int it = 0;; ++it) {
     result.residual = max_residual(k, target_);
