@@ -12,6 +12,45 @@
 
 namespace ricci {
 
+namespace {
+
+// Replaces the interior values of u by the solution of the graph Laplace equation with u's
+// boundary values.
+void harmonic_extension(const Triangulation& mesh, Eigen::VectorXd& u) {
+  std::vector<int> row(mesh.num_vertices(), -1);
+  int m = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!mesh.is_boundary_vertex(v)) row[v] = m++;
+  }
+  if (m == 0) return;
+  std::vector<Eigen::Triplet<double>> t;
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(m);
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const auto [i, j] = mesh.edge_vertices(e);
+    for (int side = 0; side < 2; ++side) {
+      const int v = side ? j : i, w = side ? i : j;
+      if (row[v] < 0) continue;
+      t.emplace_back(row[v], row[v], 1.0);
+      if (row[w] >= 0) {
+        t.emplace_back(row[v], row[w], -1.0);
+      } else {
+        b[row[v]] += u[w];
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> laplacian(m, m);
+  laplacian.setFromTriplets(t.begin(), t.end());
+  LinearSolver solver(LinearSolverKind::Cholmod);
+  solver.analyze(laplacian);
+  if (!solver.factorize(laplacian)) throw SolverError("spherical start: singular Laplacian");
+  const Eigen::VectorXd x = solver.solve(b);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (row[v] >= 0) u[v] = x[row[v]];
+  }
+}
+
+}  // namespace
+
 Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure) {
   const int n = mesh.num_vertices();
   // The puncture: the vertex of highest degree, so the removed star is a well-shaped cap.
@@ -55,41 +94,9 @@ Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStru
   for (int v = 0; v < disk.num_vertices(); ++v) {
     if (disk.is_boundary_vertex(v)) flat.u0[v] -= mean_log / links;
   }
-  // Interior u0: the harmonic extension of the link's values (graph Laplacian), so the first
-  // metric changes smoothly towards the boundary instead of jumping at it.
-  {
-    std::vector<int> row(disk.num_vertices(), -1);
-    int m = 0;
-    for (int v = 0; v < disk.num_vertices(); ++v) {
-      if (!disk.is_boundary_vertex(v)) row[v] = m++;
-    }
-    std::vector<Eigen::Triplet<double>> t;
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(m);
-    for (int e = 0; e < disk.num_edges(); ++e) {
-      const auto [i, j] = disk.edge_vertices(e);
-      for (int side = 0; side < 2; ++side) {
-        const int v = side ? j : i, w = side ? i : j;
-        if (row[v] < 0) continue;
-        t.emplace_back(row[v], row[v], 1.0);
-        if (row[w] >= 0) {
-          t.emplace_back(row[v], row[w], -1.0);
-        } else {
-          b[row[v]] += flat.u0[w];
-        }
-      }
-    }
-    if (m > 0) {
-      Eigen::SparseMatrix<double> laplacian(m, m);
-      laplacian.setFromTriplets(t.begin(), t.end());
-      LinearSolver harmonic(LinearSolverKind::Cholmod);
-      harmonic.analyze(laplacian);
-      if (!harmonic.factorize(laplacian)) throw SolverError("spherical start: singular Laplacian");
-      const Eigen::VectorXd x = harmonic.solve(b);
-      for (int v = 0; v < disk.num_vertices(); ++v) {
-        if (row[v] >= 0) flat.u0[v] = x[row[v]];
-      }
-    }
-  }
+  // Interior u0: the harmonic extension of the link's values, so the first metric changes
+  // smoothly towards the boundary instead of jumping at it.
+  harmonic_extension(disk, flat.u0);
   const FlowResult r = run_ricci_flow(disk, flat, target);
   if (!r.converged) {
     throw ConvergenceError("spherical start: the punctured mesh did not flatten: " + r.failure,
