@@ -116,7 +116,8 @@ int run(const ricci::cli::Options& o) {
   const bool planar = result.converged && geometry == Geometry::Euclidean && !mesh.is_closed() &&
                       mesh.genus() == 0 && mesh.num_boundary_loops() == 1;
   if (planar) {
-    layout = layout_disk(result_triangulation(mesh, result), result.edge_lengths, flow.linear_solver);
+    layout =
+        layout_disk(result_triangulation(mesh, result), result.edge_lengths, flow.linear_solver);
     summary.layout = &layout;
     summary.flipped_input_faces = count_flipped_faces(mesh, layout.position);
     for (const auto& p : layout.position) written.position.emplace_back(p.x(), p.y(), 0.0);
@@ -131,9 +132,10 @@ int run(const ricci::cli::Options& o) {
   cli::write_result_ply(o.output, mesh, result, written, o.ascii);
   if (!o.picture.empty()) {
     if (!planar) {
-      throw InvalidArgumentError("--picture needs a planar layout (euclidean geometry on a disk); "
-                                 "this run is " + to_string(geometry) + " on a " +
-                                 mesh.topology_name());
+      throw InvalidArgumentError(
+          "--picture needs a planar layout (euclidean geometry on a disk); "
+          "this run is " +
+          to_string(geometry) + " on a " + mesh.topology_name());
     }
     cli::write_layout_png(o.picture, mesh, written.texture, result.u);
   }
@@ -141,8 +143,9 @@ int run(const ricci::cli::Options& o) {
     std::printf("%s: %s, %d vertices, %d faces; %s geometry, %s scheme\n", o.input.c_str(),
                 mesh.topology_name().c_str(), mesh.num_vertices(), mesh.num_faces(),
                 to_string(geometry).c_str(), to_string(scheme.scheme).c_str());
-    std::printf("converged in %d Newton iterations, %d edge flips: max |K - Kbar| = %.2e (%.3f s)\n",
-                result.iterations, result.num_flips, result.residual, result.times.total);
+    std::printf(
+        "converged in %d Newton iterations, %d edge flips: max |K - Kbar| = %.2e (%.3f s)\n",
+        result.iterations, result.num_flips, result.residual, result.times.total);
     if (planar) {
       std::printf("layout: %d of the input's faces flipped, max relative length error %.2e\n",
                   summary.flipped_input_faces, layout.max_relative_length_error);

@@ -110,8 +110,7 @@ Options parse_options(int argc, const char* const* argv) {
     } else if (o.input.empty()) {
       o.input = a;
     } else {
-      throw InvalidArgumentError("more than one input mesh given ('" + o.input + "', '" + a +
-                                 "')");
+      throw InvalidArgumentError("more than one input mesh given ('" + o.input + "', '" + a + "')");
     }
   }
   if (o.help || o.version) return o;

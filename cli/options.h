@@ -10,17 +10,17 @@ namespace ricci::cli {
 struct Options {
   std::string input;
   std::string output;
-  std::string geometry = "auto";   // auto, euclidean, hyperbolic, spherical
+  std::string geometry = "auto";  // auto, euclidean, hyperbolic, spherical
   std::string scheme = "yamabe";
-  double angle_degrees = 60;       // Thurston's intersection angle
-  std::string eps_file;            // mixed scheme: +1/0/-1 per vertex
-  std::string target = "auto";     // auto, zero, free-boundary, or a file
+  double angle_degrees = 60;    // Thurston's intersection angle
+  std::string eps_file;         // mixed scheme: +1/0/-1 per vertex
+  std::string target = "auto";  // auto, zero, free-boundary, or a file
   double tolerance = 1e-10;
   int max_iterations = 100;
   std::string solver = "cholmod";
   bool edge_flips = true;
-  std::string report;              // JSON report path
-  std::string picture;             // PNG of the layout
+  std::string report;   // JSON report path
+  std::string picture;  // PNG of the layout
   bool ascii = false;
   bool quiet = false;
   bool help = false;

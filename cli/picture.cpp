@@ -16,7 +16,8 @@ using Rgb = std::array<std::uint8_t, 3>;
 
 class Image {
  public:
-  explicit Image(int size) : size_(size), pixels_(static_cast<size_t>(size) * size, Rgb{255, 255, 255}) {}
+  explicit Image(int size)
+      : size_(size), pixels_(static_cast<size_t>(size) * size, Rgb{255, 255, 255}) {}
   int size() const { return size_; }
   void set(int x, int y, const Rgb& c) {
     if (x >= 0 && y >= 0 && x < size_ && y < size_) pixels_[static_cast<size_t>(y) * size_ + x] = c;
@@ -31,14 +32,18 @@ class Image {
 // Blue (0) - white (0.5) - red (1).
 Rgb ramp(double t) {
   t = std::clamp(t, 0.0, 1.0);
-  auto mix = [](double a, double b, double s) { return static_cast<std::uint8_t>(std::lround(a + (b - a) * s)); };
+  auto mix = [](double a, double b, double s) {
+    return static_cast<std::uint8_t>(std::lround(a + (b - a) * s));
+  };
   if (t < 0.5) return {mix(40, 245, 2 * t), mix(90, 245, 2 * t), mix(200, 245, 2 * t)};
   return {mix(245, 200, 2 * t - 1), mix(245, 50, 2 * t - 1), mix(245, 40, 2 * t - 1)};
 }
 
 void fill_triangle(Image& img, const std::array<Eigen::Vector2d, 3>& p, const Rgb& c) {
-  const double x0 = std::min({p[0].x(), p[1].x(), p[2].x()}), x1 = std::max({p[0].x(), p[1].x(), p[2].x()});
-  const double y0 = std::min({p[0].y(), p[1].y(), p[2].y()}), y1 = std::max({p[0].y(), p[1].y(), p[2].y()});
+  const double x0 = std::min({p[0].x(), p[1].x(), p[2].x()}),
+               x1 = std::max({p[0].x(), p[1].x(), p[2].x()});
+  const double y0 = std::min({p[0].y(), p[1].y(), p[2].y()}),
+               y1 = std::max({p[0].y(), p[1].y(), p[2].y()});
   auto edge = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double x, double y) {
     return (b.x() - a.x()) * (y - a.y()) - (b.y() - a.y()) * (x - a.x());
   };
@@ -88,7 +93,8 @@ void put_chunk(std::ofstream& file, const char* type, const std::vector<std::uin
   chunk.insert(chunk.end(), type, type + 4);
   chunk.insert(chunk.end(), data.begin(), data.end());
   put_u32(chunk, crc32(chunk.data() + 4, chunk.size() - 4));
-  file.write(reinterpret_cast<const char*>(chunk.data()), static_cast<std::streamsize>(chunk.size()));
+  file.write(reinterpret_cast<const char*>(chunk.data()),
+             static_cast<std::streamsize>(chunk.size()));
 }
 
 void write_png(const std::string& path, const Image& img) {
@@ -112,7 +118,8 @@ void write_png(const std::string& path, const Image& img) {
     z.push_back(static_cast<std::uint8_t>(len >> 8));
     z.push_back(static_cast<std::uint8_t>(~len & 0xFF));
     z.push_back(static_cast<std::uint8_t>((~len >> 8) & 0xFF));
-    z.insert(z.end(), raw.begin() + static_cast<long>(pos), raw.begin() + static_cast<long>(pos + len));
+    z.insert(z.end(), raw.begin() + static_cast<long>(pos),
+             raw.begin() + static_cast<long>(pos + len));
     pos += len;
   }
   put_u32(z, (b << 16) | a);

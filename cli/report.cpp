@@ -77,9 +77,9 @@ void write_report(const std::string& path, const CompactMesh& mesh, const RunSum
   j << "{\n";
   j << "  \"input\": " << quoted(run.input) << ",\n";
   j << "  \"mesh\": {\"vertices\": " << mesh.num_vertices() << ", \"faces\": " << mesh.num_faces()
-    << ", \"edges\": " << mesh.num_edges() << ", \"euler_characteristic\": "
-    << mesh.euler_characteristic() << ", \"genus\": " << mesh.genus()
-    << ", \"boundary_loops\": " << mesh.num_boundary_loops()
+    << ", \"edges\": " << mesh.num_edges()
+    << ", \"euler_characteristic\": " << mesh.euler_characteristic()
+    << ", \"genus\": " << mesh.genus() << ", \"boundary_loops\": " << mesh.num_boundary_loops()
     << ", \"topology\": " << quoted(mesh.topology_name()) << "},\n";
   j << "  \"geometry\": " << quoted(to_string(run.geometry)) << ",\n";
   j << "  \"scheme\": " << quoted(to_string(run.scheme)) << ",\n";
@@ -96,11 +96,11 @@ void write_report(const std::string& path, const CompactMesh& mesh, const RunSum
   j << "  \"connectivity_changes\": " << result.connectivity_changes << ",\n";
   j << "  \"symbolic_analyses\": " << result.num_analyses << ",\n";
   j << "  \"numeric_factorizations\": " << result.num_factorizations << ",\n";
-  j << "  \"seconds\": {\"read\": " << number(run.read_seconds) << ", \"setup\": "
-    << number(t.setup) << ", \"assembly\": " << number(t.assembly) << ", \"analysis\": "
-    << number(t.analysis) << ", \"factorization\": " << number(t.factorization)
-    << ", \"solve\": " << number(t.solve) << ", \"line_search\": " << number(t.line_search)
-    << ", \"flips\": " << number(t.flips)
+  j << "  \"seconds\": {\"read\": " << number(run.read_seconds)
+    << ", \"setup\": " << number(t.setup) << ", \"assembly\": " << number(t.assembly)
+    << ", \"analysis\": " << number(t.analysis)
+    << ", \"factorization\": " << number(t.factorization) << ", \"solve\": " << number(t.solve)
+    << ", \"line_search\": " << number(t.line_search) << ", \"flips\": " << number(t.flips)
     << ", \"flow_total\": " << number(t.total) << "},\n";
   j << "  \"errors\": {\"max_abs_curvature_error\": " << number(max_err)
     << ", \"mean_abs_curvature_error\": " << number(counted ? sum_err / counted : 0.0)

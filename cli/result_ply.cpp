@@ -51,11 +51,12 @@ void write_result_ply(const std::string& path, const CompactMesh& mesh, const Fl
   out << "ply\nformat " << (ascii ? "ascii" : "binary_little_endian") << " 1.0\n";
   out << "comment ricci-flow result: unified discrete surface Ricci flow\n";
   out << "element vertex " << mesh.num_vertices() << "\n";
-  for (const char* p : {"x", "y", "z", "ricci_u", "ricci_radius", "ricci_curvature",
-                        "ricci_target"}) {
+  for (const char* p :
+       {"x", "y", "z", "ricci_u", "ricci_radius", "ricci_curvature", "ricci_target"}) {
     out << "property double " << p << "\n";
   }
-  if (has_layout) out << "property double layout_x\nproperty double layout_y\nproperty double layout_z\n";
+  if (has_layout)
+    out << "property double layout_x\nproperty double layout_y\nproperty double layout_z\n";
   if (has_texture) out << "property float texture_u\nproperty float texture_v\n";
   out << "element face " << mesh.num_faces() << "\n";
   out << "property list uchar int vertex_indices\nend_header\n";

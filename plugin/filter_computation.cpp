@@ -13,10 +13,14 @@ constexpr double kPi = 3.14159265358979323846;
 
 Geometry choose_geometry(GeometryChoice choice, const CompactMesh& mesh) {
   switch (choice) {
-    case GeometryChoice::Auto: return automatic_geometry(mesh);
-    case GeometryChoice::Euclidean: return Geometry::Euclidean;
-    case GeometryChoice::Hyperbolic: return Geometry::Hyperbolic;
-    case GeometryChoice::Spherical: return Geometry::Spherical;
+    case GeometryChoice::Auto:
+      return automatic_geometry(mesh);
+    case GeometryChoice::Euclidean:
+      return Geometry::Euclidean;
+    case GeometryChoice::Hyperbolic:
+      return Geometry::Hyperbolic;
+    case GeometryChoice::Spherical:
+      return Geometry::Spherical;
   }
   return Geometry::Euclidean;
 }
@@ -24,19 +28,22 @@ Geometry choose_geometry(GeometryChoice choice, const CompactMesh& mesh) {
 TargetCurvature choose_target(const MeshInput& in, TargetChoice choice) {
   const CompactMesh& mesh = in.mesh;
   switch (choice) {
-    case TargetChoice::Auto: return TargetCurvature::automatic(mesh);
+    case TargetChoice::Auto:
+      return TargetCurvature::automatic(mesh);
     case TargetChoice::FreeBoundary:
       if (mesh.is_closed()) {
         throw InvalidTargetError("target 'Free boundary' needs a boundary, but the mesh is a " +
                                  mesh.topology_name() + "; choose 'Zero curvature everywhere'");
       }
       return TargetCurvature::free_boundary(mesh);
-    case TargetChoice::Zero: return TargetCurvature::zero(mesh);
+    case TargetChoice::Zero:
+      return TargetCurvature::zero(mesh);
     case TargetChoice::VertexQuality:
       if (in.quality.empty()) {
-        throw InvalidTargetError("target 'Per vertex from vertex quality': the mesh has no vertex "
-                                 "quality; compute one first (e.g. Filters > Quality Measure "
-                                 "and Computations > Per Vertex Quality Function)");
+        throw InvalidTargetError(
+            "target 'Per vertex from vertex quality': the mesh has no vertex "
+            "quality; compute one first (e.g. Filters > Quality Measure "
+            "and Computations > Per Vertex Quality Function)");
       }
       return TargetCurvature::from_values(
           mesh, Eigen::Map<const Eigen::VectorXd>(in.quality.data(),
@@ -52,9 +59,10 @@ std::vector<int> mixed_eps(const MeshInput& in, MixedEpsSource source) {
     return eps;
   }
   if (in.quality.empty()) {
-    throw InvalidArgumentError("mixed scheme: eps from the sign of vertex quality, but the mesh "
-                               "has no vertex quality; select the circle packing vertices "
-                               "instead, or compute a quality first");
+    throw InvalidArgumentError(
+        "mixed scheme: eps from the sign of vertex quality, but the mesh "
+        "has no vertex quality; select the circle packing vertices "
+        "instead, or compute a quality first");
   }
   for (size_t v = 0; v < eps.size(); ++v) {
     eps[v] = in.quality[v] > 0 ? 1 : (in.quality[v] < 0 ? -1 : 0);
@@ -104,8 +112,8 @@ std::vector<std::string> summary(const MeshInput& input, const FilterSettings& s
   s.str("");
   s.precision(3);
   s << "Converged in " << c.result.iterations << " Newton iterations with " << c.result.num_flips
-    << " edge flips: max |K - Kbar| = "
-    << c.result.residual << " (" << c.result.times.total << " s)";
+    << " edge flips: max |K - Kbar| = " << c.result.residual << " (" << c.result.times.total
+    << " s)";
   lines.push_back(s.str());
   if (c.layout) {
     s.str("");

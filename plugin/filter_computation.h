@@ -29,8 +29,8 @@ struct MeshInput {
 struct FilterComputation {
   Geometry geometry = Geometry::Euclidean;
   FlowResult result;
-  std::optional<PlanarLayout> layout;   //!< Euclidean disks
-  int flipped_input_faces = 0;          //!< input faces the layout turns over (after flips)
+  std::optional<PlanarLayout> layout;    //!< Euclidean disks
+  int flipped_input_faces = 0;           //!< input faces the layout turns over (after flips)
   std::vector<Eigen::Vector2d> texture;  //!< the layout in [0,1]^2
 };
 
@@ -116,7 +116,8 @@ void place_at_layout(MeshT& layer, const MeshInput& input, const FilterComputati
     const int v = input.compact_index[i];
     if (v < 0) continue;
     const Eigen::Vector2d& p = c.layout->position[v];
-    layer.vert[i].P() = vcg::Point3<Scalar>(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()), 0);
+    layer.vert[i].P() =
+        vcg::Point3<Scalar>(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()), 0);
   }
 }
 

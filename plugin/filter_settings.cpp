@@ -10,9 +10,9 @@ namespace {
 
 using Kind = ParameterSpec::Kind;
 
-const std::vector<Scheme> kSchemes = {Scheme::Tangential, Scheme::Thurston,
+const std::vector<Scheme> kSchemes = {Scheme::Tangential,        Scheme::Thurston,
                                       Scheme::InversiveDistance, Scheme::Yamabe,
-                                      Scheme::VirtualRadius, Scheme::Mixed};
+                                      Scheme::VirtualRadius,     Scheme::Mixed};
 
 int enum_index(const ParameterValues& values, const ParameterSpec& spec) {
   const auto it = values.find(spec.name);
@@ -41,28 +41,40 @@ double number(const ParameterValues& values, const std::string& name) {
 
 const std::vector<ParameterSpec>& parameter_specs() {
   static const std::vector<ParameterSpec> specs = {
-      {"geometry", Kind::Enum, 0,
+      {"geometry",
+       Kind::Enum,
+       0,
        {"Auto by topology", "Euclidean (E2)", "Hyperbolic (H2)", "Spherical (S2)"},
        "Background geometry",
        "Geometry of the triangles of the result. Auto: spherical for a closed genus-0 surface, "
        "Euclidean for a torus and for every surface with boundary, hyperbolic for closed genus "
        ">= 2."},
-      {"scheme", Kind::Enum, 3,
+      {"scheme",
+       Kind::Enum,
+       3,
        {"Tangential circle packing", "Thurston circle packing", "Inversive distance circle packing",
         "Yamabe flow", "Virtual radius circle packing", "Mixed (eps per vertex)"},
        "Scheme",
        "How edge lengths depend on the conformal factor u. Yamabe, inversive distance and virtual "
        "radius start from the mesh's own metric; tangential and Thurston packings prescribe the "
        "circle pattern (always-valid triangles, robust on scans)."},
-      {"thurstonAngle", Kind::Float, 60, {}, "Thurston intersection angle (degrees)",
+      {"thurstonAngle",
+       Kind::Float,
+       60,
+       {},
+       "Thurston intersection angle (degrees)",
        "Angle Phi in [0, 90] at which neighbouring circles intersect; eta = cos(Phi). Used by the "
        "Thurston scheme only."},
-      {"mixedEps", Kind::Enum, 0,
+      {"mixedEps",
+       Kind::Enum,
+       0,
        {"Selected vertices +1, others 0", "Sign of vertex quality (+1, 0, -1)"},
        "Mixed scheme: eps from",
        "Where the mixed scheme takes each vertex's eps: +1 circle packing, 0 Yamabe, -1 virtual "
        "radius."},
-      {"target", Kind::Enum, 0,
+      {"target",
+       Kind::Enum,
+       0,
        {"Auto (free boundary, or zero when closed)", "Free boundary", "Zero curvature everywhere",
         "Per vertex from vertex quality"},
        "Target curvature",
@@ -71,19 +83,43 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "Vertex quality: Kbar in radians per vertex; NaN holds that vertex's u fixed."},
       {"tolerance", Kind::Float, 1e-10, {}, "Tolerance", "Converged when max |K - Kbar| <= this."},
       {"maxIterations", Kind::Int, 100, {}, "Iteration limit", "Newton iterations at most."},
-      {"linearSolver", Kind::Enum, 0, {"CHOLMOD (supernodal Cholesky)", "Eigen SimplicialLDLT"},
-       "Linear solver", "Sparse Cholesky used for the Newton steps."},
-      {"maxStepHalvings", Kind::Int, 40, {}, "Step control: max halvings",
+      {"linearSolver",
+       Kind::Enum,
+       0,
+       {"CHOLMOD (supernodal Cholesky)", "Eigen SimplicialLDLT"},
+       "Linear solver",
+       "Sparse Cholesky used for the Newton steps."},
+      {"maxStepHalvings",
+       Kind::Int,
+       40,
+       {},
+       "Step control: max halvings",
        "Line search: a Newton step is halved at most this many times to keep every triangle valid "
        "and reduce the curvature error."},
-      {"edgeFlips", Kind::Bool, 1, {}, "Edge flips (keep the triangulation Delaunay)",
+      {"edgeFlips",
+       Kind::Bool,
+       1,
+       {},
+       "Edge flips (keep the triangulation Delaunay)",
        "Flip edges during the flow so the triangulation stays (power) Delaunay for the current "
        "metric; real meshes need it. The result comes back per vertex of the input."},
-      {"writeUV", Kind::Bool, 1, {}, "Write UV (vertex texture coordinates)",
+      {"writeUV",
+       Kind::Bool,
+       1,
+       {},
+       "Write UV (vertex texture coordinates)",
        "For a planar layout (Euclidean disk), store it as vertex texture coordinates in [0,1]^2."},
-      {"writeQuality", Kind::Bool, 1, {}, "Vertex quality = u, with color ramp",
+      {"writeQuality",
+       Kind::Bool,
+       1,
+       {},
+       "Vertex quality = u, with color ramp",
        "Store the conformal factor u as vertex quality and color the mesh by it."},
-      {"layoutLayer", Kind::Bool, 0, {}, "Add a layer with the layout",
+      {"layoutLayer",
+       Kind::Bool,
+       0,
+       {},
+       "Add a layer with the layout",
        "Add a new mesh layer whose vertices are at the planar layout (z = 0)."},
   };
   return specs;
@@ -105,8 +141,9 @@ FilterSettings settings_from_values(const ParameterValues& values) {
   const double iterations = number(values, "maxIterations");
   const double halvings = number(values, "maxStepHalvings");
   if (!(iterations >= 0 && iterations <= 1e6) || !(halvings >= 0 && halvings <= 200)) {
-    throw InvalidArgumentError("parameters 'maxIterations' (0..1000000) and 'maxStepHalvings' "
-                               "(0..200) are out of range");
+    throw InvalidArgumentError(
+        "parameters 'maxIterations' (0..1000000) and 'maxStepHalvings' "
+        "(0..200) are out of range");
   }
   s.max_iterations = static_cast<int>(iterations);
   s.max_step_halvings = static_cast<int>(halvings);
@@ -119,7 +156,9 @@ FilterSettings settings_from_values(const ParameterValues& values) {
   return s;
 }
 
-std::string filter_name() { return "Ricci Flow: Conformal Parameterization"; }
+std::string filter_name() {
+  return "Ricci Flow: Conformal Parameterization";
+}
 
 std::string filter_info() {
   return "Computes a discrete metric of prescribed curvature that is conformal to the mesh, by "

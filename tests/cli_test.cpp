@@ -38,7 +38,8 @@ std::string temp(const std::string& name) {
 
 CliRun ricci_flow(const std::string& args) {
   const std::string out = temp("stdout.txt"), err = temp("stderr.txt");
-  const std::string cmd = std::string(RICCI_CLI_PATH) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+  const std::string cmd =
+      std::string(RICCI_CLI_PATH) + " " + args + " >" + out + " 2>" + err + " </dev/null";
   const int status = std::system(cmd.c_str());
   CliRun r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -47,21 +48,35 @@ CliRun ricci_flow(const std::string& args) {
   return r;
 }
 
-std::string cgal(const std::string& name) { return ricci::test::cgal_mesh_path(name); }
+std::string cgal(const std::string& name) {
+  return ricci::test::cgal_mesh_path(name);
+}
 
 using ricci::test::read_ply;
 
-void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
 
 TEST(Cli, DiskResultFollowsThePlyContract) {
   const std::string out = temp("disk.ply"), report = temp("disk.json"), png = temp("disk.png");
-  const CliRun r = ricci_flow(cgal("nefertiti.off") + " -o " + out + " --report " + report + " --picture " + png);
+  const CliRun r = ricci_flow(cgal("nefertiti.off") + " -o " + out + " --report " + report +
+                              " --picture " + png);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("converged in"), std::string::npos) << r.out;
   const ricci::test::PlyData ply = read_ply(out);
-  const std::vector<std::string> expected = {"x", "y", "z", "ricci_u", "ricci_radius", "ricci_curvature",
-                                             "ricci_target", "layout_x", "layout_y", "layout_z",
-                                             "texture_u", "texture_v"};
+  const std::vector<std::string> expected = {"x",
+                                             "y",
+                                             "z",
+                                             "ricci_u",
+                                             "ricci_radius",
+                                             "ricci_curvature",
+                                             "ricci_target",
+                                             "layout_x",
+                                             "layout_y",
+                                             "layout_z",
+                                             "texture_u",
+                                             "texture_v"};
   EXPECT_EQ(ply.vertex_properties, expected);
   const ricci::CompactMesh mesh = ricci::test::cgal_mesh("nefertiti.off");
   ASSERT_EQ(ply.vertex.at("x").size(), static_cast<size_t>(mesh.num_vertices()));
@@ -96,8 +111,9 @@ TEST(Cli, DiskResultFollowsThePlyContract) {
     }
   }
   const std::string json = slurp(report);
-  for (const char* key : {"\"converged\": true", "\"residual_history\"", "\"seconds\"", "\"gauss_bonnet_error\"",
-                          "\"flipped_faces\": 0", "\"edge_flips\": ", "\"symbolic_analyses\": "}) {
+  for (const char* key :
+       {"\"converged\": true", "\"residual_history\"", "\"seconds\"", "\"gauss_bonnet_error\"",
+        "\"flipped_faces\": 0", "\"edge_flips\": ", "\"symbolic_analyses\": "}) {
     EXPECT_NE(json.find(key), std::string::npos) << key << " missing in " << json;
   }
   const std::string picture = slurp(png);
@@ -109,13 +125,16 @@ TEST(Cli, ClosedSurfacesInTheirOwnGeometry) {
   struct Case {
     std::string mesh, geometry;
   };
-  for (const Case& c : {Case{"sphere.off", "spherical"}, Case{"eight.off", "hyperbolic"}, Case{"pipe.off", "euclidean"}}) {
+  for (const Case& c : {Case{"sphere.off", "spherical"}, Case{"eight.off", "hyperbolic"},
+                        Case{"pipe.off", "euclidean"}}) {
     const std::string out = temp("closed.ply");
     const CliRun r = ricci_flow(cgal(c.mesh) + " -o " + out + " --scheme inversive-distance");
     ASSERT_EQ(r.exit_code, 0) << c.mesh << ": " << r.err;
-    EXPECT_NE(r.out.find(c.geometry + " geometry"), std::string::npos) << r.out;  // auto by topology
+    EXPECT_NE(r.out.find(c.geometry + " geometry"), std::string::npos)
+        << r.out;  // auto by topology
     const ricci::test::PlyData ply = read_ply(out);
-    EXPECT_EQ(ply.vertex_properties.size(), 7u) << "no single-valued layout for closed surfaces yet";
+    EXPECT_EQ(ply.vertex_properties.size(), 7u)
+        << "no single-valued layout for closed surfaces yet";
     for (double k : ply.vertex.at("ricci_curvature")) EXPECT_NEAR(k, 0.0, 1e-9);
   }
 }
@@ -129,8 +148,9 @@ TEST(Cli, MixedSchemeReadsEpsFileAndTargetFile) {
   }
   write_file(temp("eps.txt"), eps);
   write_file(temp("target.txt"), "# Kbar per vertex\n" + target);
-  const CliRun r = ricci_flow(cgal("nefertiti.off") + " -o " + temp("mixed.ply") + " --scheme mixed --eps " +
-                           temp("eps.txt") + " --target " + temp("target.txt") + " --solver ldlt --quiet");
+  const CliRun r =
+      ricci_flow(cgal("nefertiti.off") + " -o " + temp("mixed.ply") + " --scheme mixed --eps " +
+                 temp("eps.txt") + " --target " + temp("target.txt") + " --solver ldlt --quiet");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out, "");
 }
@@ -140,7 +160,8 @@ TEST(Cli, MixedSchemeReadsEpsFileAndTargetFile) {
 void expect_error(const std::string& args, int code, const std::vector<std::string>& words) {
   const CliRun r = ricci_flow(args);
   EXPECT_EQ(r.exit_code, code) << args << "\n" << r.err;
-  for (const auto& w : words) EXPECT_NE(r.err.find(w), std::string::npos) << "'" << w << "' not in: " << r.err;
+  for (const auto& w : words)
+    EXPECT_NE(r.err.find(w), std::string::npos) << "'" << w << "' not in: " << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
 }
 
@@ -150,48 +171,61 @@ TEST(Cli, BadInputGetsAClearError) {
   expect_error(cgal("nefertiti.off"), 2, {"-o OUTPUT.ply"});
   expect_error(cgal("nefertiti.off") + out + " --scheme ricci", 1, {"unknown scheme 'ricci'"});
   expect_error(cgal("nefertiti.off") + out + " --frobnicate", 2, {"unknown option '--frobnicate'"});
-  expect_error(cgal("nefertiti.off") + out + " --tolerance abc", 2, {"--tolerance expects a finite number"});
+  expect_error(cgal("nefertiti.off") + out + " --tolerance abc", 2,
+               {"--tolerance expects a finite number"});
   expect_error(cgal("nefertiti.off") + out + " --scheme mixed", 1, {"needs --eps FILE"});
-  expect_error(cgal("nefertiti.off") + out + " --angle 120 --scheme thurston", 1, {"outside [0, 90]"});
+  expect_error(cgal("nefertiti.off") + out + " --angle 120 --scheme thurston", 1,
+               {"outside [0, 90]"});
   expect_error(cgal("nefertiti.off") + out + " --solver umfpack", 1, {"unknown linear solver"});
   // Topology and geometry
-  expect_error(cgal("pipe.off") + out + " --geometry spherical", 1, {"spherical geometry needs", "genus 1"});
-  expect_error(cgal("sphere.off") + out + " --geometry hyperbolic", 1, {"hyperbolic geometry needs"});
+  expect_error(cgal("pipe.off") + out + " --geometry spherical", 1,
+               {"spherical geometry needs", "genus 1"});
+  expect_error(cgal("sphere.off") + out + " --geometry hyperbolic", 1,
+               {"hyperbolic geometry needs"});
   expect_error(cgal("sphere.off") + out + " --target free-boundary", 1, {"needs a boundary"});
   expect_error(cgal("blobby_3cc.off") + out, 1, {"3 connected components", "blobby_3cc.off"});
   expect_error(cgal("nefertiti.off") + out + " --target zero", 1, {"Gauss-Bonnet fails"});
   // Targets from a file
   write_file(temp("short.txt"), "0\n0\n");
-  expect_error(cgal("nefertiti.off") + out + " --target " + temp("short.txt"), 1, {"2 values for a mesh of 299 vertices"});
+  expect_error(cgal("nefertiti.off") + out + " --target " + temp("short.txt"), 1,
+               {"2 values for a mesh of 299 vertices"});
   std::string big;
   for (int v = 0; v < 160; ++v) big += (v == 5 ? "7\n" : "0\n");
   write_file(temp("big.txt"), big);
-  expect_error(cgal("pipe.off") + out + " --target " + temp("big.txt"), 1, {"vertex 5", "Kbar < 2 pi"});
+  expect_error(cgal("pipe.off") + out + " --target " + temp("big.txt"), 1,
+               {"vertex 5", "Kbar < 2 pi"});
   write_file(temp("word.txt"), "0\nzero\n");
-  expect_error(cgal("nefertiti.off") + out + " --target " + temp("word.txt"), 1, {"word.txt:2", "'zero' is not a number"});
+  expect_error(cgal("nefertiti.off") + out + " --target " + temp("word.txt"), 1,
+               {"word.txt:2", "'zero' is not a number"});
   // Broken meshes written as OFF files
-  write_file(temp("nonmanifold.off"), "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n3 0 1 2\n3 0 2 3\n3 2 0 4\n");
+  write_file(temp("nonmanifold.off"),
+             "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n3 0 1 2\n3 0 2 3\n3 2 0 4\n");
   expect_error(temp("nonmanifold.off") + out, 1, {"non-manifold edges", "edge (0, 2)"});
-  write_file(temp("bowtie.off"), "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n");
+  write_file(temp("bowtie.off"),
+             "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n");
   expect_error(temp("bowtie.off") + out, 1, {"non-manifold vertices", "vertex 0"});
   write_file(temp("degenerate.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n3 0 1 2\n3 0 1 3\n");
   expect_error(temp("degenerate.off") + out, 1, {"degenerate faces", "face 0"});
-  write_file(temp("duplicate.off"), "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 1 2 0\n");
+  write_file(temp("duplicate.off"),
+             "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 1 2 0\n");
   expect_error(temp("duplicate.off") + out, 1, {"duplicate faces"});
-  write_file(temp("unreferenced.off"), "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n9 9 9\n3 0 1 2\n3 0 2 3\n");
+  write_file(temp("unreferenced.off"),
+             "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n9 9 9\n3 0 1 2\n3 0 2 3\n");
   expect_error(temp("unreferenced.off") + out, 1, {"unreferenced vertices", "vertex 4"});
   write_file(temp("nan.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\nnan 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
   expect_error(temp("nan.off") + out, 1, {"NaN or infinite", "vertex 2"});
   // A flow that cannot converge on this triangulation
-  expect_error(cgal("elk.off") + out + " --scheme yamabe --no-flips", 1, {"stalled at iteration", "degenerat"});
-  expect_error(cgal("nefertiti.off") + out + " --max-iterations 1", 1, {"no convergence in 1 iterations"});
+  expect_error(cgal("elk.off") + out + " --scheme yamabe --no-flips", 1,
+               {"stalled at iteration", "degenerat"});
+  expect_error(cgal("nefertiti.off") + out + " --max-iterations 1", 1,
+               {"no convergence in 1 iterations"});
 }
 
 TEST(Cli, FailedRunWritesNoMesh) {
   const std::string out = temp("never.ply");
   std::remove(out.c_str());
-  const CliRun r = ricci_flow(cgal("elk.off") + " -o " + out + " --scheme yamabe --no-flips --report " +
-                              temp("never.json"));
+  const CliRun r = ricci_flow(cgal("elk.off") + " -o " + out +
+                              " --scheme yamabe --no-flips --report " + temp("never.json"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_FALSE(std::ifstream(out).good());
   EXPECT_NE(slurp(temp("never.json")).find("\"converged\": false"), std::string::npos);

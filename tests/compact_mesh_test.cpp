@@ -27,7 +27,9 @@ std::string rejection(const Points& p, const Faces& f) {
   return "";
 }
 
-Points square_points() { return {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}; }
+Points square_points() {
+  return {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+}
 
 TEST(CompactMesh, TopologyOfGeneratedMeshes) {
   const CompactMesh disk = test::bumpy_disk(6);
@@ -155,7 +157,8 @@ TEST(MeshIo, MergesStlCorners) {
   {
     std::ofstream out(path);
     out << "solid t\n";
-    const double tri[2][3][3] = {{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, {{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}};
+    const double tri[2][3][3] = {{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}},
+                                 {{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}};
     for (const auto& t : tri) {
       out << "facet normal 0 0 1\nouter loop\n";
       for (const auto& v : t) out << "vertex " << v[0] << " " << v[1] << " " << v[2] << "\n";

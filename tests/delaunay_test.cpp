@@ -44,7 +44,8 @@ TEST(Delaunay, FlipsOfThePackingSchemesKeepTheMetric) {
     const CompactMesh mesh = test::cgal_mesh("mannequin-devil.off");
     SchemeOptions options;
     options.scheme = Scheme::InversiveDistance;
-    ConformalStructure s = initialize_scheme(mesh, g, options, g == Geometry::Euclidean ? 1.0 : 0.02);
+    ConformalStructure s =
+        initialize_scheme(mesh, g, options, g == Geometry::Euclidean ? 1.0 : 0.02);
     Triangulation t = mesh;
     MetricState state = evaluate_metric(t, s, s.u0);
     ASSERT_TRUE(state.valid());
@@ -63,7 +64,8 @@ TEST(Delaunay, FlipsOfThePackingSchemesKeepTheMetric) {
     }
     int left = 0;
     for (int e = 0; e < t.num_edges(); ++e) left += !is_delaunay(t, fresh, e);
-    EXPECT_LE(left, report.blocked) << to_string(g) << ": every edge is Delaunay unless its flip was blocked";
+    EXPECT_LE(left, report.blocked)
+        << to_string(g) << ": every edge is Delaunay unless its flip was blocked";
     EXPECT_LT(left, t.num_edges() / 100);
     // Same metric: every vertex keeps its angle sum, the surface its area.
     EXPECT_LE((curvature(t, fresh) - k_before).cwiseAbs().maxCoeff(), 1e-9) << to_string(g);
@@ -99,7 +101,8 @@ TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInput) {
     const CompactMesh mesh = test::cgal_mesh(name);
     SchemeOptions options;
     options.scheme = Scheme::Yamabe;
-    const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options, TargetCurvature::automatic(mesh));
+    const FlowResult r =
+        compute_ricci_flow(mesh, Geometry::Euclidean, options, TargetCurvature::automatic(mesh));
     ASSERT_TRUE(r.converged);
     ASSERT_GT(r.num_flips, 100) << name;
     // Replay the flips on the input's lambda-lengths (u = 0: lambda = input length) with
@@ -109,8 +112,10 @@ TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInput) {
     for (int e : r.flip_sequence) {
       const int h = t.edge_halfedge(e), tw = t.twin(h);
       const int f = h / 3, c = h % 3, g = tw / 3, d = tw % 3;
-      const double ka = lambda[t.face_edge(f, (c + 2) % 3)], bk = lambda[t.face_edge(f, (c + 1) % 3)];
-      const double al = lambda[t.face_edge(g, (d + 1) % 3)], lb = lambda[t.face_edge(g, (d + 2) % 3)];
+      const double ka = lambda[t.face_edge(f, (c + 2) % 3)],
+                   bk = lambda[t.face_edge(f, (c + 1) % 3)];
+      const double al = lambda[t.face_edge(g, (d + 1) % 3)],
+                   lb = lambda[t.face_edge(g, (d + 2) % 3)];
       lambda[e] = (ka * lb + al * bk) / lambda[e];
       ASSERT_TRUE(t.flip(e));
     }

@@ -27,7 +27,8 @@ TEST_P(RealMesh, ConvergesWithFlips) {
   const CompactMesh mesh = test::subdivide_midpoint(test::cgal_mesh(c.mesh), c.subdivisions);
   SchemeOptions scheme;
   scheme.scheme = c.scheme;
-  const FlowResult r = compute_ricci_flow(mesh, c.geometry, scheme, TargetCurvature::automatic(mesh));
+  const FlowResult r =
+      compute_ricci_flow(mesh, c.geometry, scheme, TargetCurvature::automatic(mesh));
   EXPECT_TRUE(r.converged);
   EXPECT_LE(r.residual, 1e-10);
   EXPECT_LE(r.iterations, 20);
@@ -38,29 +39,33 @@ TEST_P(RealMesh, ConvergesWithFlips) {
     const PlanarLayout l = layout_disk(result_triangulation(mesh, r), r.edge_lengths);
     EXPECT_EQ(l.num_flipped_faces, 0);
     EXPECT_LE(l.max_relative_length_error, 1e-8);
-    layout = ", layout flips " + std::to_string(count_flipped_faces(mesh, l.position)) + " input faces";
+    layout =
+        ", layout flips " + std::to_string(count_flipped_faces(mesh, l.position)) + " input faces";
   }
-  std::printf("[ flips    ] %-18s %7d faces %-10s %-18s %2d iterations %6d flips %.2f s%s\n", c.mesh.c_str(),
-              mesh.num_faces(), to_string(c.geometry).c_str(), to_string(c.scheme).c_str(), r.iterations,
-              r.num_flips, r.times.total, layout.c_str());
+  std::printf("[ flips    ] %-18s %7d faces %-10s %-18s %2d iterations %6d flips %.2f s%s\n",
+              c.mesh.c_str(), mesh.num_faces(), to_string(c.geometry).c_str(),
+              to_string(c.scheme).c_str(), r.iterations, r.num_flips, r.times.total,
+              layout.c_str());
 }
 
 INSTANTIATE_TEST_SUITE_P(
     EveryTopology, RealMesh,
-    ::testing::Values(Case{"mannequin-devil.off", 0, Geometry::Euclidean, Scheme::Yamabe},       // disk, sharp
-                      Case{"mannequin-devil.off", 0, Geometry::Euclidean, Scheme::InversiveDistance},
-                      Case{"lion-head.off", 1, Geometry::Euclidean, Scheme::Yamabe},             // disk, 67k
-                      Case{"elk.off", 0, Geometry::Euclidean, Scheme::Yamabe},                   // torus
-                      Case{"rotor_small.off", 0, Geometry::Euclidean, Scheme::InversiveDistance},  // torus
-                      Case{"femur.off", 0, Geometry::Hyperbolic, Scheme::Yamabe},                // genus 2
-                      Case{"joint.off", 0, Geometry::Hyperbolic, Scheme::InversiveDistance},     // genus 2
-                      Case{"elephant.off", 0, Geometry::Hyperbolic, Scheme::Yamabe},             // genus 3
-                      Case{"refined_elephant.off", 0, Geometry::Hyperbolic, Scheme::Yamabe},     // genus 3, 89k
-                      Case{"couplingdown.off", 0, Geometry::Hyperbolic, Scheme::InversiveDistance},  // genus 9
-                      Case{"blobby.off", 0, Geometry::Spherical, Scheme::Yamabe},                // genus 0
-                      Case{"retinal.off", 0, Geometry::Spherical, Scheme::InversiveDistance}),   // genus 0
+    ::testing::Values(
+        Case{"mannequin-devil.off", 0, Geometry::Euclidean, Scheme::Yamabe},  // disk, sharp
+        Case{"mannequin-devil.off", 0, Geometry::Euclidean, Scheme::InversiveDistance},
+        Case{"lion-head.off", 1, Geometry::Euclidean, Scheme::Yamabe},               // disk, 67k
+        Case{"elk.off", 0, Geometry::Euclidean, Scheme::Yamabe},                     // torus
+        Case{"rotor_small.off", 0, Geometry::Euclidean, Scheme::InversiveDistance},  // torus
+        Case{"femur.off", 0, Geometry::Hyperbolic, Scheme::Yamabe},                  // genus 2
+        Case{"joint.off", 0, Geometry::Hyperbolic, Scheme::InversiveDistance},       // genus 2
+        Case{"elephant.off", 0, Geometry::Hyperbolic, Scheme::Yamabe},               // genus 3
+        Case{"refined_elephant.off", 0, Geometry::Hyperbolic, Scheme::Yamabe},       // genus 3, 89k
+        Case{"couplingdown.off", 0, Geometry::Hyperbolic, Scheme::InversiveDistance},  // genus 9
+        Case{"blobby.off", 0, Geometry::Spherical, Scheme::Yamabe},                    // genus 0
+        Case{"retinal.off", 0, Geometry::Spherical, Scheme::InversiveDistance}),       // genus 0
     [](const auto& p) {
-      std::string n = p.param.mesh.substr(0, p.param.mesh.find('.')) + "_" + to_string(p.param.scheme);
+      std::string n =
+          p.param.mesh.substr(0, p.param.mesh.find('.')) + "_" + to_string(p.param.scheme);
       for (char& ch : n) {
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
       }
@@ -73,9 +78,11 @@ TEST(RealMesh, FixedTriangulationStallsWhereFlipsConverge) {
   FlowOptions fixed;
   fixed.edge_flips = false;
   const TargetCurvature target = TargetCurvature::automatic(mesh);
-  const FlowResult stalled = run_ricci_flow(mesh, prepare_flow(mesh, Geometry::Euclidean, scheme, target), target, fixed);
+  const FlowResult stalled =
+      run_ricci_flow(mesh, prepare_flow(mesh, Geometry::Euclidean, scheme, target), target, fixed);
   EXPECT_FALSE(stalled.converged);
-  const FlowResult flipped = run_ricci_flow(mesh, prepare_flow(mesh, Geometry::Euclidean, scheme, target), target);
+  const FlowResult flipped =
+      run_ricci_flow(mesh, prepare_flow(mesh, Geometry::Euclidean, scheme, target), target);
   EXPECT_TRUE(flipped.converged);
 }
 

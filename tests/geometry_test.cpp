@@ -48,11 +48,13 @@ TEST(Geometry, PaperLengthLawHolds) {
     }
     const EdgeLength h2 = edge_length(Geometry::Hyperbolic, ui, uj, ei, ej, eta);
     if (h2.valid) {
-      EXPECT_NEAR(std::cosh(h2.length), (4 * eta * c + (1 + a) * (1 + b)) / ((1 - a) * (1 - b)), 1e-11);
+      EXPECT_NEAR(std::cosh(h2.length), (4 * eta * c + (1 + a) * (1 + b)) / ((1 - a) * (1 - b)),
+                  1e-11);
     }
     const EdgeLength s2 = edge_length(Geometry::Spherical, ui, uj, ei, ej, eta);
     if (s2.valid) {
-      EXPECT_NEAR(std::cos(s2.length), (-4 * eta * c + (1 - a) * (1 - b)) / ((1 + a) * (1 + b)), 1e-12);
+      EXPECT_NEAR(std::cos(s2.length), (-4 * eta * c + (1 - a) * (1 - b)) / ((1 + a) * (1 + b)),
+                  1e-12);
     }
   }
 }
@@ -70,9 +72,11 @@ TEST(Geometry, EdgeLengthDerivativesMatchFiniteDifferences) {
           if (!e.valid) continue;
           const double h = 1e-6;
           const double fd_i = (edge_length(g, ui + h, uj, ei, ej, eta).length -
-                               edge_length(g, ui - h, uj, ei, ej, eta).length) / (2 * h);
+                               edge_length(g, ui - h, uj, ei, ej, eta).length) /
+                              (2 * h);
           const double fd_j = (edge_length(g, ui, uj + h, ei, ej, eta).length -
-                               edge_length(g, ui, uj - h, ei, ej, eta).length) / (2 * h);
+                               edge_length(g, ui, uj - h, ei, ej, eta).length) /
+                              (2 * h);
           EXPECT_NEAR(e.d_ui, fd_i, 1e-6 * std::max(1.0, std::abs(fd_i))) << to_string(g);
           EXPECT_NEAR(e.d_uj, fd_j, 1e-6 * std::max(1.0, std::abs(fd_j))) << to_string(g);
           ++checked;
@@ -113,8 +117,8 @@ TEST(Geometry, CornerAnglesSatisfyCosineLaw) {
         expected_cos = (std::cosh(l[j]) * std::cosh(l[k]) - std::cosh(l[i])) /
                        (std::sinh(l[j]) * std::sinh(l[k]));
       } else {
-        expected_cos = (std::cos(l[i]) - std::cos(l[j]) * std::cos(l[k])) /
-                       (std::sin(l[j]) * std::sin(l[k]));
+        expected_cos =
+            (std::cos(l[i]) - std::cos(l[j]) * std::cos(l[k])) / (std::sin(l[j]) * std::sin(l[k]));
       }
       EXPECT_NEAR(std::cos(t.angle[i]), expected_cos, 1e-14) << to_string(g);
     }
@@ -169,9 +173,12 @@ TEST(Geometry, InvalidTrianglesAreRejected) {
 TEST(Geometry, AreaMatchesGaussBonnetForOneTriangle) {
   // Small triangles: H2 and S2 areas approach the Euclidean one.
   const std::array<double, 3> l = {0.01, 0.012, 0.015};
-  const double e2 = triangle_area(Geometry::Euclidean, l, corner_angles(Geometry::Euclidean, l).angle);
-  const double h2 = triangle_area(Geometry::Hyperbolic, l, corner_angles(Geometry::Hyperbolic, l).angle);
-  const double s2 = triangle_area(Geometry::Spherical, l, corner_angles(Geometry::Spherical, l).angle);
+  const double e2 =
+      triangle_area(Geometry::Euclidean, l, corner_angles(Geometry::Euclidean, l).angle);
+  const double h2 =
+      triangle_area(Geometry::Hyperbolic, l, corner_angles(Geometry::Hyperbolic, l).angle);
+  const double s2 =
+      triangle_area(Geometry::Spherical, l, corner_angles(Geometry::Spherical, l).angle);
   EXPECT_NEAR(h2 / e2, 1.0, 1e-3);
   EXPECT_NEAR(s2 / e2, 1.0, 1e-3);
 }

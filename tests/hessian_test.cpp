@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "ricci/metric.h"
 #include "ricci/scheme.h"
@@ -24,8 +24,8 @@ std::vector<int> all_free(const CompactMesh& mesh) {
 }
 
 // Structure with the given eps pattern, lengths of the (scaled) input, u perturbed randomly.
-ConformalStructure random_structure(const CompactMesh& mesh, Geometry g, const std::vector<int>& eps,
-                                    std::mt19937& rng) {
+ConformalStructure random_structure(const CompactMesh& mesh, Geometry g,
+                                    const std::vector<int>& eps, std::mt19937& rng) {
   SchemeOptions options;
   options.scheme = Scheme::Mixed;
   options.eps = eps;
@@ -80,23 +80,27 @@ TEST_P(HessianFiniteDifferences, MatchesAndIsSymmetric) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllGeometriesAndEps, HessianFiniteDifferences,
-    ::testing::Combine(::testing::ValuesIn(kGeometries),
-                       ::testing::Values(EpsCase{"+1", 1}, EpsCase{"0", 0}, EpsCase{"-1", -1},
-                                         EpsCase{"mixed", 2})),
-    [](const auto& test_param) {
-      const EpsCase e = std::get<1>(test_param.param);
-      const std::string eps = e.fixed == 1 ? "plus" : e.fixed == 0 ? "zero" : e.fixed == -1 ? "minus" : "mixed";
-      return to_string(std::get<0>(test_param.param)) + "_" + eps;
-    });
+INSTANTIATE_TEST_SUITE_P(AllGeometriesAndEps, HessianFiniteDifferences,
+                         ::testing::Combine(::testing::ValuesIn(kGeometries),
+                                            ::testing::Values(EpsCase{"+1", 1}, EpsCase{"0", 0},
+                                                              EpsCase{"-1", -1},
+                                                              EpsCase{"mixed", 2})),
+                         [](const auto& test_param) {
+                           const EpsCase e = std::get<1>(test_param.param);
+                           const std::string eps = e.fixed == 1    ? "plus"
+                                                   : e.fixed == 0  ? "zero"
+                                                   : e.fixed == -1 ? "minus"
+                                                                   : "mixed";
+                           return to_string(std::get<0>(test_param.param)) + "_" + eps;
+                         });
 
 TEST(Hessian, ThurstonPackingMatchesFiniteDifferences) {
   const CompactMesh mesh = test::torus(12, 8);
   for (Geometry g : kGeometries) {
     SchemeOptions options;
     options.scheme = Scheme::Thurston;
-    const ConformalStructure s = initialize_scheme(mesh, g, options, g == Geometry::Euclidean ? 1.0 : 0.3);
+    const ConformalStructure s =
+        initialize_scheme(mesh, g, options, g == Geometry::Euclidean ? 1.0 : 0.3);
     const MetricState state = evaluate_metric(mesh, s, s.u0);
     ASSERT_TRUE(state.valid());
     HessianAssembler assembler(mesh, all_free(mesh));

@@ -33,7 +33,8 @@ TEST(Layout, ConvergedMetricsOfRealDisksAreLaidOutExactly) {
     const CompactMesh mesh = test::cgal_mesh(name);
     SchemeOptions options;
     options.scheme = Scheme::Tangential;  // always valid triangles, also on scans
-    const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options, TargetCurvature::free_boundary(mesh));
+    const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options,
+                                            TargetCurvature::free_boundary(mesh));
     const PlanarLayout layout = layout_disk(mesh, r.edge_lengths);
     EXPECT_EQ(layout.num_flipped_faces, 0) << name;
     EXPECT_LE(layout.max_relative_length_error, 1e-9) << name;

@@ -30,11 +30,13 @@ std::string script(const std::string& name) {
   return std::string(RICCI_SOURCE_DIR) + "/plugin/scripts/" + name;
 }
 
-ServerRun meshlabserver(const std::string& input, const std::string& output, const std::string& mlx) {
+ServerRun meshlabserver(const std::string& input, const std::string& output,
+                        const std::string& mlx) {
   const std::string log = temp("server.log");
   std::remove(output.c_str());
-  const std::string cmd = "xvfb-run -a " + std::string(RICCI_MESHLAB_PREFIX) + "/bin/meshlabserver -i " +
-                          input + " -o " + output + " -m vq vt -s " + mlx + " >" + log + " 2>&1 </dev/null";
+  const std::string cmd = "xvfb-run -a " + std::string(RICCI_MESHLAB_PREFIX) +
+                          "/bin/meshlabserver -i " + input + " -o " + output + " -m vq vt -s " +
+                          mlx + " >" + log + " 2>&1 </dev/null";
   const int status = std::system(cmd.c_str());
   ServerRun r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -45,15 +47,19 @@ ServerRun meshlabserver(const std::string& input, const std::string& output, con
   return r;
 }
 
-bool exists(const std::string& path) { return std::ifstream(path).good(); }
+bool exists(const std::string& path) {
+  return std::ifstream(path).good();
+}
 
 TEST(MeshlabServer, EuclideanScriptFlattensADisk) {
   const std::string out = temp("disk.ply");
-  const ServerRun r = meshlabserver(ricci::test::cgal_mesh_path("nefertiti.off"), out, script("ricci_flow_euclidean.mlx"));
+  const ServerRun r = meshlabserver(ricci::test::cgal_mesh_path("nefertiti.off"), out,
+                                    script("ricci_flow_euclidean.mlx"));
   ASSERT_EQ(r.exit_code, 0) << r.log;
   EXPECT_NE(r.log.find("Converged in"), std::string::npos) << r.log;
   const ricci::test::PlyData ply = ricci::test::read_ply(out);
-  ASSERT_TRUE(ply.has_vertex("quality") && ply.has_vertex("texture_u") && ply.has_vertex("texture_v"));
+  ASSERT_TRUE(ply.has_vertex("quality") && ply.has_vertex("texture_u") &&
+              ply.has_vertex("texture_v"));
   const ricci::CompactMesh mesh = ricci::test::cgal_mesh("nefertiti.off");
   ASSERT_EQ(ply.vertex.at("quality").size(), static_cast<size_t>(mesh.num_vertices()));
   double max_u = 0;
@@ -122,9 +128,12 @@ TEST(MeshlabServer, BadMeshFailsWithTheReasonAndNoOutput) {
   const std::string out = temp("never.ply");
   ServerRun r = meshlabserver(bowtie, out, script("ricci_flow_auto.mlx"));
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.log.find("Ricci flow failed, the mesh is unchanged: mesh: 1 non-manifold vertices"), std::string::npos) << r.log;
+  EXPECT_NE(r.log.find("Ricci flow failed, the mesh is unchanged: mesh: 1 non-manifold vertices"),
+            std::string::npos)
+      << r.log;
   EXPECT_FALSE(exists(out));
-  r = meshlabserver(ricci::test::cgal_mesh_path("pipe.off"), out, script("ricci_flow_spherical.mlx"));
+  r = meshlabserver(ricci::test::cgal_mesh_path("pipe.off"), out,
+                    script("ricci_flow_spherical.mlx"));
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.log.find("spherical geometry needs sum Kbar < 2 pi chi"), std::string::npos) << r.log;
   EXPECT_FALSE(exists(out));

@@ -22,7 +22,9 @@ void load(CMeshO& m, const std::string& name) {
 }
 
 // CMeshO always has quality and color; texture coordinates are optional.
-void enable_outputs(CMeshO& m) { m.vert.EnableTexCoord(); }
+void enable_outputs(CMeshO& m) {
+  m.vert.EnableTexCoord();
+}
 
 // vcglib's mesh destructor leaves custom attributes allocated (MeshLab frees them itself).
 struct FreeAttributesAtExit {
@@ -41,12 +43,14 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   const FilterSettings settings = settings_from_values({});
   const MeshInput input = read_mesh_input(m, false);
   int progress_calls = 0;
-  const FilterComputation c = compute(input, settings, [&](const FlowProgress&) { return ++progress_calls > 0; });
+  const FilterComputation c =
+      compute(input, settings, [&](const FlowProgress&) { return ++progress_calls > 0; });
   ASSERT_TRUE(c.layout.has_value());
   EXPECT_GT(progress_calls, 1);
   enable_outputs(m);
   write_results(m, input, settings, c);
-  for (const char* name : {"ricci_u", "ricci_radius", "ricci_curvature", "ricci_target", "ricci_layout"}) {
+  for (const char* name :
+       {"ricci_u", "ricci_radius", "ricci_curvature", "ricci_target", "ricci_layout"}) {
     EXPECT_TRUE(has_attribute(m, name)) << name;
   }
   auto u = vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<float>(m, "ricci_u");
@@ -131,11 +135,14 @@ TEST(PluginComputation, MixedEpsFromSelectionAndTargetFromQuality) {
     m.vert[i].Q() = free_input.mesh.is_boundary_vertex(free_input.compact_index[i]) ? NAN : 0.0f;
   }
   const MeshInput input = read_mesh_input(m, true);
-  const FilterComputation by_quality = compute(input, settings_from_values({{"scheme", 5}, {"target", 3}}));
-  const FilterComputation by_preset = compute(input, settings_from_values({{"scheme", 5}, {"target", 1}}));
+  const FilterComputation by_quality =
+      compute(input, settings_from_values({{"scheme", 5}, {"target", 3}}));
+  const FilterComputation by_preset =
+      compute(input, settings_from_values({{"scheme", 5}, {"target", 1}}));
   EXPECT_LE((by_quality.result.u - by_preset.result.u).cwiseAbs().maxCoeff(), 1e-12);
   // The selection really made the scheme mixed: the result differs from plain Yamabe.
-  const FilterComputation yamabe = compute(input, settings_from_values({{"scheme", 3}, {"target", 1}}));
+  const FilterComputation yamabe =
+      compute(input, settings_from_values({{"scheme", 3}, {"target", 1}}));
   EXPECT_GT((yamabe.result.radius - by_preset.result.radius).cwiseAbs().maxCoeff(), 1e-6);
 }
 

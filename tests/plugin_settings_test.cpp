@@ -29,15 +29,18 @@ TEST(PluginSettings, DefaultsAreTheCoreDefaults) {
 }
 
 TEST(PluginSettings, EveryEnumChoiceTranslates) {
-  const Scheme schemes[] = {Scheme::Tangential, Scheme::Thurston, Scheme::InversiveDistance,
-                            Scheme::Yamabe, Scheme::VirtualRadius, Scheme::Mixed};
+  const Scheme schemes[] = {Scheme::Tangential, Scheme::Thurston,      Scheme::InversiveDistance,
+                            Scheme::Yamabe,     Scheme::VirtualRadius, Scheme::Mixed};
   for (int i = 0; i < 6; ++i) EXPECT_EQ(settings_from_values({{"scheme", i}}).scheme, schemes[i]);
   EXPECT_EQ(settings_from_values({{"geometry", 2}}).geometry, GeometryChoice::Hyperbolic);
   EXPECT_EQ(settings_from_values({{"target", 3}}).target, TargetChoice::VertexQuality);
   EXPECT_EQ(settings_from_values({{"mixedEps", 1}}).mixed_eps, MixedEpsSource::QualitySign);
   EXPECT_EQ(settings_from_values({{"linearSolver", 1}}).linear_solver, LinearSolverKind::Ldlt);
-  const FilterSettings s = settings_from_values(
-      {{"thurstonAngle", 45}, {"tolerance", 1e-8}, {"maxIterations", 7}, {"writeUV", 0}, {"layoutLayer", 1}});
+  const FilterSettings s = settings_from_values({{"thurstonAngle", 45},
+                                                 {"tolerance", 1e-8},
+                                                 {"maxIterations", 7},
+                                                 {"writeUV", 0},
+                                                 {"layoutLayer", 1}});
   EXPECT_EQ(s.thurston_angle_degrees, 45);
   EXPECT_EQ(s.tolerance, 1e-8);
   EXPECT_EQ(s.max_iterations, 7);
@@ -68,10 +71,14 @@ TEST(PluginSettings, EveryParameterHasLabelAndTooltip) {
 
 const char* type_name(ParameterSpec::Kind k) {
   switch (k) {
-    case ParameterSpec::Kind::Enum: return "RichEnum";
-    case ParameterSpec::Kind::Float: return "RichFloat";
-    case ParameterSpec::Kind::Int: return "RichInt";
-    case ParameterSpec::Kind::Bool: return "RichBool";
+    case ParameterSpec::Kind::Enum:
+      return "RichEnum";
+    case ParameterSpec::Kind::Float:
+      return "RichFloat";
+    case ParameterSpec::Kind::Int:
+      return "RichInt";
+    case ParameterSpec::Kind::Bool:
+      return "RichBool";
   }
   return "";
 }
@@ -88,10 +95,12 @@ TEST_P(SampleScript, ListsEveryParameterWithItsTypeAndLabels) {
   const std::regex param_re("<Param ([^>]*)/>");
   const std::regex attr_re("(\\w+)=\"([^\"]*)\"");
   std::map<std::string, std::map<std::string, std::string>> params;
-  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), param_re); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), param_re);
+       it != std::sregex_iterator(); ++it) {
     std::map<std::string, std::string> attrs;
     const std::string body = (*it)[1];
-    for (auto a = std::sregex_iterator(body.begin(), body.end(), attr_re); a != std::sregex_iterator(); ++a) {
+    for (auto a = std::sregex_iterator(body.begin(), body.end(), attr_re);
+         a != std::sregex_iterator(); ++a) {
       attrs[(*a)[1]] = (*a)[2];
     }
     params[attrs["name"]] = attrs;

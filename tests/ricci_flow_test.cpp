@@ -41,13 +41,17 @@ FlowResult expect_converges(const std::string& mesh_name, const CompactMesh& mes
   EXPECT_TRUE(r.converged);
   EXPECT_LE(r.residual, 1e-9);
   EXPECT_LE(r.iterations, max_iterations)
-      << mesh_name << " " << to_string(g) << " " << to_string(scheme) << ": Newton should converge quadratically";
-  std::printf("[ newton   ] %-16s %-10s %-18s %d iterations, max |K - Kbar| = %.1e\n", mesh_name.c_str(),
-              to_string(g).c_str(), to_string(scheme).c_str(), r.iterations, r.residual);
-  ::testing::Test::RecordProperty(mesh_name + "_" + to_string(g) + "_" + to_string(scheme), r.iterations);
+      << mesh_name << " " << to_string(g) << " " << to_string(scheme)
+      << ": Newton should converge quadratically";
+  std::printf("[ newton   ] %-16s %-10s %-18s %d iterations, max |K - Kbar| = %.1e\n",
+              mesh_name.c_str(), to_string(g).c_str(), to_string(scheme).c_str(), r.iterations,
+              r.residual);
+  ::testing::Test::RecordProperty(mesh_name + "_" + to_string(g) + "_" + to_string(scheme),
+                                  r.iterations);
   expect_gauss_bonnet(mesh, g, r);
   EXPECT_GE(r.num_analyses, 1);
-  EXPECT_LE(r.num_analyses, 1 + r.connectivity_changes) << "symbolic factorization once per connectivity";
+  EXPECT_LE(r.num_analyses, 1 + r.connectivity_changes)
+      << "symbolic factorization once per connectivity";
   EXPECT_GE(r.num_factorizations, r.iterations);
   return r;
 }
@@ -60,8 +64,8 @@ double radius_of(Geometry g, double u) {
 }
 
 TEST(RicciFlow, EverySchemeConvergesOnDisksInE2) {
-  const std::map<std::string, CompactMesh> meshes = {{"bumpy_disk", test::bumpy_disk(16)},
-                                                     {"nefertiti", test::cgal_mesh("nefertiti.off")}};
+  const std::map<std::string, CompactMesh> meshes = {
+      {"bumpy_disk", test::bumpy_disk(16)}, {"nefertiti", test::cgal_mesh("nefertiti.off")}};
   for (const auto& [name, mesh] : meshes) {
     for (Scheme s : kSchemes) {
       const FlowResult r = expect_converges(name, mesh, Geometry::Euclidean, s,
@@ -85,7 +89,8 @@ TEST(RicciFlow, EverySchemeConvergesOnDisksInE2) {
 TEST(RicciFlow, EverySchemeConvergesOnTorusInE2) {
   const CompactMesh mesh = test::torus(24, 12);
   for (Scheme s : kSchemes) {
-    const FlowResult r = expect_converges("torus", mesh, Geometry::Euclidean, s, TargetCurvature::zero(mesh), 8);
+    const FlowResult r =
+        expect_converges("torus", mesh, Geometry::Euclidean, s, TargetCurvature::zero(mesh), 8);
     // E2 gauge: the result is scaled to the input's area.
     EXPECT_NEAR(r.area / mesh.input_area(), 1.0, 1e-10);
   }
@@ -94,17 +99,19 @@ TEST(RicciFlow, EverySchemeConvergesOnTorusInE2) {
 TEST(RicciFlow, EverySchemeConvergesOnGenusTwoInH2) {
   const CompactMesh mesh = test::cgal_mesh("eight.off");
   for (Scheme s : kSchemes) {
-    const FlowResult r = expect_converges("eight", mesh, Geometry::Hyperbolic, s, TargetCurvature::zero(mesh), 8);
+    const FlowResult r =
+        expect_converges("eight", mesh, Geometry::Hyperbolic, s, TargetCurvature::zero(mesh), 8);
     EXPECT_NEAR(r.area, 4 * kPi, 1e-8);  // -2 pi chi
   }
 }
 
 TEST(RicciFlow, EverySchemeConvergesOnGenusZeroInS2) {
-  const std::map<std::string, CompactMesh> meshes = {{"ellipsoid", test::ellipsoid(3, 1.0, 0.8, 0.7)},
-                                                     {"sphere", test::cgal_mesh("sphere.off")}};
+  const std::map<std::string, CompactMesh> meshes = {
+      {"ellipsoid", test::ellipsoid(3, 1.0, 0.8, 0.7)}, {"sphere", test::cgal_mesh("sphere.off")}};
   for (const auto& [name, mesh] : meshes) {
     for (Scheme s : kSchemes) {
-      const FlowResult r = expect_converges(name, mesh, Geometry::Spherical, s, TargetCurvature::zero(mesh), 10);
+      const FlowResult r =
+          expect_converges(name, mesh, Geometry::Spherical, s, TargetCurvature::zero(mesh), 10);
       EXPECT_NEAR(r.area, 4 * kPi, 1e-8);
     }
   }
@@ -120,8 +127,9 @@ TEST(RicciFlow, YamabePreservesLengthCrossRatios) {
   // On a fixed triangulation l_ij = e^((ui+uj)/2) L_ij: every interior edge's quadrilateral
   // keeps its length cross-ratio. (With flips, see delaunay_test.cpp.)
   const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
-  const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh),
-                                          TargetCurvature::free_boundary(mesh), without_flips());
+  const FlowResult r =
+      compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh),
+                         TargetCurvature::free_boundary(mesh), without_flips());
   auto cross_ratio = [&](const std::vector<double>& l, int h) {
     const int t = mesh.twin(h);
     const int f = h / 3, g = t / 3, c = h % 3, d = t % 3;
@@ -157,7 +165,8 @@ TEST(RicciFlow, TangentialPackingsTouchInEveryGeometry) {
                                             TargetCurvature::zero(c.mesh), without_flips());
     for (int e = 0; e < c.mesh.num_edges(); ++e) {
       const auto [i, j] = c.mesh.edge_vertices(e);
-      EXPECT_NEAR(r.edge_lengths[e], radius_of(c.g, r.u[i]) + radius_of(c.g, r.u[j]), 1e-12 * (1 + r.edge_lengths[e]));
+      EXPECT_NEAR(r.edge_lengths[e], radius_of(c.g, r.u[i]) + radius_of(c.g, r.u[j]),
+                  1e-12 * (1 + r.edge_lengths[e]));
     }
   }
 }
@@ -186,7 +195,8 @@ TEST(RicciFlow, InversiveDistanceIsPreserved) {
       if (c.g == Geometry::Euclidean) {
         inversive = (l * l - ri * ri - rj * rj) / (2 * ri * rj);
       } else if (c.g == Geometry::Hyperbolic) {
-        inversive = (std::cosh(l) - std::cosh(ri) * std::cosh(rj)) / (std::sinh(ri) * std::sinh(rj));
+        inversive =
+            (std::cosh(l) - std::cosh(ri) * std::cosh(rj)) / (std::sinh(ri) * std::sinh(rj));
       } else {
         inversive = (std::cos(ri) * std::cos(rj) - std::cos(l)) / (std::sin(ri) * std::sin(rj));
       }
@@ -204,7 +214,8 @@ TEST(RicciFlow, PrescribedBoundaryCurvatureOnADisk) {
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     if (mesh.is_boundary_vertex(v)) target.curvature[v] = 2 * kPi / nb;
   }
-  const FlowResult r = expect_converges("bumpy_disk", mesh, Geometry::Euclidean, Scheme::Yamabe, target, 10);
+  const FlowResult r =
+      expect_converges("bumpy_disk", mesh, Geometry::Euclidean, Scheme::Yamabe, target, 10);
   for (int v = 0; v < mesh.num_vertices(); ++v) EXPECT_FALSE(std::isnan(r.target[v]));
 }
 
@@ -213,8 +224,10 @@ TEST(RicciFlow, LdltAndCholmodAgree) {
   FlowOptions cholmod, ldlt;
   ldlt.linear_solver = LinearSolverKind::Ldlt;
   const auto target = TargetCurvature::free_boundary(mesh);
-  const FlowResult a = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), target, cholmod);
-  const FlowResult b = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), target, ldlt);
+  const FlowResult a = compute_ricci_flow(mesh, Geometry::Euclidean,
+                                          options_for(Scheme::Yamabe, mesh), target, cholmod);
+  const FlowResult b = compute_ricci_flow(mesh, Geometry::Euclidean,
+                                          options_for(Scheme::Yamabe, mesh), target, ldlt);
   EXPECT_EQ(a.iterations, b.iterations);
   EXPECT_LE((a.u - b.u).cwiseAbs().maxCoeff(), 1e-10);
 }
@@ -224,8 +237,9 @@ TEST(RicciFlow, ResultHasHistoryAndTimings) {
   int calls = 0;
   FlowOptions options;
   options.progress = [&](const FlowProgress&) { return ++calls > 0; };
-  const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh),
-                                          TargetCurvature::free_boundary(mesh), options);
+  const FlowResult r =
+      compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh),
+                         TargetCurvature::free_boundary(mesh), options);
   EXPECT_EQ(static_cast<int>(r.residual_history.size()), r.iterations + 1);
   EXPECT_EQ(static_cast<int>(r.step_history.size()), r.iterations);
   EXPECT_EQ(calls, r.iterations + 1);
@@ -242,7 +256,8 @@ TEST(RicciFlow, CancelStopsTheFlow) {
   FlowOptions options;
   options.progress = [](const FlowProgress& p) { return p.iteration < 1; };
   const auto target = TargetCurvature::free_boundary(mesh);
-  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), target);
+  const ConformalStructure s =
+      prepare_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), target);
   const FlowResult r = run_ricci_flow(mesh, s, target, options);
   EXPECT_FALSE(r.converged);
   EXPECT_NE(r.failure.find("cancelled"), std::string::npos);
@@ -257,7 +272,8 @@ TEST(RicciFlow, IterationLimitIsReported) {
                        TargetCurvature::free_boundary(mesh), options);
     FAIL() << "expected ConvergenceError";
   } catch (const ConvergenceError& e) {
-    EXPECT_NE(std::string(e.what()).find("no convergence in 1 iterations"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no convergence in 1 iterations"), std::string::npos)
+        << e.what();
     EXPECT_EQ(e.iterations(), 1);
     EXPECT_GT(e.residual(), 1e-10);
   }
@@ -267,8 +283,8 @@ TEST(RicciFlow, StallOnARealMeshIsExplained) {
   // A torus scan on a fixed triangulation: Yamabe runs into degenerate triangles (DESIGN.md).
   const CompactMesh mesh = test::cgal_mesh("elk.off");
   try {
-    compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), TargetCurvature::zero(mesh),
-                       without_flips());
+    compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh),
+                       TargetCurvature::zero(mesh), without_flips());
     FAIL() << "expected ConvergenceError";
   } catch (const ConvergenceError& e) {
     const std::string m = e.what();
@@ -278,11 +294,12 @@ TEST(RicciFlow, StallOnARealMeshIsExplained) {
   }
   // The tangential packing, whose triangles are always valid, converges on the same mesh, and
   // so does Yamabe with edge flips.
-  const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Tangential, mesh),
-                                          TargetCurvature::zero(mesh), without_flips());
+  const FlowResult r =
+      compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Tangential, mesh),
+                         TargetCurvature::zero(mesh), without_flips());
   EXPECT_TRUE(r.converged);
-  const FlowResult flipped = compute_ricci_flow(mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh),
-                                                TargetCurvature::zero(mesh));
+  const FlowResult flipped = compute_ricci_flow(
+      mesh, Geometry::Euclidean, options_for(Scheme::Yamabe, mesh), TargetCurvature::zero(mesh));
   EXPECT_TRUE(flipped.converged);
   EXPECT_GT(flipped.num_flips, 0);
 }

@@ -21,7 +21,8 @@ double max_relative_length_error(const CompactMesh& mesh, const ConformalStructu
   double err = 0;
   for (int e = 0; e < mesh.num_edges(); ++e) {
     if (!state.edges[e].valid) return INFINITY;
-    err = std::max(err, std::abs(state.edges[e].length / (s.length_scale * mesh.input_lengths()[e]) - 1));
+    err = std::max(
+        err, std::abs(state.edges[e].length / (s.length_scale * mesh.input_lengths()[e]) - 1));
   }
   return err;
 }
@@ -40,14 +41,16 @@ TEST(Scheme, InitialMetricReproducesInputLengths) {
   std::vector<int> eps(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) eps[v] = v % 3 - 1;
   for (Geometry g : kGeometries) {
-    for (Scheme scheme : {Scheme::InversiveDistance, Scheme::Yamabe, Scheme::VirtualRadius, Scheme::Mixed}) {
+    for (Scheme scheme :
+         {Scheme::InversiveDistance, Scheme::Yamabe, Scheme::VirtualRadius, Scheme::Mixed}) {
       SchemeOptions options;
       options.scheme = scheme;
       options.eps = eps;
       // H2 and S2 get a scaled copy of the input lengths (spherical perimeters below pi).
       const double scale = g == Geometry::Euclidean ? 1.0 : 0.01;
       const ConformalStructure s = initialize_scheme(mesh, g, options, scale);
-      EXPECT_LE(max_relative_length_error(mesh, s), 1e-12) << to_string(g) << " " << to_string(scheme);
+      EXPECT_LE(max_relative_length_error(mesh, s), 1e-12)
+          << to_string(g) << " " << to_string(scheme);
       EXPECT_TRUE(reproduces_input_lengths(scheme));
     }
   }
@@ -108,7 +111,9 @@ TEST(Scheme, RejectsBadOptions) {
     initialize_scheme(mesh, Geometry::Euclidean, options);
     FAIL() << "expected InvalidArgumentError";
   } catch (const InvalidArgumentError& e) {
-    EXPECT_NE(std::string(e.what()).find("2 values but the mesh has 40 vertices"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("2 values but the mesh has 40 vertices"),
+              std::string::npos)
+        << e.what();
   }
   options.eps.assign(mesh.num_vertices(), 1);
   options.eps[7] = 2;

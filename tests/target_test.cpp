@@ -23,9 +23,11 @@ std::string refusal(const CompactMesh& mesh, Geometry g, const TargetCurvature& 
 }
 
 TEST(Target, PresetsAndAutomaticGeometry) {
-  const CompactMesh disk = test::bumpy_disk(5), torus = test::torus(8, 5), sphere = test::ellipsoid(1);
+  const CompactMesh disk = test::bumpy_disk(5), torus = test::torus(8, 5),
+                    sphere = test::ellipsoid(1);
   const TargetCurvature fb = TargetCurvature::free_boundary(disk);
-  for (int v = 0; v < disk.num_vertices(); ++v) EXPECT_EQ(fb.is_fixed(v), disk.is_boundary_vertex(v));
+  for (int v = 0; v < disk.num_vertices(); ++v)
+    EXPECT_EQ(fb.is_fixed(v), disk.is_boundary_vertex(v));
   EXPECT_EQ(TargetCurvature::automatic(torus).num_fixed(), 0);
   EXPECT_EQ(automatic_geometry(disk), Geometry::Euclidean);
   EXPECT_EQ(automatic_geometry(torus), Geometry::Euclidean);
@@ -34,12 +36,16 @@ TEST(Target, PresetsAndAutomaticGeometry) {
 }
 
 TEST(Target, AcceptsTheUniformizationTargets) {
-  EXPECT_EQ(refusal(test::torus(8, 5), Geometry::Euclidean, TargetCurvature::zero(test::torus(8, 5))), "");
+  EXPECT_EQ(
+      refusal(test::torus(8, 5), Geometry::Euclidean, TargetCurvature::zero(test::torus(8, 5))),
+      "");
   const CompactMesh sphere = test::ellipsoid(1), eight = test::cgal_mesh("eight.off");
   EXPECT_EQ(refusal(sphere, Geometry::Spherical, TargetCurvature::zero(sphere)), "");
   EXPECT_EQ(refusal(eight, Geometry::Hyperbolic, TargetCurvature::zero(eight)), "");
-  EXPECT_NEAR(gauss_bonnet_area(sphere, Geometry::Spherical, TargetCurvature::zero(sphere)), 4 * kPi, 1e-12);
-  EXPECT_NEAR(gauss_bonnet_area(eight, Geometry::Hyperbolic, TargetCurvature::zero(eight)), 4 * kPi, 1e-12);
+  EXPECT_NEAR(gauss_bonnet_area(sphere, Geometry::Spherical, TargetCurvature::zero(sphere)),
+              4 * kPi, 1e-12);
+  EXPECT_NEAR(gauss_bonnet_area(eight, Geometry::Hyperbolic, TargetCurvature::zero(eight)), 4 * kPi,
+              1e-12);
 }
 
 TEST(Target, RefusesGaussBonnetViolations) {

@@ -1,5 +1,5 @@
-// Meshes shared by the tests and benchmarks: generated smooth meshes of each topology, and real meshes from
-// the CC0 data set of Debian's libcgal-demo (fetched by scripts/setup.sh).
+// Meshes shared by the tests and benchmarks: generated smooth meshes of each topology, and real
+// meshes from the CC0 data set of Debian's libcgal-demo (fetched by scripts/setup.sh).
 #pragma once
 
 #include <string>

@@ -20,7 +20,8 @@ CompactMesh::CompactMesh(std::vector<Eigen::Vector3d> positions,
   build_connectivity(static_cast<int>(positions_.size()));
   input_lengths_.resize(num_edges());
   for (int e = 0; e < num_edges(); ++e) {
-    input_lengths_[e] = (positions_[edge_vertices_[e][0]] - positions_[edge_vertices_[e][1]]).norm();
+    input_lengths_[e] =
+        (positions_[edge_vertices_[e][0]] - positions_[edge_vertices_[e][1]]).norm();
   }
 }
 
@@ -57,8 +58,8 @@ void CompactMesh::check_elements() {
     }
     const Eigen::Vector3d& p0 = positions_[t[0]];
     const Eigen::Vector3d e1 = positions_[t[1]] - p0, e2 = positions_[t[2]] - p0;
-    const double longest = std::max({e1.squaredNorm(), e2.squaredNorm(),
-                                     (positions_[t[2]] - positions_[t[1]]).squaredNorm()});
+    const double longest = std::max(
+        {e1.squaredNorm(), e2.squaredNorm(), (positions_[t[2]] - positions_[t[1]]).squaredNorm()});
     // Twice the area against the longest edle squared: 0 for collinear corners.
     if (!(e1.cross(e2).norm() > 1e-12 * longest)) degenerate.push_back(f);
   }
@@ -97,7 +98,8 @@ void CompactMesh::check_elements() {
 double CompactMesh::input_area() const {
   double area = 0;
   for (const auto& t : faces_) {
-    area += 0.5 * (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
+    area += 0.5 *
+            (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
   }
   return area;
 }

@@ -12,7 +12,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 std::uint64_t pair_key(int a, int b) {
-  const auto lo = static_cast<std::uint64_t>(std::min(a, b)), hi = static_cast<std::uint64_t>(std::max(a, b));
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b)),
+             hi = static_cast<std::uint64_t>(std::max(a, b));
   return (hi << 32) | lo;
 }
 
@@ -25,7 +26,9 @@ int corner_of(const Triangulation& mesh, int f, int v) {
 
 // lambda-length of a Yamabe edge: l = lambda e^((ui+uj)/2) in E2, and the same with sinh(l/2)
 // or sin(l/2) for l/2 in H2 and S2.
-double lambda(const ConformalStructure& s, int e) { return std::sqrt(2 * s.eta[e]); }
+double lambda(const ConformalStructure& s, int e) {
+  return std::sqrt(2 * s.eta[e]);
+}
 
 }  // namespace
 
@@ -42,12 +45,13 @@ bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, dou
   return off_diagonal <= tolerance * scale;
 }
 
-FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure, const Eigen::VectorXd& u,
-                         MetricState& state, int max_flips) {
+FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure,
+                         const Eigen::VectorXd& u, MetricState& state, int max_flips) {
   FlipReport report;
   std::unordered_set<std::uint64_t> edges;
   edges.reserve(2 * static_cast<size_t>(mesh.num_edges()));
-  for (int e = 0; e < mesh.num_edges(); ++e) edges.insert(pair_key(mesh.edge_vertices(e)[0], mesh.edge_vertices(e)[1]));
+  for (int e = 0; e < mesh.num_edges(); ++e)
+    edges.insert(pair_key(mesh.edge_vertices(e)[0], mesh.edge_vertices(e)[1]));
   std::vector<int> stack;
   std::vector<char> queued(mesh.num_edges(), 0);
   for (int e = mesh.num_edges() - 1; e >= 0; --e) {
@@ -91,7 +95,8 @@ FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure, con
                          lambda(structure, e);
       new_eta = lam * lam / 2;
     } else {
-      const double diagonal = third_side(g, state.edges[e_ka].length, state.edges[e_al].length, angle_a);
+      const double diagonal =
+          third_side(g, state.edges[e_ka].length, state.edges[e_al].length, angle_a);
       new_eta = conformal_structure_from_length(g, diagonal, u[k], u[l], eps[k], eps[l]);
     }
     // eta <= 0 leaves the range where the Ricci energy is convex (the paper's schemes ask eta > 0).

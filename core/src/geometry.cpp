@@ -14,9 +14,12 @@ constexpr double kPi = 3.14159265358979323846;
 // s(x) of the paper: x (E2), sinh x (H2), sin x (S2).
 double s_of(Geometry g, double x) {
   switch (g) {
-    case Geometry::Euclidean: return x;
-    case Geometry::Hyperbolic: return std::sinh(x);
-    case Geometry::Spherical: return std::sin(x);
+    case Geometry::Euclidean:
+      return x;
+    case Geometry::Hyperbolic:
+      return std::sinh(x);
+    case Geometry::Spherical:
+      return std::sin(x);
   }
   return x;
 }
@@ -24,18 +27,24 @@ double s_of(Geometry g, double x) {
 // d log D / d u_i for the denominator factor (1 -+ eps_i e^(2ui)) of the length law.
 double d_log_denominator(Geometry g, double a) {
   switch (g) {
-    case Geometry::Euclidean: return 0;
-    case Geometry::Hyperbolic: return -2 * a / (1 - a);
-    case Geometry::Spherical: return 2 * a / (1 + a);
+    case Geometry::Euclidean:
+      return 0;
+    case Geometry::Hyperbolic:
+      return -2 * a / (1 - a);
+    case Geometry::Spherical:
+      return 2 * a / (1 + a);
   }
   return 0;
 }
 
 double denominator_factor(Geometry g, double a) {
   switch (g) {
-    case Geometry::Euclidean: return 1;
-    case Geometry::Hyperbolic: return 1 - a;
-    case Geometry::Spherical: return 1 + a;
+    case Geometry::Euclidean:
+      return 1;
+    case Geometry::Hyperbolic:
+      return 1 - a;
+    case Geometry::Spherical:
+      return 1 + a;
   }
   return 1;
 }
@@ -44,27 +53,36 @@ double denominator_factor(Geometry g, double a) {
 
 std::string to_string(Geometry g) {
   switch (g) {
-    case Geometry::Euclidean: return "euclidean";
-    case Geometry::Hyperbolic: return "hyperbolic";
-    case Geometry::Spherical: return "spherical";
+    case Geometry::Euclidean:
+      return "euclidean";
+    case Geometry::Hyperbolic:
+      return "hyperbolic";
+    case Geometry::Spherical:
+      return "spherical";
   }
   return "unknown";
 }
 
 double background_curvature(Geometry g) {
   switch (g) {
-    case Geometry::Euclidean: return 0;
-    case Geometry::Hyperbolic: return -1;
-    case Geometry::Spherical: return 1;
+    case Geometry::Euclidean:
+      return 0;
+    case Geometry::Hyperbolic:
+      return -1;
+    case Geometry::Spherical:
+      return 1;
   }
   return 0;
 }
 
 double conformal_factor_from_radius(Geometry g, double radius) {
   switch (g) {
-    case Geometry::Euclidean: return std::log(radius);
-    case Geometry::Hyperbolic: return std::log(std::tanh(radius / 2));
-    case Geometry::Spherical: return std::log(std::tan(radius / 2));
+    case Geometry::Euclidean:
+      return std::log(radius);
+    case Geometry::Hyperbolic:
+      return std::log(std::tanh(radius / 2));
+    case Geometry::Spherical:
+      return std::log(std::tan(radius / 2));
   }
   return 0;
 }
@@ -72,10 +90,12 @@ double conformal_factor_from_radius(Geometry g, double radius) {
 double radius_from_conformal_factor(Geometry g, double u) {
   const double e = std::exp(u);
   switch (g) {
-    case Geometry::Euclidean: return e;
+    case Geometry::Euclidean:
+      return e;
     case Geometry::Hyperbolic:
       return e < 1 ? 2 * std::atanh(e) : std::numeric_limits<double>::quiet_NaN();
-    case Geometry::Spherical: return 2 * std::atan(e);
+    case Geometry::Spherical:
+      return 2 * std::atan(e);
   }
   return e;
 }
@@ -115,8 +135,8 @@ EdgeLength edge_length(Geometry g, double ui, double uj, int eps_i, int eps_j, d
   return r;
 }
 
-double conformal_structure_from_length(Geometry g, double length, double ui, double uj,
-                                       int eps_i, int eps_j) {
+double conformal_structure_from_length(Geometry g, double length, double ui, double uj, int eps_i,
+                                       int eps_j) {
   if (!(length > 0)) {
     throw InvalidArgumentError("conformal_structure_from_length: edge length must be positive");
   }
@@ -124,9 +144,15 @@ double conformal_structure_from_length(Geometry g, double length, double ui, dou
   const double b = eps_j * std::exp(2 * uj);
   double w = 0;
   switch (g) {
-    case Geometry::Euclidean: w = length * length; break;
-    case Geometry::Hyperbolic: w = std::pow(std::sinh(length / 2), 2); break;
-    case Geometry::Spherical: w = std::pow(std::sin(length / 2), 2); break;
+    case Geometry::Euclidean:
+      w = length * length;
+      break;
+    case Geometry::Hyperbolic:
+      w = std::pow(std::sinh(length / 2), 2);
+      break;
+    case Geometry::Spherical:
+      w = std::pow(std::sin(length / 2), 2);
+      break;
   }
   const double m = w * denominator_factor(g, a) * denominator_factor(g, b);
   return (m - a - b) / (2 * std::exp(ui + uj));
@@ -176,11 +202,14 @@ double third_side(Geometry g, double x, double y, double angle) {
   //   S2: sin^2(c/2) = sin^2((x-y)/2) + sin x sin y h.
   const double h = std::pow(std::sin(angle / 2), 2);
   switch (g) {
-    case Geometry::Euclidean: return 2 * std::sqrt(std::pow((x - y) / 2, 2) + x * y * h);
+    case Geometry::Euclidean:
+      return 2 * std::sqrt(std::pow((x - y) / 2, 2) + x * y * h);
     case Geometry::Hyperbolic:
-      return 2 * std::asinh(std::sqrt(std::pow(std::sinh((x - y) / 2), 2) + std::sinh(x) * std::sinh(y) * h));
+      return 2 * std::asinh(std::sqrt(std::pow(std::sinh((x - y) / 2), 2) +
+                                      std::sinh(x) * std::sinh(y) * h));
     case Geometry::Spherical:
-      return 2 * std::asin(std::sqrt(std::pow(std::sin((x - y) / 2), 2) + std::sin(x) * std::sin(y) * h));
+      return 2 * std::asin(
+                     std::sqrt(std::pow(std::sin((x - y) / 2), 2) + std::sin(x) * std::sin(y) * h));
   }
   return std::numeric_limits<double>::quiet_NaN();
 }
@@ -188,9 +217,12 @@ double third_side(Geometry g, double x, double y, double angle) {
 double triangle_area(Geometry g, const std::array<double, 3>& l,
                      const std::array<double, 3>& angle) {
   switch (g) {
-    case Geometry::Euclidean: return 0.5 * l[1] * l[2] * std::sin(angle[0]);
-    case Geometry::Hyperbolic: return kPi - angle[0] - angle[1] - angle[2];
-    case Geometry::Spherical: return angle[0] + angle[1] + angle[2] - kPi;
+    case Geometry::Euclidean:
+      return 0.5 * l[1] * l[2] * std::sin(angle[0]);
+    case Geometry::Hyperbolic:
+      return kPi - angle[0] - angle[1] - angle[2];
+    case Geometry::Spherical:
+      return angle[0] + angle[1] + angle[2] - kPi;
   }
   return 0;
 }

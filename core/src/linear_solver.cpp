@@ -15,7 +15,9 @@ struct LinearSolver::Impl {
   bool analyzed = false;
 };
 
-std::string to_string(LinearSolverKind k) { return k == LinearSolverKind::Cholmod ? "cholmod" : "ldlt"; }
+std::string to_string(LinearSolverKind k) {
+  return k == LinearSolverKind::Cholmod ? "cholmod" : "ldlt";
+}
 
 LinearSolverKind linear_solver_from_string(const std::string& name) {
   if (name == "cholmod") return LinearSolverKind::Cholmod;

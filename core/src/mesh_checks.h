@@ -27,11 +27,13 @@ class UnionFind {
 inline std::string first_indices(const std::string& what, const std::vector<int>& indices) {
   std::ostringstream s;
   s << "first: ";
-  for (size_t i = 0; i < indices.size() && i < 3; ++i) s << (i ? ", " : "") << what << " " << indices[i];
+  for (size_t i = 0; i < indices.size() && i < 3; ++i)
+    s << (i ? ", " : "") << what << " " << indices[i];
   return s.str();
 }
 
-[[noreturn]] inline void fail(const std::string& fact, const std::string& where, const std::string& todo) {
+[[noreturn]] inline void fail(const std::string& fact, const std::string& where,
+                              const std::string& todo) {
   throw InvalidMeshError("mesh: " + fact + " (" + where + "); " + todo);
 }
 

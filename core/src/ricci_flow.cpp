@@ -28,7 +28,8 @@ Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& t
                               const std::vector<int>& free_index, int num_free) {
   Eigen::VectorXd r(num_free);
   for (size_t v = 0; v < free_index.size(); ++v) {
-    if (free_index[v] >= 0) r[free_index[v]] = target.curvature[static_cast<int>(v)] - k[static_cast<int>(v)];
+    if (free_index[v] >= 0)
+      r[free_index[v]] = target.curvature[static_cast<int>(v)] - k[static_cast<int>(v)];
   }
   return r;
 }
@@ -87,7 +88,7 @@ class NewtonSolver {
               const Eigen::VectorXd& k) const;
 
   const CompactMesh& mesh_;
-  Triangulation triangulation_;    // the input's, then as flipped
+  Triangulation triangulation_;   // the input's, then as flipped
   ConformalStructure structure_;  // eta changes with flips
   const TargetCurvature& target_;
   const FlowOptions& options_;
@@ -138,9 +139,11 @@ bool NewtonSolver::compute_step(const MetricState& state, const Eigen::VectorXd&
   // E2 and H2: H is positive (semi)definite; a shift only guards against round-off near
   // degenerate triangles. S2: H^2 + mu I is positive definite for mu > 0.
   double max_diag = 0;
-  for (int i = 0; i < system->rows(); ++i) max_diag = std::max(max_diag, std::abs(system->coeff(i, i)));
+  for (int i = 0; i < system->rows(); ++i)
+    max_diag = std::max(max_diag, std::abs(system->coeff(i, i)));
   bool ok = solver_.factorize(*system, shift);
-  for (double extra = 1e-12 * std::max(max_diag, 1e-300); !ok && extra < 1e3 * max_diag; extra *= 10) {
+  for (double extra = 1e-12 * std::max(max_diag, 1e-300); !ok && extra < 1e3 * max_diag;
+       extra *= 10) {
     ok = solver_.factorize(*system, shift + extra);
   }
   times_.factorization += seconds_since(t);
@@ -157,7 +160,8 @@ void NewtonSolver::finish(FlowResult& result, const Eigen::VectorXd& u, const Me
   result.u = u;
   result.curvature = k;
   result.edge_lengths = state.lengths();
-  result.area = state.valid() ? total_area(triangulation_, g, state) : std::numeric_limits<double>::quiet_NaN();
+  result.area = state.valid() ? total_area(triangulation_, g, state)
+                              : std::numeric_limits<double>::quiet_NaN();
   result.radius.resize(u.size());
   result.target.resize(u.size());
   for (int v = 0; v < u.size(); ++v) {
@@ -201,9 +205,11 @@ void NewtonSolver::walk_to_stereographic_start(Eigen::VectorXd& u, MetricState& 
 void NewtonSolver::keep_delaunay(const Eigen::VectorXd& u, MetricState& state, FlowResult& result) {
   if (!options_.edge_flips) return;
   const auto t = Clock::now();
-  const FlipReport flips = make_delaunay(triangulation_, structure_, u, state, 10 * mesh_.num_edges());
+  const FlipReport flips =
+      make_delaunay(triangulation_, structure_, u, state, 10 * mesh_.num_edges());
   result.num_flips += flips.flips;
-  result.flip_sequence.insert(result.flip_sequence.end(), flips.sequence.begin(), flips.sequence.end());
+  result.flip_sequence.insert(result.flip_sequence.end(), flips.sequence.begin(),
+                              flips.sequence.end());
   if (flips.flips > 0) {
     ++result.connectivity_changes;
     assembler_ = std::make_unique<HessianAssembler>(triangulation_, free_index_);
@@ -278,8 +284,7 @@ FlowResult NewtonSolver::run() {
         continue;
       }
       trial_k = curvature(triangulation_, trial_state);
-      const double trial_phi =
-          0.5 * free_residual(trial_k, target_, free_index_, n).squaredNorm();
+      const double trial_phi = 0.5 * free_residual(trial_k, target_, free_index_, n).squaredNorm();
       if (trial_phi <= (1 - 1e-4 * alpha) * phi) {
         accepted = true;
         break;
@@ -290,7 +295,8 @@ FlowResult NewtonSolver::run() {
       std::ostringstream s;
       s << "stalled at iteration " << it << " with max |K - Kbar| = " << result.residual
         << ": no step of length >= 2^-" << options_.max_step_halvings << " reduces the residual";
-      if (!trial_state.valid()) s << " while keeping every triangle valid (" << describe_invalid(trial_state) << ")";
+      if (!trial_state.valid())
+        s << " while keeping every triangle valid (" << describe_invalid(trial_state) << ")";
       s << (options_.edge_flips ? "; the solution may not exist for this mesh"
                                 : "; the solution may not exist on this triangulation (edge "
                                   "flips help)")
@@ -303,7 +309,8 @@ FlowResult NewtonSolver::run() {
     constexpr int kStallWindow = 10;
     short_steps_ = (blocked_by_validity && alpha <= 1.0 / 64) ? short_steps_ + 1 : 0;
     if (short_steps_ >= kStallWindow &&
-        result.residual > 0.5 * result.residual_history[result.residual_history.size() - kStallWindow]) {
+        result.residual >
+            0.5 * result.residual_history[result.residual_history.size() - kStallWindow]) {
       std::ostringstream s;
       s << "stalled at iteration " << it << ": for " << kStallWindow
         << " iterations the step was cut below 1/64 to keep triangles from degenerating, and "
@@ -317,7 +324,8 @@ FlowResult NewtonSolver::run() {
       result.failure = s.str();
       break;
     }
-    if (spherical_) lm_weight_ = alpha == 1 ? std::max(lm_weight_ / 4, 1e-8) : std::min(lm_weight_ * 8, 1e8);
+    if (spherical_)
+      lm_weight_ = alpha == 1 ? std::max(lm_weight_ / 4, 1e-8) : std::min(lm_weight_ * 8, 1e8);
     result.step_history.push_back(alpha);
     u = trial_u;
     state = std::move(trial_state);
@@ -327,7 +335,8 @@ FlowResult NewtonSolver::run() {
   }
   // E2 without fixed vertices: choose the scale of the input's total area.
   if (result.converged && structure_.geometry == Geometry::Euclidean && target_.num_fixed() == 0) {
-    const double c = 0.5 * std::log(mesh_.input_area() / total_area(triangulation_, Geometry::Euclidean, state));
+    const double c =
+        0.5 * std::log(mesh_.input_area() / total_area(triangulation_, Geometry::Euclidean, state));
     u.array() += c;
     state = evaluate_metric(triangulation_, structure_, u);
     k = curvature(triangulation_, state);
@@ -368,8 +377,9 @@ FlowResult run_ricci_flow(const CompactMesh& mesh, const ConformalStructure& str
                           const TargetCurvature& target, const FlowOptions& options) {
   check_target(mesh, structure.geometry, target);
   if (!(options.tolerance > 0) || options.max_iterations < 0) {
-    throw InvalidArgumentError("ricci flow: tolerance must be positive and the iteration limit "
-                               "non-negative");
+    throw InvalidArgumentError(
+        "ricci flow: tolerance must be positive and the iteration limit "
+        "non-negative");
   }
   const int nv = mesh.num_vertices();
   if (static_cast<int>(structure.eps.size()) != nv || structure.u0.size() != nv ||

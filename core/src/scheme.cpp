@@ -52,12 +52,18 @@ std::vector<double> incircle_tangent_radii(const CompactMesh& mesh,
 
 std::string to_string(Scheme s) {
   switch (s) {
-    case Scheme::Tangential: return "tangential";
-    case Scheme::Thurston: return "thurston";
-    case Scheme::InversiveDistance: return "inversive-distance";
-    case Scheme::Yamabe: return "yamabe";
-    case Scheme::VirtualRadius: return "virtual-radius";
-    case Scheme::Mixed: return "mixed";
+    case Scheme::Tangential:
+      return "tangential";
+    case Scheme::Thurston:
+      return "thurston";
+    case Scheme::InversiveDistance:
+      return "inversive-distance";
+    case Scheme::Yamabe:
+      return "yamabe";
+    case Scheme::VirtualRadius:
+      return "virtual-radius";
+    case Scheme::Mixed:
+      return "mixed";
   }
   return "unknown";
 }
@@ -101,9 +107,15 @@ ConformalStructure initialize_scheme(const CompactMesh& mesh, Geometry geometry,
   switch (scheme) {
     case Scheme::Tangential:
     case Scheme::Thurston:
-    case Scheme::InversiveDistance: cs.eps.assign(nv, 1); break;
-    case Scheme::Yamabe: cs.eps.assign(nv, 0); break;
-    case Scheme::VirtualRadius: cs.eps.assign(nv, -1); break;
+    case Scheme::InversiveDistance:
+      cs.eps.assign(nv, 1);
+      break;
+    case Scheme::Yamabe:
+      cs.eps.assign(nv, 0);
+      break;
+    case Scheme::VirtualRadius:
+      cs.eps.assign(nv, -1);
+      break;
     case Scheme::Mixed: {
       if (static_cast<int>(options.eps.size()) != nv) {
         throw InvalidArgumentError("mixed scheme: eps has " + std::to_string(options.eps.size()) +

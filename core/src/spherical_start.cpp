@@ -71,7 +71,8 @@ Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStru
   }
   std::vector<std::array<int, 3>> faces;
   for (const auto& f : mesh.faces()) {
-    if (f[0] != p && f[1] != p && f[2] != p) faces.push_back({index[f[0]], index[f[1]], index[f[2]]});
+    if (f[0] != p && f[1] != p && f[2] != p)
+      faces.push_back({index[f[0]], index[f[1]], index[f[2]]});
   }
   const CompactMesh disk(std::move(positions), std::move(faces));
 

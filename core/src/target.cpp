@@ -88,8 +88,8 @@ void check_target(const CompactMesh& mesh, Geometry geometry, const TargetCurvat
   const double slack = 1e-9 * scale;
   std::ostringstream s;
   s.precision(10);
-  const std::string topo = mesh.topology_name() + " (chi = " +
-                           std::to_string(mesh.euler_characteristic()) + ")";
+  const std::string topo =
+      mesh.topology_name() + " (chi = " + std::to_string(mesh.euler_characteristic()) + ")";
   switch (geometry) {
     case Geometry::Euclidean:
       if (std::abs(sum - two_pi_chi) > slack) {

@@ -68,9 +68,10 @@ void Triangulation::build_edges() {
   if (!nonmanifold.empty()) {
     std::sort(nonmanifold.begin(), nonmanifold.end());
     nonmanifold.erase(std::unique(nonmanifold.begin(), nonmanifold.end()), nonmanifold.end());
-    fail(std::to_string(nonmanifold.size()) + " non-manifold edges (shared by more than two faces)",
-         edge_names(nonmanifold),
-         "repair them, e.g. MeshLab's Filters > Cleaning and Repairing > Repair non Manifold Edges");
+    fail(
+        std::to_string(nonmanifold.size()) + " non-manifold edges (shared by more than two faces)",
+        edge_names(nonmanifold),
+        "repair them, e.g. MeshLab's Filters > Cleaning and Repairing > Repair non Manifold Edges");
   }
   if (!misoriented.empty()) {
     fail(std::to_string(misoriented.size()) +
@@ -82,7 +83,8 @@ void Triangulation::build_edges() {
   }
   boundary_vertex_.assign(num_vertices(), 0);
   for (int e = 0; e < num_edges(); ++e) {
-    if (is_boundary_edge(e)) boundary_vertex_[edge_vertices_[e][0]] = boundary_vertex_[edge_vertices_[e][1]] = 1;
+    if (is_boundary_edge(e))
+      boundary_vertex_[edge_vertices_[e][0]] = boundary_vertex_[edge_vertices_[e][1]] = 1;
   }
 }
 
@@ -163,7 +165,6 @@ void Triangulation::build_boundary_loops() {
     boundary_loops_.push_back(std::move(loop));
   }
 }
-
 
 int Triangulation::edge_halfedge(int e) const {
   const int f = edge_faces_[e][0];

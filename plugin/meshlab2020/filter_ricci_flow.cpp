@@ -11,7 +11,9 @@ using namespace ricci::plugin;
 
 namespace {
 
-QString q(const std::string& s) { return QString::fromStdString(s); }
+QString q(const std::string& s) {
+  return QString::fromStdString(s);
+}
 
 // Progress in percent from the residual: log-linear between the first residual and the tolerance.
 int percent(double first, double residual, double tolerance) {
@@ -25,10 +27,18 @@ ParameterValues values_of(const RichParameterList& parameters) {
   for (const ParameterSpec& spec : parameter_specs()) {
     const QString name = q(spec.name);
     switch (spec.kind) {
-      case ParameterSpec::Kind::Enum: values[spec.name] = parameters.getEnum(name); break;
-      case ParameterSpec::Kind::Float: values[spec.name] = parameters.getFloat(name); break;
-      case ParameterSpec::Kind::Int: values[spec.name] = parameters.getInt(name); break;
-      case ParameterSpec::Kind::Bool: values[spec.name] = parameters.getBool(name) ? 1 : 0; break;
+      case ParameterSpec::Kind::Enum:
+        values[spec.name] = parameters.getEnum(name);
+        break;
+      case ParameterSpec::Kind::Float:
+        values[spec.name] = parameters.getFloat(name);
+        break;
+      case ParameterSpec::Kind::Int:
+        values[spec.name] = parameters.getInt(name);
+        break;
+      case ParameterSpec::Kind::Bool:
+        values[spec.name] = parameters.getBool(name) ? 1 : 0;
+        break;
     }
   }
   return values;
@@ -41,11 +51,17 @@ FilterRicciFlowPlugin::FilterRicciFlowPlugin() {
   for (FilterIDType t : types()) actionList << new QAction(filterName(t), this);
 }
 
-QString FilterRicciFlowPlugin::pluginName() const { return "FilterRicciFlow"; }
+QString FilterRicciFlowPlugin::pluginName() const {
+  return "FilterRicciFlow";
+}
 
-QString FilterRicciFlowPlugin::filterName(FilterIDType) const { return q(filter_name()); }
+QString FilterRicciFlowPlugin::filterName(FilterIDType) const {
+  return q(filter_name());
+}
 
-QString FilterRicciFlowPlugin::filterInfo(FilterIDType) const { return q(filter_info()); }
+QString FilterRicciFlowPlugin::filterInfo(FilterIDType) const {
+  return q(filter_info());
+}
 
 MeshFilterInterface::FilterClass FilterRicciFlowPlugin::getClass(QAction*) {
   return MeshFilterInterface::Texture;
@@ -55,7 +71,9 @@ MeshFilterInterface::FILTER_ARITY FilterRicciFlowPlugin::filterArity(QAction*) c
   return SINGLE_MESH;
 }
 
-int FilterRicciFlowPlugin::getPreConditions(QAction*) const { return MeshModel::MM_FACENUMBER; }
+int FilterRicciFlowPlugin::getPreConditions(QAction*) const {
+  return MeshModel::MM_FACENUMBER;
+}
 
 int FilterRicciFlowPlugin::postCondition(QAction*) const {
   return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTTEXCOORD;
@@ -68,7 +86,8 @@ void FilterRicciFlowPlugin::initParameterSet(QAction*, MeshModel&, RichParameter
       case ParameterSpec::Kind::Enum: {
         QStringList labels;
         for (const auto& l : spec.enum_labels) labels << q(l);
-        parameters.addParam(RichEnum(name, static_cast<int>(spec.default_value), labels, label, tip));
+        parameters.addParam(
+            RichEnum(name, static_cast<int>(spec.default_value), labels, label, tip));
         break;
       }
       case ParameterSpec::Kind::Float:
@@ -85,8 +104,7 @@ void FilterRicciFlowPlugin::initParameterSet(QAction*, MeshModel&, RichParameter
 }
 
 bool FilterRicciFlowPlugin::applyFilter(QAction*, MeshDocument& md,
-                                        const RichParameterList& parameters,
-                                        vcg::CallBackPos* cb) {
+                                        const RichParameterList& parameters, vcg::CallBackPos* cb) {
   MeshModel& m = *md.mm();
   try {
     const FilterSettings settings = settings_from_values(values_of(parameters));

@@ -7,8 +7,8 @@
 
 #include <Eigen/SparseCore>
 
-#include "ricci/triangulation.h"
 #include "ricci/metric.h"
+#include "ricci/triangulation.h"
 
 namespace ricci {
 

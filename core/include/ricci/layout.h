@@ -9,8 +9,8 @@
 
 #include <Eigen/Core>
 
-#include "ricci/triangulation.h"
 #include "ricci/linear_solver.h"
+#include "ricci/triangulation.h"
 
 namespace ricci {
 

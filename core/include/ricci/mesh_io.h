@@ -14,14 +14,16 @@ namespace ricci {
 namespace vcgmesh {
 class Vertex;
 class Face;
-struct UsedTypes : public vcg::UsedTypes<vcg::Use<Vertex>::AsVertexType, vcg::Use<Face>::AsFaceType> {};
+struct UsedTypes
+    : public vcg::UsedTypes<vcg::Use<Vertex>::AsVertexType, vcg::Use<Face>::AsFaceType> {};
 class Vertex : public vcg::Vertex<UsedTypes, vcg::vertex::Coord3d, vcg::vertex::Normal3d,
                                   vcg::vertex::BitFlags> {};
 class Face : public vcg::Face<UsedTypes, vcg::face::VertexRef, vcg::face::BitFlags> {};
 }  // namespace vcgmesh
 
 //! Triangle mesh with double coordinates.
-class VcgMesh : public vcg::tri::TriMesh<std::vector<vcgmesh::Vertex>, std::vector<vcgmesh::Face>> {};
+class VcgMesh : public vcg::tri::TriMesh<std::vector<vcgmesh::Vertex>, std::vector<vcgmesh::Face>> {
+};
 
 //! Reads OFF, OBJ, PLY or STL (polygons are triangulated; STL's duplicate vertices merged).
 //! \throws IoError naming the file and the importer's reason.

@@ -6,9 +6,9 @@
 
 #include <Eigen/Core>
 
-#include "ricci/triangulation.h"
 #include "ricci/geometry.h"
 #include "ricci/scheme.h"
+#include "ricci/triangulation.h"
 
 namespace ricci {
 

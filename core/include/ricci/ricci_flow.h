@@ -51,20 +51,20 @@ struct FlowResult {
   bool converged = false;
   std::string failure;  //!< why the flow stopped, when !converged
 
-  Eigen::VectorXd u;          //!< conformal factor per vertex
-  Eigen::VectorXd radius;     //!< circle radius r(u) of the geometry; NaN where undefined
-  Eigen::VectorXd curvature;  //!< K of the result
-  Eigen::VectorXd target;     //!< Kbar; NaN where u was held fixed
+  Eigen::VectorXd u;                 //!< conformal factor per vertex
+  Eigen::VectorXd radius;            //!< circle radius r(u) of the geometry; NaN where undefined
+  Eigen::VectorXd curvature;         //!< K of the result
+  Eigen::VectorXd target;            //!< Kbar; NaN where u was held fixed
   std::vector<double> edge_lengths;  //!< per edge of result_triangulation()
-  int num_flips = 0;                  //!< edge flips done during the flow
-  int connectivity_changes = 0;       //!< flip rounds that changed the triangulation
-  std::vector<int> flip_sequence;     //!< every flipped edge, in order (replays the flips)
+  int num_flips = 0;                 //!< edge flips done during the flow
+  int connectivity_changes = 0;      //!< flip rounds that changed the triangulation
+  std::vector<int> flip_sequence;    //!< every flipped edge, in order (replays the flips)
   //! The final connectivity when flips changed it (edge indices as in the input).
   std::optional<Triangulation> triangulation;
   double area = 0;  //!< total area in the background geometry
 
   int iterations = 0;
-  double residual = 0;  //!< max |K - Kbar| at the end
+  double residual = 0;                   //!< max |K - Kbar| at the end
   std::vector<double> residual_history;  //!< residual before each iteration, and at the end
   std::vector<double> step_history;      //!< accepted step length alpha per iteration
   int num_analyses = 0, num_factorizations = 0;

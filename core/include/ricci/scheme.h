@@ -44,10 +44,10 @@ struct SchemeOptions {
 //! A circle packing metric up to the conformal factor: (eps, eta) and the starting u.
 struct ConformalStructure {
   Geometry geometry = Geometry::Euclidean;
-  std::vector<int> eps;        //!< per vertex
-  std::vector<double> eta;     //!< per edge
-  Eigen::VectorXd u0;          //!< initial conformal factor per vertex
-  double length_scale = 1;     //!< input lengths were multiplied by this (H2, S2)
+  std::vector<int> eps;     //!< per vertex
+  std::vector<double> eta;  //!< per edge
+  Eigen::VectorXd u0;       //!< initial conformal factor per vertex
+  double length_scale = 1;  //!< input lengths were multiplied by this (H2, S2)
 };
 
 //! Builds eps, eta and u0 for the scheme from the mesh's input lengths times length_scale.
