@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Set up, build with warnings as errors, and run every test: once in a Release build, and once
-# more in a build with the address and undefined-behaviour sanitizers.
+# Set up, check formatting, build with warnings as errors, and run every test: once in a Release
+# build, and once more in a build with the address and undefined-behaviour sanitizers.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 bash "$root/scripts/setup.sh"
+
+echo "== formatting (.clang-format)"
+(cd "$root" && git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run --Werror)
 
 echo "== release build and tests"
 bash "$root/scripts/build.sh" test -DCMAKE_BUILD_TYPE=Release -DRICCI_WARNINGS_AS_ERRORS=ON \
