@@ -84,6 +84,12 @@ int run(const ricci::cli::Options& o) {
   } else if (!o.eps_file.empty()) {
     throw InvalidArgumentError("--eps is used only by --scheme mixed");
   }
+  if (!o.picture.empty() && !(geometry == Geometry::Euclidean && mesh.is_disk())) {
+    throw InvalidArgumentError(
+        "--picture needs a planar layout (euclidean geometry on a disk); "
+        "this run is " +
+        to_string(geometry) + " on a " + mesh.topology_name());
+  }
   const TargetCurvature target = make_target(o.target, mesh);
   const ConformalStructure structure = prepare_flow(mesh, geometry, scheme, target);
 
@@ -113,8 +119,7 @@ int run(const ricci::cli::Options& o) {
 
   PlanarLayout layout;
   cli::ResultLayout written;
-  const bool planar = result.converged && geometry == Geometry::Euclidean && !mesh.is_closed() &&
-                      mesh.genus() == 0 && mesh.num_boundary_loops() == 1;
+  const bool planar = result.converged && geometry == Geometry::Euclidean && mesh.is_disk();
   if (planar) {
     layout =
         layout_disk(result_triangulation(mesh, result), result.edge_lengths, flow.linear_solver);
@@ -131,12 +136,6 @@ int run(const ricci::cli::Options& o) {
   }
   cli::write_result_ply(o.output, mesh, result, written, o.ascii);
   if (!o.picture.empty()) {
-    if (!planar) {
-      throw InvalidArgumentError(
-          "--picture needs a planar layout (euclidean geometry on a disk); "
-          "this run is " +
-          to_string(geometry) + " on a " + mesh.topology_name());
-    }
     cli::write_layout_png(o.picture, mesh, written.texture, result.u);
   }
   if (!o.quiet) {

@@ -90,8 +90,7 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
   options.edge_flips = settings.edge_flips;
   options.progress = progress;
   c.result = compute_ricci_flow(mesh, c.geometry, scheme, target, options);
-  if (c.geometry == Geometry::Euclidean && !mesh.is_closed() && mesh.genus() == 0 &&
-      mesh.num_boundary_loops() == 1) {
+  if (c.geometry == Geometry::Euclidean && mesh.is_disk()) {
     c.layout = layout_disk(result_triangulation(mesh, c.result), c.result.edge_lengths,
                            settings.linear_solver);
     c.flipped_input_faces = count_flipped_faces(mesh, c.layout->position);

@@ -183,6 +183,8 @@ TEST(Cli, BadInputGetsAClearError) {
   expect_error(cgal("sphere.off") + out + " --geometry hyperbolic", 1,
                {"hyperbolic geometry needs"});
   expect_error(cgal("sphere.off") + out + " --target free-boundary", 1, {"needs a boundary"});
+  expect_error(cgal("sphere.off") + out + " --picture " + temp("x.png"), 1,
+               {"--picture needs a planar layout"});
   expect_error(cgal("blobby_3cc.off") + out, 1, {"3 connected components", "blobby_3cc.off"});
   expect_error(cgal("nefertiti.off") + out + " --target zero", 1, {"Gauss-Bonnet fails"});
   // Targets from a file

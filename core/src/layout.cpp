@@ -59,7 +59,7 @@ std::vector<double> halfedge_directions(const Triangulation& mesh,
 
 PlanarLayout layout_disk(const Triangulation& mesh, const std::vector<double>& lengths,
                          LinearSolverKind solver_kind) {
-  if (mesh.is_closed() || mesh.genus() != 0 || mesh.num_boundary_loops() != 1) {
+  if (!mesh.is_disk()) {
     throw InvalidArgumentError("layout: the planar layout needs a disk, but the mesh is a " +
                                mesh.topology_name() + "; cut it into a disk first");
   }

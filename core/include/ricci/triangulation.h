@@ -43,6 +43,8 @@ class Triangulation {
   const std::vector<std::vector<int>>& boundary_loops() const { return boundary_loops_; }
   int num_boundary_loops() const { return static_cast<int>(boundary_loops_.size()); }
   bool is_closed() const { return boundary_loops_.empty(); }
+  //! Genus 0 with one boundary loop.
+  bool is_disk() const { return num_boundary_loops() == 1 && genus() == 0; }
 
   //! chi = V - E + F.
   int euler_characteristic() const { return num_vertices() - num_edges() + num_faces(); }
