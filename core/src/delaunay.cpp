@@ -48,17 +48,21 @@ bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, dou
 FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure,
                          const Eigen::VectorXd& u, MetricState& state, int max_flips) {
   FlipReport report;
-  std::unordered_set<std::uint64_t> edges;
-  edges.reserve(2 * static_cast<size_t>(mesh.num_edges()));
-  for (int e = 0; e < mesh.num_edges(); ++e)
-    edges.insert(pair_key(mesh.edge_vertices(e)[0], mesh.edge_vertices(e)[1]));
+  // Only the edges that are not Delaunay now start the queue (usually few after the first
+  // round), and the set of vertex pairs is built only when there is something to flip.
   std::vector<int> stack;
   std::vector<char> queued(mesh.num_edges(), 0);
   for (int e = mesh.num_edges() - 1; e >= 0; --e) {
-    if (!mesh.is_boundary_edge(e)) {
+    if (!is_delaunay(mesh, state, e)) {
       stack.push_back(e);
       queued[e] = 1;
     }
+  }
+  if (stack.empty()) return report;
+  std::unordered_set<std::uint64_t> edges;
+  edges.reserve(2 * static_cast<size_t>(mesh.num_edges()));
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    edges.insert(pair_key(mesh.edge_vertices(e)[0], mesh.edge_vertices(e)[1]));
   }
   const Geometry g = structure.geometry;
   while (!stack.empty() && report.flips < max_flips) {
