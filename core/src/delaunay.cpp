@@ -111,7 +111,9 @@ FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure,
     mesh.flip(e);
     structure.eta[e] = new_eta;
     update_metric_at_edge(mesh, structure, u, e, state);
-    if (!state.valid()) {
+    // The other diagonal must be Delaunay: otherwise both are not (no proper weighted Delaunay
+    // triangulation exists for this quad) and flipping would only cycle.
+    if (!state.valid() || !is_delaunay(mesh, state, e)) {
       mesh.flip(e);  // back to a-b
       structure.eta[e] = old_eta;
       update_metric_at_edge(mesh, structure, u, e, state);
