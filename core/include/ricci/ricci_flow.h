@@ -5,6 +5,7 @@
 // leaves the set where every triangle is valid. E2 fixes the scaling gauge by pinning one vertex
 // when no u is held fixed; S2, whose Hessian is indefinite and singular along the sphere's
 // Moebius maps at the solution, takes Levenberg-Marquardt steps (H^2 + mu I) du = H (Kbar - K).
+// Between steps, edge flips keep the triangulation (power) Delaunay (delaunay.h).
 #pragma once
 
 #include <functional>
