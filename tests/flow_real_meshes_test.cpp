@@ -104,6 +104,12 @@ TEST(RealMesh, StereographicStartForTheSphericalYamabeFlow) {
   EXPECT_TRUE(compute_ricci_flow(cow, Geometry::Spherical, scheme, cow_zero).converged);
   const ConformalStructure s = prepare_flow(cow, Geometry::Spherical, scheme, cow_zero);
   EXPECT_FALSE(run_ricci_flow(cow, s, cow_zero, direct).converged);
+  // bull.off: the highest-degree puncture does not flatten; a later candidate does.
+  const CompactMesh bull = test::cgal_mesh("bull.off");
+  const FlowResult b =
+      compute_ricci_flow(bull, Geometry::Spherical, scheme, TargetCurvature::zero(bull));
+  EXPECT_TRUE(b.converged);
+  EXPECT_NEAR(b.area, 4 * kPi, 1e-8);
 }
 
 }  // namespace

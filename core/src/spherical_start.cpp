@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/LU>
 #include <Eigen/SparseCore>
 
 #include "ricci/errors.h"
@@ -49,16 +50,10 @@ void harmonic_extension(const Triangulation& mesh, Eigen::VectorXd& u) {
   }
 }
 
-}  // namespace
-
-Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure) {
+// The lift from the puncture p (see stereographic_start). \throws when the punctured flow fails.
+Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStructure& structure,
+                                   int p) {
   const int n = mesh.num_vertices();
-  // The puncture: the vertex of highest degree, so the removed star is a well-shaped cap.
-  std::vector<int> degree(n, 0);
-  for (int e = 0; e < mesh.num_edges(); ++e) {
-    for (int v : mesh.edge_vertices(e)) ++degree[v];
-  }
-  const int p = static_cast<int>(std::max_element(degree.begin(), degree.end()) - degree.begin());
 
   // --- the punctured mesh (a disk) in its own vertex numbering
   std::vector<int> index(n, -1), original;
@@ -105,18 +100,45 @@ Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStru
   }
   const PlanarLayout layout = layout_disk(result_triangulation(disk, r), r.edge_lengths);
 
-  // --- centre and scale, then lift: S(x) = (2x, |x|^2 - 1) / (|x|^2 + 1); p goes to the pole.
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  for (const auto& x : layout.position) centre += x;
-  centre /= static_cast<double>(layout.position.size());
-  double mean_square = 0;
-  for (const auto& x : layout.position) mean_square += (x - centre).squaredNorm();
-  const double scale = std::sqrt(static_cast<double>(layout.position.size()) / mean_square);
+  // --- lift: S(x) = (2x, |x|^2 - 1) / (|x|^2 + 1), p at the pole; the similarity x -> s (x - t)
+  // (the Moebius maps that fix the pole) is chosen so that the lifted vertices' centre of mass is
+  // the origin, which spreads them evenly over the sphere.
+  const auto lift = [](const Eigen::Vector2d& x) -> Eigen::Vector3d {
+    const double s = x.squaredNorm();
+    return Eigen::Vector3d(2 * x.x(), 2 * x.y(), s - 1) / (s + 1);
+  };
+  Eigen::Vector3d similarity(0, 0, 0);  // t_x, t_y, log s
+  for (const auto& x : layout.position) similarity.head<2>() += x;
+  similarity.head<2>() /= static_cast<double>(layout.position.size());
+  {
+    double mean_square = 0;
+    for (const auto& x : layout.position) mean_square += (x - similarity.head<2>()).squaredNorm();
+    similarity[2] = 0.5 * std::log(static_cast<double>(layout.position.size()) / mean_square);
+  }
+  const auto centroid = [&](const Eigen::Vector3d& q) -> Eigen::Vector3d {
+    Eigen::Vector3d c(0, 0, 1);  // the pole
+    for (const auto& x : layout.position) c += lift(std::exp(q[2]) * (x - q.head<2>()));
+    return c / static_cast<double>(layout.position.size() + 1);
+  };
+  for (int it = 0; it < 30; ++it) {  // Newton with a finite-difference Jacobian, damped
+    const Eigen::Vector3d c = centroid(similarity);
+    if (c.norm() < 1e-6) break;
+    Eigen::Matrix3d jacobian;
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d dq = Eigen::Vector3d::Zero();
+      dq[k] = 1e-6 * (k == 2 ? 1.0 : std::exp(-similarity[2]));
+      jacobian.col(k) = (centroid(similarity + dq) - c) / dq[k];
+    }
+    Eigen::Vector3d step = jacobian.fullPivLu().solve(-c);
+    if (!step.allFinite()) break;
+    double alpha = 1;
+    while (alpha > 1e-4 && !(centroid(similarity + alpha * step).norm() < c.norm())) alpha /= 2;
+    similarity += alpha * step;
+  }
   std::vector<Eigen::Vector3d> sphere(n, Eigen::Vector3d(0, 0, 1));
   for (int v = 0; v < disk.num_vertices(); ++v) {
-    const Eigen::Vector2d x = (layout.position[v] - centre) * scale;
-    const double s = x.squaredNorm();
-    sphere[original[v]] = Eigen::Vector3d(2 * x.x(), 2 * x.y(), s - 1) / (s + 1);
+    sphere[original[v]] =
+        lift(std::exp(similarity[2]) * (layout.position[v] - similarity.head<2>()));
   }
 
   // --- u from the lifted lengths: sin(l_ij / 2) = sqrt(2 eta_ij) e^((ui + uj) / 2) with
@@ -140,6 +162,46 @@ Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStru
   solver.analyze(normal);
   if (!solver.factorize(normal)) throw SolverError("spherical start: singular least-squares fit");
   return solver.solve(rhs);
+}
+
+}  // namespace
+
+Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure) {
+  // Punctures to try: first the vertex of highest degree (its star is a well-shaped cap), then
+  // the vertices whose link lengths vary least (the fixed u = -2 log L_pa on the link then varies
+  // least, so the punctured flow starts from valid triangles).
+  const int n = mesh.num_vertices();
+  std::vector<double> lo(n, INFINITY), hi(n, -INFINITY);
+  std::vector<int> degree(n, 0);
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const double l = std::log(mesh.input_lengths()[e]);
+    for (int v : mesh.edge_vertices(e)) {
+      lo[v] = std::min(lo[v], l);
+      hi[v] = std::max(hi[v], l);
+      ++degree[v];
+    }
+  }
+  const int highest =
+      static_cast<int>(std::max_element(degree.begin(), degree.end()) - degree.begin());
+  std::vector<int> candidates;
+  for (int v = 0; v < n; ++v) {
+    if (degree[v] >= 4 && v != highest) candidates.push_back(v);
+  }
+  const size_t more = std::min<size_t>(5, candidates.size());
+  std::partial_sort(candidates.begin(), candidates.begin() + static_cast<long>(more),
+                    candidates.end(), [&](int a, int b) { return hi[a] - lo[a] < hi[b] - lo[b]; });
+  candidates.resize(more);
+  candidates.insert(candidates.begin(), highest);
+  std::string failures;
+  for (int p : candidates) {
+    try {
+      return lift_from_puncture(mesh, structure, p);
+    } catch (const Error& e) {
+      failures = e.what();
+    }
+  }
+  throw ConvergenceError(
+      "spherical start: no puncture gave a flat punctured mesh (" + failures + ")", 0, INFINITY);
 }
 
 }  // namespace ricci
