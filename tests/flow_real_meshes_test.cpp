@@ -53,8 +53,10 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         Case{"mannequin-devil.off", 0, Geometry::Euclidean, Scheme::Yamabe},  // disk, sharp
         Case{"mannequin-devil.off", 0, Geometry::Euclidean, Scheme::InversiveDistance},
-        Case{"lion-head.off", 1, Geometry::Euclidean, Scheme::Yamabe},               // disk, 67k
-        Case{"elk.off", 0, Geometry::Euclidean, Scheme::Yamabe},                     // torus
+        Case{"lion-head.off", 1, Geometry::Euclidean, Scheme::Yamabe},  // disk, 67k
+        Case{"elk.off", 0, Geometry::Euclidean, Scheme::Yamabe},        // torus
+        Case{"elk.off", 0, Geometry::Euclidean, Scheme::VirtualRadius},
+        Case{"femur.off", 0, Geometry::Hyperbolic, Scheme::VirtualRadius},
         Case{"rotor_small.off", 0, Geometry::Euclidean, Scheme::InversiveDistance},  // torus
         Case{"femur.off", 0, Geometry::Hyperbolic, Scheme::Yamabe},                  // genus 2
         Case{"joint.off", 0, Geometry::Hyperbolic, Scheme::InversiveDistance},       // genus 2
