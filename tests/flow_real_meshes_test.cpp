@@ -27,6 +27,7 @@ TEST_P(RealMesh, ConvergesWithFlips) {
   const CompactMesh mesh = test::subdivide_midpoint(test::cgal_mesh(c.mesh), c.subdivisions);
   SchemeOptions scheme;
   scheme.scheme = c.scheme;
+  for (int v = 0; v < mesh.num_vertices(); ++v) scheme.eps.push_back(v % 3 - 1);  // for mixed
   const FlowResult r =
       compute_ricci_flow(mesh, c.geometry, scheme, TargetCurvature::automatic(mesh));
   EXPECT_TRUE(r.converged);
@@ -57,6 +58,8 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"elk.off", 0, Geometry::Euclidean, Scheme::Yamabe},        // torus
         Case{"elk.off", 0, Geometry::Euclidean, Scheme::VirtualRadius},
         Case{"femur.off", 0, Geometry::Hyperbolic, Scheme::VirtualRadius},
+        Case{"mannequin-devil.off", 0, Geometry::Euclidean, Scheme::Mixed},
+        Case{"joint.off", 0, Geometry::Hyperbolic, Scheme::Mixed},
         Case{"rotor_small.off", 0, Geometry::Euclidean, Scheme::InversiveDistance},  // torus
         Case{"femur.off", 0, Geometry::Hyperbolic, Scheme::Yamabe},                  // genus 2
         Case{"joint.off", 0, Geometry::Hyperbolic, Scheme::InversiveDistance},       // genus 2

@@ -86,12 +86,6 @@ FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure,
     const double old_eta = structure.eta[e];
     double new_eta;
     const auto& eps = structure.eps;
-    if (!(eps[k] == eps[a] && eps[a] == eps[b] && eps[b] == eps[l])) {
-      // Mixed quadrilaterals stay: their flip can leave the convex range of the energy (on
-      // eight.off in H2 it made the Hessian indefinite and the flow stall).
-      ++report.blocked;
-      continue;
-    }
     if (eps[k] == 0 && eps[a] == 0 && eps[b] == 0 && eps[l] == 0) {
       // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
       const double lam = (lambda(structure, e_ka) * lambda(structure, e_lb) +

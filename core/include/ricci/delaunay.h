@@ -7,9 +7,8 @@
 //
 // A flipped edge gets a new eta. Where all four vertices of the quadrilateral have eps = 0
 // (Yamabe), the lambda-lengths lambda = sqrt(2 eta) follow Ptolemy's relation, which keeps the
-// discrete conformal class (Penner coordinates); where all four have eps = +1 or all -1, eta
-// solves the length law for the current length of the new diagonal, which keeps the metric.
-// Quadrilaterals of mixed eps are not flipped.
+// discrete conformal class (Penner coordinates); otherwise eta solves the length law for the
+// current length of the new diagonal, which keeps the metric.
 #pragma once
 
 #include <vector>
