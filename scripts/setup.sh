@@ -14,10 +14,9 @@ packages=(
   build-essential cmake pkg-config dpkg-dev clang-format
   libeigen3-dev libsuitesparse-dev libopenblas0-pthread
   libgtest-dev libgmock-dev libbenchmark-dev
-  qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev
+  qtbase5-dev libqt5opengl5-dev libglew-dev
   "meshlab=$meshlab_version"
-  xvfb xauth xdotool x11-apps imagemagick
-  python3 python3-numpy
+  xvfb xauth xdotool imagemagick
 )
 
 as_root() {
