@@ -67,7 +67,11 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"refined_elephant.off", 0, Geometry::Hyperbolic, Scheme::Yamabe},       // genus 3, 89k
         Case{"couplingdown.off", 0, Geometry::Hyperbolic, Scheme::InversiveDistance},  // genus 9
         Case{"blobby.off", 0, Geometry::Spherical, Scheme::Yamabe},                    // genus 0
-        Case{"retinal.off", 0, Geometry::Spherical, Scheme::InversiveDistance}),       // genus 0
+        Case{"retinal.off", 0, Geometry::Spherical, Scheme::InversiveDistance},        // genus 0
+        Case{"bull.off", 0, Geometry::Spherical, Scheme::InversiveDistance},
+        Case{"bull.off", 0, Geometry::Spherical, Scheme::VirtualRadius},
+        Case{"cow.off", 0, Geometry::Spherical, Scheme::Mixed},
+        Case{"cow.off", 0, Geometry::Spherical, Scheme::Tangential}),
     [](const auto& p) {
       std::string n =
           p.param.mesh.substr(0, p.param.mesh.find('.')) + "_" + to_string(p.param.scheme);
@@ -91,7 +95,7 @@ TEST(RealMesh, FixedTriangulationStallsWhereFlipsConverge) {
   EXPECT_TRUE(flipped.converged);
 }
 
-TEST(RealMesh, StereographicStartForTheSphericalYamabeFlow) {
+TEST(RealMesh, StereographicStartForTheSphericalFlow) {
   // The lift of the flattened punctured mesh starts the S2 flow near the round sphere.
   SchemeOptions scheme;
   FlowOptions direct;
@@ -115,6 +119,11 @@ TEST(RealMesh, StereographicStartForTheSphericalYamabeFlow) {
       compute_ricci_flow(bull, Geometry::Spherical, scheme, TargetCurvature::zero(bull));
   EXPECT_TRUE(b.converged);
   EXPECT_NEAR(b.area, 4 * kPi, 1e-8);
+  // The circle packing schemes too: inversive distance on cow.off fails from its own u0.
+  scheme.scheme = Scheme::InversiveDistance;
+  const ConformalStructure packing = prepare_flow(cow, Geometry::Spherical, scheme, cow_zero);
+  EXPECT_TRUE(run_ricci_flow(cow, packing, cow_zero).converged);
+  EXPECT_FALSE(run_ricci_flow(cow, packing, cow_zero, direct).converged);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "ricci/errors.h"
 #include "ricci/hessian.h"
 #include "ricci/metric.h"
+#include "ricci/pattern_obstruction.h"
 #include "ricci/spherical_start.h"
 
 namespace ricci {
@@ -62,6 +63,7 @@ class NewtonSolver {
                const TargetCurvature& target, const FlowOptions& options)
       : mesh_(mesh),
         triangulation_(mesh),
+        input_structure_(structure),
         structure_(structure),
         target_(target),
         options_(options),
@@ -76,11 +78,10 @@ class NewtonSolver {
   std::vector<int> make_free_index() const;
   bool use_stereographic_start() const {
     return spherical_ && options_.stereographic_start && mesh_.is_closed() && mesh_.genus() == 0 &&
-           target_.num_fixed() == 0 &&
-           std::all_of(structure_.eps.begin(), structure_.eps.end(), [](int e) { return e == 0; });
+           target_.num_fixed() == 0;
   }
   bool compute_step(const MetricState& state, const Eigen::VectorXd& r, Eigen::VectorXd& du);
-  // S2 Yamabe: moves u towards the stereographic start (spherical_start.h) with flips.
+  // S2, closed genus 0: moves u towards the stereographic start (spherical_start.h) with flips.
   void walk_to_stereographic_start(Eigen::VectorXd& u, MetricState& state, FlowResult& result);
   // Flips to (power) Delaunay; a changed connectivity gets a new Hessian pattern and analysis.
   void keep_delaunay(const Eigen::VectorXd& u, MetricState& state, FlowResult& result);
@@ -88,8 +89,9 @@ class NewtonSolver {
               const Eigen::VectorXd& k) const;
 
   const CompactMesh& mesh_;
-  Triangulation triangulation_;   // the input's, then as flipped
-  ConformalStructure structure_;  // eta changes with flips
+  Triangulation triangulation_;                // the input's, then as flipped
+  const ConformalStructure& input_structure_;  // on the input triangulation
+  ConformalStructure structure_;               // eta changes with flips
   const TargetCurvature& target_;
   const FlowOptions& options_;
   const bool spherical_;
@@ -179,7 +181,7 @@ void NewtonSolver::walk_to_stereographic_start(Eigen::VectorXd& u, MetricState& 
                                                FlowResult& result) {
   Eigen::VectorXd lifted;
   try {
-    lifted = stereographic_start(mesh_, structure_);
+    lifted = stereographic_start(mesh_, input_structure_);
   } catch (const Error&) {
     return;  // the direct flow may still converge
   }
@@ -230,6 +232,14 @@ FlowResult NewtonSolver::run() {
                      to_string(structure_.geometry) + " geometry: " + describe_invalid(state) +
                      "; try another scheme (tangential packing is always valid)";
     finish(result, u, state, Eigen::VectorXd::Constant(u.size(), std::nan("")));
+    result.times.total = seconds_since(start);
+    return result;
+  }
+  if (const std::string obstruction =
+          circle_pattern_obstruction(triangulation_, structure_, target_);
+      !obstruction.empty()) {
+    result.failure = obstruction;
+    finish(result, u, state, curvature(triangulation_, state));
     result.times.total = seconds_since(start);
     return result;
   }

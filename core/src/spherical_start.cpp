@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 
 #include "ricci/errors.h"
+#include "ricci/geometry.h"
 #include "ricci/layout.h"
 #include "ricci/linear_solver.h"
 #include "ricci/ricci_flow.h"
@@ -50,6 +51,33 @@ void harmonic_extension(const Triangulation& mesh, Eigen::VectorXd& u) {
   }
 }
 
+// Yamabe (eps = 0): the conformal factors that fit the lifted vertices' chords best, in the
+// least-squares sense over all edges: sin(l_ij / 2) = sqrt(2 eta_ij) e^((ui + uj) / 2) is linear
+// in u after taking logarithms, with 2 sin(l / 2) = the chord.
+Eigen::VectorXd fit_yamabe_to_chords(const Triangulation& mesh, const ConformalStructure& structure,
+                                     const std::vector<Eigen::Vector3d>& sphere) {
+  const int n = mesh.num_vertices();
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const auto [i, j] = mesh.edge_vertices(e);
+    const double chord = (sphere[i] - sphere[j]).norm();
+    const double b = 2 * (std::log(chord / 2) - 0.5 * std::log(2 * structure.eta[e]));  // ui + uj
+    triplets.emplace_back(i, i, 1.0);
+    triplets.emplace_back(j, j, 1.0);
+    triplets.emplace_back(i, j, 1.0);
+    triplets.emplace_back(j, i, 1.0);
+    rhs[i] += b;
+    rhs[j] += b;
+  }
+  Eigen::SparseMatrix<double> normal(n, n);
+  normal.setFromTriplets(triplets.begin(), triplets.end());
+  LinearSolver solver(LinearSolverKind::Cholmod);
+  solver.analyze(normal);
+  if (!solver.factorize(normal)) throw SolverError("spherical start: singular least-squares fit");
+  return solver.solve(rhs);
+}
+
 // The lift from the puncture p (see stereographic_start). \throws when the punctured flow fails.
 Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStructure& structure,
                                    int p) {
@@ -65,34 +93,70 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
     positions.push_back(mesh.positions()[v]);
   }
   std::vector<std::array<int, 3>> faces;
-  for (const auto& f : mesh.faces()) {
-    if (f[0] != p && f[1] != p && f[2] != p)
-      faces.push_back({index[f[0]], index[f[1]], index[f[2]]});
+  std::vector<int> kept_faces;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const auto& v = mesh.faces()[f];
+    if (v[0] == p || v[1] == p || v[2] == p) continue;
+    faces.push_back({index[v[0]], index[v[1]], index[v[2]]});
+    kept_faces.push_back(f);
   }
   const CompactMesh disk(std::move(positions), std::move(faces));
 
-  // --- flatten it. With p sent to infinity, the star triangles (p, a, b) become half-strips
-  // exactly when lambda_pa e^(u_a / 2) is the same at every link vertex a: u_a = -2 log L_pa.
-  SchemeOptions yamabe;
-  yamabe.scheme = Scheme::Yamabe;
-  ConformalStructure flat = initialize_scheme(disk, Geometry::Euclidean, yamabe);
-  TargetCurvature target = TargetCurvature::free_boundary(disk);
-  double mean_log = 0;
+  // --- flatten it in E2 with the same radii, and with the same eta where the scheme takes eta
+  // from the input lengths (then the flat metric starts at the input lengths; S2's eta would give
+  // the chords, and thin triangles would fail). A prescribed eta (tangential, Thurston) is kept:
+  // inversive distances are invariant under the Moebius maps, so the stereographic image of the
+  // round-sphere pattern is a flat pattern of the punctured mesh with that eta.
+  // With p sent to infinity by an inversion centred at p, a vertex at distance L_pa from p is
+  // scaled by 1 / L_pa^2: its u is fixed at u0_a - 2 log L_pa on the link, which makes the star
+  // triangles (p, a, b) half-strips in the Yamabe case; the interior's shift is the harmonic
+  // extension of the link's, so the first metric changes smoothly towards the boundary.
+  const double scale = structure.length_scale;
+  Eigen::VectorXd radius_u(n);  // E2's u for S2's initial radii
+  for (int v = 0; v < n; ++v)
+    radius_u[v] = std::log(radius_from_conformal_factor(Geometry::Spherical, structure.u0[v]));
+  bool from_input = true;
+  for (int e = 0; e < mesh.num_edges() && from_input; ++e) {
+    const auto [i, j] = mesh.edge_vertices(e);
+    const double l = edge_length(Geometry::Spherical, structure.u0[i], structure.u0[j],
+                                 structure.eps[i], structure.eps[j], structure.eta[e])
+                         .length;
+    from_input = std::abs(l - scale * mesh.input_lengths()[e]) <= 1e-9 * l;
+  }
+  ConformalStructure flat;
+  flat.geometry = Geometry::Euclidean;
+  flat.eps.resize(disk.num_vertices());
+  for (int v = 0; v < disk.num_vertices(); ++v) flat.eps[v] = structure.eps[original[v]];
+  flat.eta.assign(disk.num_edges(), 0);
+  for (size_t k = 0; k < kept_faces.size(); ++k) {
+    for (int c = 0; c < 3; ++c) {
+      const int e = mesh.face_edge(kept_faces[k], c);
+      const auto [i, j] = mesh.edge_vertices(e);
+      flat.eta[disk.face_edge(static_cast<int>(k), c)] =
+          from_input ? conformal_structure_from_length(
+                           Geometry::Euclidean, scale * mesh.input_lengths()[e], radius_u[i],
+                           radius_u[j], structure.eps[i], structure.eps[j])
+                     : structure.eta[e];
+    }
+  }
+  Eigen::VectorXd shift = Eigen::VectorXd::Zero(disk.num_vertices());
+  double mean_shift = 0;
   int links = 0;
   for (int e = 0; e < mesh.num_edges(); ++e) {
     const auto [i, j] = mesh.edge_vertices(e);
     if (i != p && j != p) continue;
     const int a = index[i == p ? j : i];
-    flat.u0[a] = -2 * std::log(mesh.input_lengths()[e]);
-    mean_log += flat.u0[a];
+    shift[a] = -2 * std::log(mesh.input_lengths()[e]);
+    mean_shift += shift[a];
     ++links;
   }
   for (int v = 0; v < disk.num_vertices(); ++v) {
-    if (disk.is_boundary_vertex(v)) flat.u0[v] -= mean_log / links;
+    if (disk.is_boundary_vertex(v)) shift[v] -= mean_shift / links;
   }
-  // Interior u0: the harmonic extension of the link's values, so the first metric changes
-  // smoothly towards the boundary instead of jumping at it.
-  harmonic_extension(disk, flat.u0);
+  harmonic_extension(disk, shift);
+  flat.u0.resize(disk.num_vertices());
+  for (int v = 0; v < disk.num_vertices(); ++v) flat.u0[v] = radius_u[original[v]] + shift[v];
+  const TargetCurvature target = TargetCurvature::free_boundary(disk);
   const FlowResult r = run_ricci_flow(disk, flat, target);
   if (!r.converged) {
     throw ConvergenceError("spherical start: the punctured mesh did not flatten: " + r.failure,
@@ -135,33 +199,55 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
     while (alpha > 1e-4 && !(centroid(similarity + alpha * step).norm() < c.norm())) alpha /= 2;
     similarity += alpha * step;
   }
+  const double s = std::exp(similarity[2]);
   std::vector<Eigen::Vector3d> sphere(n, Eigen::Vector3d(0, 0, 1));
-  for (int v = 0; v < disk.num_vertices(); ++v) {
-    sphere[original[v]] =
-        lift(std::exp(similarity[2]) * (layout.position[v] - similarity.head<2>()));
-  }
+  for (int v = 0; v < disk.num_vertices(); ++v)
+    sphere[original[v]] = lift(s * (layout.position[v] - similarity.head<2>()));
+  if (std::all_of(structure.eps.begin(), structure.eps.end(), [](int e) { return e == 0; }))
+    return fit_yamabe_to_chords(mesh, structure, sphere);
 
-  // --- u from the lifted lengths: sin(l_ij / 2) = sqrt(2 eta_ij) e^((ui + uj) / 2) with
-  // 2 sin(l/2) = the chord, solved for u in the least-squares sense over all edges.
-  std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  // --- u on the sphere: S scales lengths at y by 2 / (1 + |y|^2), and the similarity by s, so a
+  // small circle at x becomes e^u s / (1 + |y|^2) on the sphere, where the length laws agree with
+  // E2's to first order for chords 2 sin(l / 2), hence tan(r / 2).
+  Eigen::VectorXd u(n);
+  for (int v = 0; v < disk.num_vertices(); ++v) {
+    const Eigen::Vector2d y = s * (layout.position[v] - similarity.head<2>());
+    u[original[v]] = r.u[v] + std::log(s) - std::log1p(y.squaredNorm());
+  }
+  // u_p: the best fit of the lifted lengths of p's edges, by a scan refined by golden sections.
+  std::vector<int> star;
   for (int e = 0; e < mesh.num_edges(); ++e) {
     const auto [i, j] = mesh.edge_vertices(e);
-    const double chord = (sphere[i] - sphere[j]).norm();
-    const double b = 2 * (std::log(chord / 2) - 0.5 * std::log(2 * structure.eta[e]));  // ui + uj
-    triplets.emplace_back(i, i, 1.0);
-    triplets.emplace_back(j, j, 1.0);
-    triplets.emplace_back(i, j, 1.0);
-    triplets.emplace_back(j, i, 1.0);
-    rhs[i] += b;
-    rhs[j] += b;
+    if (i == p || j == p) star.push_back(e);
   }
-  Eigen::SparseMatrix<double> normal(n, n);
-  normal.setFromTriplets(triplets.begin(), triplets.end());
-  LinearSolver solver(LinearSolverKind::Cholmod);
-  solver.analyze(normal);
-  if (!solver.factorize(normal)) throw SolverError("spherical start: singular least-squares fit");
-  return solver.solve(rhs);
+  const auto misfit = [&](double up) {
+    double sum = 0;
+    for (int e : star) {
+      const auto [i, j] = mesh.edge_vertices(e);
+      const int a = i == p ? j : i;
+      const double lifted = 2 * std::asin(std::min(1.0, (sphere[a] - sphere[p]).norm() / 2));
+      const EdgeLength l = edge_length(Geometry::Spherical, up, u[a], structure.eps[p],
+                                       structure.eps[a], structure.eta[e]);
+      sum += l.valid ? (l.length - lifted) * (l.length - lifted) : 10;
+    }
+    return sum;
+  };
+  double best = structure.u0[p], best_misfit = misfit(best);
+  for (double up = -30; up <= 5; up += 0.05) {
+    const double m = misfit(up);
+    if (m < best_misfit) best = up, best_misfit = m;
+  }
+  double lo = best - 0.05, hi = best + 0.05;
+  for (int it = 0; it < 60; ++it) {
+    const double a = lo + 0.382 * (hi - lo), b = lo + 0.618 * (hi - lo);
+    if (misfit(a) < misfit(b)) {
+      hi = b;
+    } else {
+      lo = a;
+    }
+  }
+  u[p] = 0.5 * (lo + hi);
+  return u;
 }
 
 }  // namespace

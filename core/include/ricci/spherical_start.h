@@ -1,6 +1,8 @@
-// A starting point for the spherical Yamabe flow of a closed genus-0 surface: the Euclidean flow
-// of the mesh punctured at one vertex, laid out in the plane and lifted to the unit sphere by
-// inverse stereographic projection (Springborn, Schroeder, Pinkall; Gillespie, Springborn, Crane).
+// A starting point for the spherical flow of a closed genus-0 surface, in every scheme: the
+// Euclidean flow of the mesh punctured at one vertex, laid out in the plane and lifted to the unit
+// sphere by inverse stereographic projection (Springborn, Schroeder, Pinkall; Gillespie,
+// Springborn, Crane). Inversive distances, and so each scheme's eta, are invariant under the
+// Moebius maps, which is why the lift of the flat pattern is close to the round one.
 #pragma once
 
 #include <Eigen/Core>
@@ -10,12 +12,13 @@
 
 namespace ricci {
 
-//! Conformal factors for the S2 Yamabe structure `structure` (eps = 0 everywhere) that
-//! approximate the round-sphere metric: the punctured mesh is flattened (Euclidean Yamabe flow
-//! with edge flips, u on the puncture's link fixed so that the removed star becomes the
-//! neighbourhood of infinity), laid out, centred and scaled, lifted to the sphere, and u is the
-//! least-squares fit of the lifted edge lengths.
-//! \pre mesh is a closed genus-0 surface, structure.geometry is S2 with every eps 0.
+//! Conformal factors for the S2 structure `structure` (on mesh's own triangulation) that
+//! approximate the round-sphere metric: the punctured mesh is flattened (the Euclidean flow of the
+//! same eps and radii with edge flips, u on the puncture's link fixed so that the removed star
+//! becomes the neighbourhood of infinity), laid out, centred and scaled, and lifted to the sphere;
+//! each vertex's u is scaled by the projection's conformal factor, and the puncture's u is the best
+//! fit of its lifted edge lengths.
+//! \pre mesh is a closed genus-0 surface, structure.geometry is S2.
 //! \throws ConvergenceError when the punctured flow does not converge.
 Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure);
 
