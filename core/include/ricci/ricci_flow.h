@@ -35,7 +35,7 @@ struct FlowOptions {
   //! Keep the triangulation (power) Delaunay by edge flips, before the first and after every
   //! step (delaunay.h). The result then may live on another triangulation of the same vertices.
   bool edge_flips = true;
-  //! S2 Yamabe on a closed genus-0 surface: start from the stereographic lift of the flattened
+  //! S2 on a closed genus-0 surface: start from the stereographic lift of the flattened
   //! punctured mesh (spherical_start.h) instead of u0.
   bool stereographic_start = true;
   //! Called once per iteration; returning false cancels the flow.
