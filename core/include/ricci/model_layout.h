@@ -1,0 +1,62 @@
+// Layout of a metric of constant curvature in its model space: the plane (E2), the Poincare disk
+// (H2), the unit sphere (S2). The surface is cut open into a disk (cut_graph.h) and the faces are
+// developed breadth-first from the face deepest inside the disk, each from the two corners it
+// shares with an already placed face, so a corner on a cut has one position per face (a wedge
+// position). The isometries that glue the cut's sides are the deck transformations.
+#pragma once
+
+#include <array>
+#include <complex>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/cut_graph.h"
+#include "ricci/geometry.h"
+#include "ricci/triangulation.h"
+
+namespace ricci {
+
+//! An orientation-preserving isometry of the model: E2: z -> a z + b with |a| = 1; H2: the
+//! Moebius map z -> (a z + b) / (conj(b) z + conj(a)) with |a|^2 - |b|^2 = 1 (of the disk).
+struct DiskIsometry {
+  Geometry geometry = Geometry::Euclidean;
+  std::complex<double> a = 1, b = 0;
+
+  std::complex<double> operator()(std::complex<double> z) const;
+  DiskIsometry operator*(const DiskIsometry& other) const;  //!< (this o other)
+  DiskIsometry inverse() const;
+  //! The isometry that maps p0 to q0 and the direction of p1 from p0 to that of q1 from q0.
+  static DiskIsometry mapping(Geometry g, std::complex<double> p0, std::complex<double> p1,
+                              std::complex<double> q0, std::complex<double> q1);
+};
+
+struct ModelLayout {
+  Geometry geometry = Geometry::Euclidean;
+  //! Per face, per corner: E2 and H2 (Poincare disk) use x and y with z = 0; S2 unit vectors.
+  std::vector<std::array<Eigen::Vector3d, 3>> corner;
+  CutGraph cut;
+  //! E2 and H2, one per cut path: maps the path's positions on its right side (the face of the
+  //! halfedge against the walk) to those on its left side.
+  std::vector<DiskIsometry> deck;
+  //! Largest distance (in the model's coordinates) between two positions of a vertex that should
+  //! agree: across uncut edges, and across cut edges after the deck transformation.
+  double closure_error = 0;
+  int num_flipped_faces = 0;  //!< faces with non-positive orientation in the model
+  int seed_face = 0;
+};
+
+//! Develops `lengths` (a metric of the geometry, angle sum 2 pi at interior vertices) into the
+//! model. The seed face's first corner goes to the origin (E2, H2) or the north pole (S2).
+//! \throws InvalidArgumentError for lengths that are not a valid metric.
+ModelLayout develop(const Triangulation& mesh, Geometry geometry,
+                    const std::vector<double>& lengths);
+
+//! Per vertex: the position of the vertex in the first face (in face order) that holds it.
+std::vector<Eigen::Vector3d> vertex_positions(const Triangulation& mesh, const ModelLayout& layout);
+
+//! S2: the Moebius transformation of the sphere that moves the points' centre of mass to the
+//! origin (iterated ball automorphisms); returns the moved points. \pre unit vectors.
+std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points);
+
+}  // namespace ricci
