@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include <Eigen/Geometry>
+
 #include "options.h"
 #include "picture.h"
 #include "report.h"
@@ -13,6 +15,7 @@
 #include "ricci/errors.h"
 #include "ricci/layout.h"
 #include "ricci/mesh_io.h"
+#include "ricci/model_layout.h"
 #include "ricci/ricci_flow.h"
 
 namespace {
@@ -128,6 +131,26 @@ int run(const ricci::cli::Options& o) {
     for (const auto& p : layout.position) written.position.emplace_back(p.x(), p.y(), 0.0);
     written.texture = normalized_texture_coordinates(layout.position);
   }
+  ModelLayout model;
+  if (result.converged && !planar) {
+    const Triangulation flowed = result_triangulation(mesh, result);
+    model = develop(flowed, geometry, result.edge_lengths);
+    summary.model_layout = &model;
+    if (geometry == Geometry::Spherical && mesh.is_closed() && mesh.genus() == 0) {
+      written.position = center_on_sphere(vertex_positions(flowed, model));
+      for (const auto& f : mesh.faces()) {
+        const auto& x = written.position;
+        summary.flipped_input_faces += !(x[f[0]].dot(x[f[1]].cross(x[f[2]])) > 0);
+      }
+    } else if (geometry != Geometry::Spherical) {
+      written.wedge_texture =
+          cli::wedge_texture_coordinates(geometry, corners_on(flowed, model, mesh));
+      for (const auto& w : written.wedge_texture) {
+        const Eigen::Vector2d a = w[1] - w[0], b = w[2] - w[0];
+        summary.flipped_input_faces += !(a.x() * b.y() - a.y() * b.x() > 0);
+      }
+    }
+  }
   if (!o.report.empty()) cli::write_report(o.report, mesh, summary, result);
   if (!result.converged) {
     throw ConvergenceError("ricci flow (" + to_string(geometry) + ", " + to_string(scheme.scheme) +
@@ -148,6 +171,14 @@ int run(const ricci::cli::Options& o) {
     if (planar) {
       std::printf("layout: %d of the input's faces flipped, max relative length error %.2e\n",
                   summary.flipped_input_faces, layout.max_relative_length_error);
+    } else if (summary.model_layout) {
+      std::printf(
+          "layout in the %s: %d of the input's faces flipped, %zu cut paths, closure "
+          "error %.2e\n",
+          geometry == Geometry::Spherical    ? "unit sphere"
+          : geometry == Geometry::Hyperbolic ? "Poincare disk"
+                                             : "plane, cut open",
+          summary.flipped_input_faces, model.cut.paths.size(), model.closure_error);
     }
     std::printf("wrote %s\n", o.output.c_str());
     if (!o.picture.empty()) std::printf("wrote %s\n", o.picture.c_str());

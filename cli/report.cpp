@@ -112,6 +112,24 @@ void write_report(const std::string& path, const CompactMesh& mesh, const RunSum
       << ", \"flipped_faces_of_flow_triangulation\": " << run.layout->num_flipped_faces
       << ", \"max_relative_length_error\": " << number(run.layout->max_relative_length_error)
       << "}\n";
+  } else if (run.model_layout) {
+    const ModelLayout& m = *run.model_layout;
+    const char* kind = m.geometry == Geometry::Spherical    ? "sphere"
+                       : m.geometry == Geometry::Hyperbolic ? "poincare-disk"
+                                                            : "plane-cut";
+    j << "  \"layout\": {\"kind\": \"" << kind
+      << "\", \"flipped_faces\": " << run.flipped_input_faces
+      << ", \"flipped_faces_of_flow_triangulation\": " << m.num_flipped_faces
+      << ", \"closure_error\": " << number(m.closure_error)
+      << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators
+      << ", \"deck_transformations\": [";
+    // E2: z -> a z + b; H2: z -> (a z + b) / (conj(b) z + conj(a)); a and b as [re, im].
+    for (size_t k = 0; k < m.deck.size(); ++k) {
+      const DiskIsometry& d = m.deck[k];
+      j << (k ? ", " : "") << "{\"a\": [" << number(d.a.real()) << ", " << number(d.a.imag())
+        << "], \"b\": [" << number(d.b.real()) << ", " << number(d.b.imag()) << "]}";
+    }
+    j << "]}\n";
   } else {
     j << "  \"layout\": null\n";
   }

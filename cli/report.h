@@ -6,6 +6,7 @@
 
 #include "ricci/compact_mesh.h"
 #include "ricci/layout.h"
+#include "ricci/model_layout.h"
 #include "ricci/ricci_flow.h"
 #include "ricci/scheme.h"
 
@@ -20,6 +21,7 @@ struct RunSummary {
   double length_scale = 1;
   double initial_length_error = 0;  //!< max relative error of the initial metric vs input
   const PlanarLayout* layout = nullptr;
+  const ModelLayout* model_layout = nullptr;  //!< surfaces that are not E2 disks
   int flipped_input_faces = 0;  //!< input faces turned over by the layout (after edge flips)
   double read_seconds = 0;
 };

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "ricci/errors.h"
+#include "ricci/layout.h"
 
 namespace ricci::cli {
 
@@ -42,6 +43,24 @@ class PlyOut {
 
 }  // namespace
 
+std::vector<std::array<Eigen::Vector2d, 3>> wedge_texture_coordinates(
+    Geometry geometry, const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
+  std::vector<Eigen::Vector2d> flat;
+  for (const auto& face : corners) {
+    for (const auto& p : face) flat.push_back(p.head<2>());
+  }
+  if (geometry == Geometry::Euclidean) {
+    flat = normalized_texture_coordinates(flat);
+  } else {
+    for (auto& p : flat) p = (p + Eigen::Vector2d::Ones()) / 2;
+  }
+  std::vector<std::array<Eigen::Vector2d, 3>> uv(corners.size());
+  for (size_t f = 0; f < corners.size(); ++f) {
+    for (int c = 0; c < 3; ++c) uv[f][c] = flat[3 * f + c];
+  }
+  return uv;
+}
+
 void write_result_ply(const std::string& path, const CompactMesh& mesh, const FlowResult& result,
                       const ResultLayout& layout, bool ascii) {
   std::ofstream out(path, std::ios::binary);
@@ -59,7 +78,10 @@ void write_result_ply(const std::string& path, const CompactMesh& mesh, const Fl
     out << "property double layout_x\nproperty double layout_y\nproperty double layout_z\n";
   if (has_texture) out << "property float texture_u\nproperty float texture_v\n";
   out << "element face " << mesh.num_faces() << "\n";
-  out << "property list uchar int vertex_indices\nend_header\n";
+  out << "property list uchar int vertex_indices\n";
+  const bool has_wedges = !layout.wedge_texture.empty();
+  if (has_wedges) out << "property list uchar float texcoord\n";
+  out << "end_header\n";
   PlyOut ply(out, ascii);
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     const Eigen::Vector3d& p = mesh.positions()[v];
@@ -76,9 +98,16 @@ void write_result_ply(const std::string& path, const CompactMesh& mesh, const Fl
     }
     ply.end_row();
   }
-  for (const auto& t : mesh.faces()) {
+  for (int f = 0; f < mesh.num_faces(); ++f) {
     ply.put(std::uint8_t{3});
-    for (int v : t) ply.put(static_cast<std::int32_t>(v));
+    for (int v : mesh.faces()[f]) ply.put(static_cast<std::int32_t>(v));
+    if (has_wedges) {
+      ply.put(std::uint8_t{6});
+      for (const Eigen::Vector2d& uv : layout.wedge_texture[f]) {
+        ply.put(static_cast<float>(uv.x()));
+        ply.put(static_cast<float>(uv.y()));
+      }
+    }
     ply.end_row();
   }
   out.flush();

@@ -2,9 +2,12 @@
 //
 // vertex: x y z, ricci_u ricci_radius ricci_curvature ricci_target (double; ricci_target is NaN
 // where u was held fixed), and where a single-valued layout exists layout_x layout_y layout_z
-// (double) plus, for planar layouts, texture_u texture_v (float). face: vertex_indices.
+// (double) plus, for planar layouts, texture_u texture_v (float). face: vertex_indices, and for
+// layouts of surfaces cut open (torus in E2, H2 in the Poincare disk) texcoord, 6 floats per face
+// (u v per corner, in [0, 1]), which MeshLab reads as wedge texture coordinates.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -18,7 +21,14 @@ namespace ricci::cli {
 struct ResultLayout {
   std::vector<Eigen::Vector3d> position;  //!< empty: no layout
   std::vector<Eigen::Vector2d> texture;   //!< empty: no texture coordinates
+  //! Per face and corner (surfaces cut open): empty, or the face property texcoord.
+  std::vector<std::array<Eigen::Vector2d, 3>> wedge_texture;
 };
+
+//! Wedge texture coordinates in [0, 1]^2 from a cut-open layout's corners: E2 scaled into the unit
+//! square with the aspect ratio kept, H2's Poincare disk z as (z + 1) / 2.
+std::vector<std::array<Eigen::Vector2d, 3>> wedge_texture_coordinates(
+    Geometry geometry, const std::vector<std::array<Eigen::Vector3d, 3>>& corners);
 
 //! \throws IoError when the file cannot be written.
 void write_result_ply(const std::string& path, const CompactMesh& mesh, const FlowResult& result,

@@ -1,6 +1,8 @@
 #include "ricci/model_layout.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <queue>
 #include <string>
 
@@ -243,6 +245,40 @@ std::vector<Eigen::Vector3d> vertex_positions(const Triangulation& mesh,
     }
   }
   return position;
+}
+
+std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid_out,
+                                                       const ModelLayout& layout,
+                                                       const Triangulation& other) {
+  std::map<std::array<int, 3>, int> face_of;  // sorted vertices -> face of laid_out
+  std::vector<std::vector<Eigen::Vector3d>> wedges(laid_out.num_vertices());
+  for (int f = 0; f < laid_out.num_faces(); ++f) {
+    std::array<int, 3> key = laid_out.faces()[f];
+    std::sort(key.begin(), key.end());
+    face_of[key] = f;
+    for (int c = 0; c < 3; ++c) wedges[laid_out.face_vertex(f, c)].push_back(layout.corner[f][c]);
+  }
+  std::vector<std::array<Eigen::Vector3d, 3>> corners(other.num_faces());
+  for (int f = 0; f < other.num_faces(); ++f) {
+    std::array<int, 3> key = other.faces()[f];
+    std::sort(key.begin(), key.end());
+    const auto same = face_of.find(key);
+    for (int c = 0; c < 3; ++c) {
+      const int v = other.face_vertex(f, c);
+      if (same != face_of.end()) {
+        corners[f][c] = layout.corner[same->second][corner_of(laid_out, same->second, v)];
+      } else if (c == 0) {
+        corners[f][c] = wedges[v].front();
+      } else {
+        const Eigen::Vector3d& anchor = corners[f][0];
+        corners[f][c] = *std::min_element(
+            wedges[v].begin(), wedges[v].end(), [&](const auto& x, const auto& y) {
+              return (x - anchor).squaredNorm() < (y - anchor).squaredNorm();
+            });
+      }
+    }
+  }
+  return corners;
 }
 
 std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points) {

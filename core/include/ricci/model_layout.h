@@ -55,6 +55,14 @@ ModelLayout develop(const Triangulation& mesh, Geometry geometry,
 //! Per vertex: the position of the vertex in the first face (in face order) that holds it.
 std::vector<Eigen::Vector3d> vertex_positions(const Triangulation& mesh, const ModelLayout& layout);
 
+//! The layout's corner positions for the faces of `other`, a triangulation of the same vertices
+//! (the input, when the flow flipped edges): a face the layout has keeps its corners; for any
+//! other face, its first vertex takes a position from a laid-out face and the others the wedge
+//! position nearest to it.
+std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid_out,
+                                                       const ModelLayout& layout,
+                                                       const Triangulation& other);
+
 //! S2: the Moebius transformation of the sphere that moves the points' centre of mass to the
 //! origin (iterated ball automorphisms); returns the moved points. \pre unit vectors.
 std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points);
