@@ -1,5 +1,6 @@
 #include "ricci/cut_graph.h"
 
+#include <algorithm>
 #include <queue>
 
 namespace ricci {
