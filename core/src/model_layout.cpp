@@ -184,9 +184,13 @@ ModelLayout develop(const Triangulation& mesh, Geometry geometry,
 
   // --- deck transformations of the cut paths (E2, H2), and the closure error
   const bool planar = geometry != Geometry::Spherical;
-  std::vector<int> path_of(mesh.num_edges(), -1);
+  std::vector<int> path_of(mesh.num_edges(), -1), walked_from(mesh.num_edges(), -1);
   for (size_t k = 0; k < layout.cut.paths.size(); ++k) {
-    for (int e : layout.cut.paths[k].edges) path_of[e] = static_cast<int>(k);
+    const CutPath& path = layout.cut.paths[k];
+    for (size_t i = 0; i < path.edges.size(); ++i) {
+      path_of[path.edges[i]] = static_cast<int>(k);
+      walked_from[path.edges[i]] = path.vertices[i];
+    }
   }
   // Left and right faces of edge e walked from a to b.
   const auto sides = [&](int e, int a) {
@@ -212,12 +216,7 @@ ModelLayout develop(const Triangulation& mesh, Geometry geometry,
       layout.closure_error = std::max(
           {layout.closure_error, (at(f, a) - at(g, a)).norm(), (at(f, b) - at(g, b)).norm()});
     } else if (planar) {
-      const CutPath& path = layout.cut.paths[path_of[e]];
-      // the walk's direction along this edge
-      int from = a;
-      for (size_t k = 0; k + 1 < path.vertices.size(); ++k) {
-        if (path.edges[k] == e) from = path.vertices[k];
-      }
+      const int from = walked_from[e];
       const int to = from == a ? b : a;
       const auto [left, right] = sides(e, from);
       const DiskIsometry& deck = layout.deck[path_of[e]];
