@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 
 #include <Eigen/Geometry>
 
@@ -15,28 +16,39 @@
 #include "ricci/errors.h"
 #include "ricci/layout.h"
 #include "ricci/mesh_io.h"
-#include "ricci/model_layout.h"
-#include "ricci/ricci_flow.h"
+#include "ricci/uniformize.h"
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-ricci::TargetCurvature make_target(const std::string& spec, const ricci::CompactMesh& mesh) {
-  using ricci::TargetCurvature;
-  if (spec == "auto") return TargetCurvature::automatic(mesh);
-  if (spec == "zero") return TargetCurvature::zero(mesh);
-  if (spec == "free-boundary") {
-    if (mesh.is_closed()) {
-      throw ricci::InvalidTargetError(
-          "--target free-boundary needs a boundary, but the mesh is a " + mesh.topology_name() +
-          "; use --target zero");
+// --target: a preset name, cones:FILE, or a file of Kbar values.
+void set_target(const std::string& spec, const ricci::CompactMesh& mesh,
+                ricci::UniformizationOptions& u) {
+  using namespace ricci;
+  for (const char* name : {"auto", "disk", "free-boundary", "zero"}) {
+    if (spec == name) {
+      u.preset = target_preset_from_string(spec);
+      return;
     }
-    return TargetCurvature::free_boundary(mesh);
   }
-  const std::vector<double> values = ricci::cli::read_numbers(spec);
-  return TargetCurvature::from_values(
-      mesh, Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<long>(values.size())));
+  TargetCurvature target;
+  if (spec.rfind("cones:", 0) == 0) {
+    std::vector<Cone> cones;
+    for (const auto& [vertex, degrees] : cli::read_cones(spec.substr(6))) {
+      cones.push_back({vertex, degrees * kPi / 180});
+    }
+    target = cone_target(mesh, cones);
+  } else {
+    const std::vector<double> values = cli::read_numbers(spec);
+    target = TargetCurvature::from_values(
+        mesh, Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<long>(values.size())));
+  }
+  u.preset = TargetPreset::Values;
+  u.values = target.curvature;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (target.is_fixed(v)) u.values[v] = std::numeric_limits<double>::quiet_NaN();
+  }
 }
 
 std::vector<int> read_eps(const std::string& path, int num_vertices) {
@@ -74,9 +86,12 @@ int run(const ricci::cli::Options& o) {
   const double read_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
 
-  const Geometry geometry =
-      o.geometry == "auto" ? automatic_geometry(mesh) : geometry_from_string(o.geometry);
-  SchemeOptions scheme;
+  UniformizationOptions request;
+  if (o.geometry != "auto") request.geometry = geometry_from_string(o.geometry);
+  set_target(o.target, mesh, request);
+  request.center_vertex = o.center_vertex;
+  request.axis_vertex = o.axis_vertex;
+  SchemeOptions& scheme = request.scheme;
   scheme.scheme = scheme_from_string(o.scheme);
   scheme.intersection_angle = o.angle_degrees * kPi / 180;
   if (scheme.scheme == Scheme::Mixed) {
@@ -87,16 +102,7 @@ int run(const ricci::cli::Options& o) {
   } else if (!o.eps_file.empty()) {
     throw InvalidArgumentError("--eps is used only by --scheme mixed");
   }
-  if (!o.picture.empty() && !(geometry == Geometry::Euclidean && mesh.is_disk())) {
-    throw InvalidArgumentError(
-        "--picture needs a planar layout (euclidean geometry on a disk); "
-        "this run is " +
-        to_string(geometry) + " on a " + mesh.topology_name());
-  }
-  const TargetCurvature target = make_target(o.target, mesh);
-  const ConformalStructure structure = prepare_flow(mesh, geometry, scheme, target);
-
-  FlowOptions flow;
+  FlowOptions& flow = request.flow;
   flow.tolerance = o.tolerance;
   flow.max_iterations = o.max_iterations;
   flow.linear_solver = linear_solver_from_string(o.solver);
@@ -107,51 +113,38 @@ int run(const ricci::cli::Options& o) {
       return true;
     };
   }
-  const FlowResult result = run_ricci_flow(mesh, structure, target, flow);
+  const auto [preset, resolved_geometry] = resolve_request(mesh, request);
+  const LayoutKind planned = planned_layout(mesh, preset, resolved_geometry);
+  if (!o.picture.empty() && planned != LayoutKind::Plane) {
+    throw InvalidArgumentError(
+        "--picture needs a layout in the plane (a disk, or a circle domain with --target disk); "
+        "this run is " +
+        to_string(resolved_geometry) + " on a " + mesh.topology_name() + ", laid out as " +
+        to_string(planned));
+  }
+  const Uniformization u = uniformize(mesh, request);
+  const FlowResult& result = u.result;
+  const Geometry geometry = u.geometry;
   if (show_progress) std::fprintf(stderr, "\n");
 
   cli::RunSummary summary;
   summary.input = o.input;
-  summary.geometry = geometry;
   summary.scheme = scheme.scheme;
   summary.target = o.target;
   summary.tolerance = o.tolerance;
-  summary.length_scale = structure.length_scale;
-  summary.initial_length_error = cli::initial_length_error(mesh, structure);
+  summary.initial_length_error = cli::initial_length_error(mesh, u.structure);
   summary.read_seconds = read_seconds;
 
-  PlanarLayout layout;
   cli::ResultLayout written;
-  const bool planar = result.converged && geometry == Geometry::Euclidean && mesh.is_disk();
-  if (planar) {
-    layout =
-        layout_disk(result_triangulation(mesh, result), result.edge_lengths, flow.linear_solver);
-    summary.layout = &layout;
-    summary.flipped_input_faces = count_flipped_faces(mesh, layout.position);
-    for (const auto& p : layout.position) written.position.emplace_back(p.x(), p.y(), 0.0);
-    written.texture = normalized_texture_coordinates(layout.position);
+  written.position = u.position;
+  if (u.layout == LayoutKind::Plane) {
+    std::vector<Eigen::Vector2d> planar;
+    for (const auto& p : u.position) planar.emplace_back(p.x(), p.y());
+    written.texture = normalized_texture_coordinates(planar);
+  } else if (u.layout == LayoutKind::PlaneCut || u.layout == LayoutKind::PoincareDisk) {
+    written.wedge_texture = cli::wedge_texture_coordinates(geometry, u.corners);
   }
-  ModelLayout model;
-  if (result.converged && !planar) {
-    const Triangulation flowed = result_triangulation(mesh, result);
-    model = develop(flowed, geometry, result.edge_lengths);
-    summary.model_layout = &model;
-    if (geometry == Geometry::Spherical && mesh.is_closed() && mesh.genus() == 0) {
-      written.position = center_on_sphere(vertex_positions(flowed, model));
-      for (const auto& f : mesh.faces()) {
-        const auto& x = written.position;
-        summary.flipped_input_faces += !(x[f[0]].dot(x[f[1]].cross(x[f[2]])) > 0);
-      }
-    } else if (geometry != Geometry::Spherical) {
-      written.wedge_texture =
-          cli::wedge_texture_coordinates(geometry, corners_on(flowed, model, mesh));
-      for (const auto& w : written.wedge_texture) {
-        const Eigen::Vector2d a = w[1] - w[0], b = w[2] - w[0];
-        summary.flipped_input_faces += !(a.x() * b.y() - a.y() * b.x() > 0);
-      }
-    }
-  }
-  if (!o.report.empty()) cli::write_report(o.report, mesh, summary, result);
+  if (!o.report.empty()) cli::write_report(o.report, mesh, summary, u);
   if (!result.converged) {
     throw ConvergenceError("ricci flow (" + to_string(geometry) + ", " + to_string(scheme.scheme) +
                                ") on " + o.input + ": " + result.failure,
@@ -168,17 +161,24 @@ int run(const ricci::cli::Options& o) {
     std::printf(
         "converged in %d Newton iterations, %d edge flips: max |K - Kbar| = %.2e (%.3f s)\n",
         result.iterations, result.num_flips, result.residual, result.times.total);
-    if (planar) {
-      std::printf("layout: %d of the input's faces flipped, max relative length error %.2e\n",
-                  summary.flipped_input_faces, layout.max_relative_length_error);
-    } else if (summary.model_layout) {
+    if (u.preset == TargetPreset::UnitDisk) {
+      std::printf("boundary on circles after %d flows (%d Newton iterations): circle error %.2e\n",
+                  u.boundary_iterations, u.newton_iterations, u.circle_error);
+    }
+    if (u.layout != LayoutKind::None) {
+      const LayoutQuality& q = u.quality;
       std::printf(
-          "layout in the %s: %d of the input's faces flipped, %zu cut paths, closure "
-          "error %.2e\n",
-          geometry == Geometry::Spherical    ? "unit sphere"
-          : geometry == Geometry::Hyperbolic ? "Poincare disk"
-                                             : "plane, cut open",
-          summary.flipped_input_faces, model.cut.paths.size(), model.closure_error);
+          "layout (%s): %d of the input's faces flipped; quasi-conformal ratio median "
+          "%.4f, 95%% %.4f, max %.4g; area ratio 5%%..95%% %.3g..%.3g\n",
+          to_string(u.layout).c_str(), q.flipped_faces, q.quasi_conformal_median,
+          q.quasi_conformal_p95, q.quasi_conformal_max, q.area_ratio_p5, q.area_ratio_p95);
+    }
+    if (u.model && !u.model->cut.paths.empty()) {
+      std::printf(
+          "cut into a disk along %zu paths (%d generators): closure error %.2e, "
+          "relation error %.2e\n",
+          u.model->cut.paths.size(), u.model->cut.num_generators, u.model->closure_error,
+          u.relation_error);
     }
     std::printf("wrote %s\n", o.output.c_str());
     if (!o.picture.empty()) std::printf("wrote %s\n", o.picture.c_str());

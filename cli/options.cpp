@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 
 #include "ricci/errors.h"
 
@@ -37,19 +38,34 @@ std::string usage() {
   return R"(usage: ricci-flow INPUT -o OUTPUT.ply [options]
 
 Unified discrete surface Ricci flow (Zhang, Guo, Zeng, Luo, Yau, Gu): computes a metric of
-prescribed curvature conformal to the input mesh, and for disks its layout in the plane (UV).
+prescribed curvature conformal to the input mesh, and its layout: in the plane (UV), in the
+Poincare disk, or on the unit sphere.
 
   INPUT                    mesh: .off .obj .ply .stl (one connected manifold triangle mesh)
   -o, --output FILE.ply    result: per-vertex ricci_u, ricci_radius, ricci_curvature,
-                           ricci_target, and for planar layouts layout_x/y/z, texture_u/v
-  --geometry G             auto (by topology), euclidean, hyperbolic, spherical   [auto]
+                           ricci_target; layouts: layout_x/y/z per vertex (plane, sphere)
+                           and texture_u/v (plane), or per face corner texcoord (cut open)
+  --geometry G             auto (by target and topology), euclidean, hyperbolic,
+                           spherical                                               [auto]
   --scheme S               tangential, thurston, inversive-distance, yamabe,
                            virtual-radius, mixed                                   [yamabe]
   --angle DEGREES          Thurston's intersection angle, 0..90                    [60]
   --eps FILE               mixed scheme: +1, 0 or -1 per line, one line per vertex
-  --target T               auto, zero, free-boundary, or FILE: Kbar per line, one line
-                           per vertex; 'nan' holds that vertex's u fixed            [auto]
-                           (auto: free-boundary with a boundary, zero when closed)
+  --target T               the metric to reach                                      [auto]
+                             auto: by topology: closed genus 0 round sphere (S2), genus 1
+                               flat torus (E2), genus >= 2 hyperbolic (H2); genus 0 with
+                               boundary the unit disk or a circle domain (E2); genus >= 1
+                               with boundary H2 with geodesic boundary
+                             disk: boundary loops on circles, the outer one the unit circle
+                             free-boundary: u = 0 on the boundary, flat inside
+                             zero: Kbar = 0 at every vertex
+                             cones:FILE: lines "VERTEX ANGLE_DEGREES": cone angles inside,
+                               corner angles on the boundary (rectangles, polygons); flat
+                               and straight elsewhere
+                             FILE: Kbar per line, one line per vertex; 'nan' holds that
+                               vertex's u fixed
+  --center VERTEX          disk target: the vertex mapped to the centre of the disk
+  --axis VERTEX            disk target: the vertex mapped onto the positive real axis
   --tolerance X            converged when max |K - Kbar| <= X                      [1e-10]
   --max-iterations N       Newton iteration limit                                  [100]
   --solver cholmod|ldlt    sparse Cholesky: CHOLMOD or Eigen's SimplicialLDLT      [cholmod]
@@ -88,6 +104,10 @@ Options parse_options(int argc, const char* const* argv) {
       o.eps_file = value(i, a);
     } else if (a == "--target") {
       o.target = value(i, a);
+    } else if (a == "--center") {
+      o.center_vertex = parse_int(a, value(i, a));
+    } else if (a == "--axis") {
+      o.axis_vertex = parse_int(a, value(i, a));
     } else if (a == "--tolerance") {
       o.tolerance = parse_double(a, value(i, a));
       if (!(o.tolerance > 0)) throw InvalidArgumentError("--tolerance must be positive");
@@ -137,6 +157,31 @@ std::vector<double> read_numbers(const std::string& path) {
     values.push_back(x);
   }
   return values;
+}
+
+}  // namespace ricci::cli
+
+namespace ricci::cli {
+
+std::vector<std::pair<int, double>> read_cones(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError("cannot open cone file '" + path + "'");
+  std::vector<std::pair<int, double>> cones;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream fields(line);
+    long vertex = -1;
+    double degrees = 0;
+    std::string rest;
+    if (!(fields >> vertex >> degrees) || (fields >> rest) || vertex < 0) {
+      throw IoError(path + ":" + std::to_string(number) + ": '" + line +
+                    "' is not 'VERTEX ANGLE_DEGREES' (a vertex index and a cone angle)");
+    }
+    cones.emplace_back(static_cast<int>(vertex), degrees);
+  }
+  return cones;
 }
 
 }  // namespace ricci::cli

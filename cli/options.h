@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ricci::cli {
@@ -14,7 +15,9 @@ struct Options {
   std::string scheme = "yamabe";
   double angle_degrees = 60;    // Thurston's intersection angle
   std::string eps_file;         // mixed scheme: +1/0/-1 per vertex
-  std::string target = "auto";  // auto, zero, free-boundary, or a file
+  std::string target = "auto";  // auto, disk, zero, free-boundary, cones:FILE, or a file
+  int center_vertex = -1;       // disk target: vertex mapped to the centre
+  int axis_vertex = -1;         // disk target: vertex mapped onto the positive real axis
   double tolerance = 1e-10;
   int max_iterations = 100;
   std::string solver = "cholmod";
@@ -35,5 +38,9 @@ std::string usage();
 //! One number per line; blank lines and lines starting with # are skipped; "nan" allowed.
 //! \throws IoError naming the file and line of a bad value.
 std::vector<double> read_numbers(const std::string& path);
+
+//! Lines "VERTEX ANGLE_DEGREES"; blank lines and lines starting with # are skipped.
+//! \throws IoError naming the file and line of a bad line.
+std::vector<std::pair<int, double>> read_cones(const std::string& path);
 
 }  // namespace ricci::cli

@@ -61,17 +61,48 @@ double gauss_bonnet_error(const CompactMesh& mesh, Geometry geometry, const Flow
          2 * kPi * mesh.euler_characteristic();
 }
 
-void write_report(const std::string& path, const CompactMesh& mesh, const RunSummary& run,
-                  const FlowResult& result) {
-  double max_err = 0, sum_err = 0;
-  int counted = 0;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (std::isnan(result.target[v])) continue;
-    const double e = std::abs(result.curvature[v] - result.target[v]);
-    max_err = std::max(max_err, e);
-    sum_err += e;
-    ++counted;
+namespace {
+
+std::string layout_json(const Uniformization& u) {
+  if (u.layout == LayoutKind::None) return "null";
+  const LayoutQuality& q = u.quality;
+  std::ostringstream j;
+  j << "{\"kind\": " << quoted(to_string(u.layout)) << ", \"flipped_faces\": " << q.flipped_faces
+    << ", \"quasi_conformal\": {\"median\": " << number(q.quasi_conformal_median)
+    << ", \"p95\": " << number(q.quasi_conformal_p95)
+    << ", \"max\": " << number(q.quasi_conformal_max) << "}"
+    << ", \"area_ratio\": {\"p5\": " << number(q.area_ratio_p5)
+    << ", \"median\": " << number(q.area_ratio_median) << ", \"p95\": " << number(q.area_ratio_p95)
+    << "}";
+  if (u.preset == TargetPreset::UnitDisk) {
+    j << ", \"circle_error\": " << number(u.circle_error);
   }
+  if (!u.model) {
+    j << ", \"max_relative_length_error\": " << number(u.max_relative_length_error) << "}";
+    return j.str();
+  }
+  const ModelLayout& m = *u.model;
+  j << ", \"flipped_faces_of_flow_triangulation\": " << m.num_flipped_faces
+    << ", \"closure_error\": " << number(m.closure_error)
+    << ", \"relation_error\": " << number(u.relation_error)
+    << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators
+    << ", \"deck_transformations\": [";
+  // E2: z -> a z + b; H2: z -> (a z + b) / (conj(b) z + conj(a)); a and b as [re, im].
+  for (size_t k = 0; k < m.deck.size(); ++k) {
+    const DiskIsometry& d = m.deck[k];
+    j << (k ? ", " : "") << "{\"a\": [" << number(d.a.real()) << ", " << number(d.a.imag())
+      << "], \"b\": [" << number(d.b.real()) << ", " << number(d.b.imag()) << "]}";
+  }
+  j << "]}";
+  return j.str();
+}
+
+}  // namespace
+
+void write_report(const std::string& path, const CompactMesh& mesh, const RunSummary& run,
+                  const Uniformization& u) {
+  const FlowResult& result = u.result;
+  const LayoutQuality& q = u.quality;
   const FlowTimes& t = result.times;
   std::ostringstream j;
   j << "{\n";
@@ -81,14 +112,17 @@ void write_report(const std::string& path, const CompactMesh& mesh, const RunSum
     << ", \"euler_characteristic\": " << mesh.euler_characteristic()
     << ", \"genus\": " << mesh.genus() << ", \"boundary_loops\": " << mesh.num_boundary_loops()
     << ", \"topology\": " << quoted(mesh.topology_name()) << "},\n";
-  j << "  \"geometry\": " << quoted(to_string(run.geometry)) << ",\n";
+  j << "  \"geometry\": " << quoted(to_string(u.geometry)) << ",\n";
   j << "  \"scheme\": " << quoted(to_string(run.scheme)) << ",\n";
   j << "  \"target\": " << quoted(run.target) << ",\n";
+  j << "  \"preset\": " << quoted(to_string(u.preset)) << ",\n";
   j << "  \"tolerance\": " << number(run.tolerance) << ",\n";
-  j << "  \"length_scale\": " << number(run.length_scale) << ",\n";
+  j << "  \"length_scale\": " << number(u.structure.length_scale) << ",\n";
   j << "  \"converged\": " << (result.converged ? "true" : "false") << ",\n";
   j << "  \"failure\": " << (result.converged ? "null" : quoted(result.failure)) << ",\n";
   j << "  \"iterations\": " << result.iterations << ",\n";
+  j << "  \"boundary_iterations\": " << u.boundary_iterations << ",\n";
+  j << "  \"newton_iterations\": " << u.newton_iterations << ",\n";
   j << "  \"residual\": " << number(result.residual) << ",\n";
   j << "  \"residual_history\": " << array(result.residual_history) << ",\n";
   j << "  \"step_history\": " << array(result.step_history) << ",\n";
@@ -102,37 +136,12 @@ void write_report(const std::string& path, const CompactMesh& mesh, const RunSum
     << ", \"factorization\": " << number(t.factorization) << ", \"solve\": " << number(t.solve)
     << ", \"line_search\": " << number(t.line_search) << ", \"flips\": " << number(t.flips)
     << ", \"flow_total\": " << number(t.total) << "},\n";
-  j << "  \"errors\": {\"max_abs_curvature_error\": " << number(max_err)
-    << ", \"mean_abs_curvature_error\": " << number(counted ? sum_err / counted : 0.0)
-    << ", \"gauss_bonnet_error\": " << number(gauss_bonnet_error(mesh, run.geometry, result))
+  j << "  \"errors\": {\"max_abs_curvature_error\": " << number(q.max_curvature_error)
+    << ", \"mean_abs_curvature_error\": " << number(q.mean_curvature_error)
+    << ", \"gauss_bonnet_error\": " << number(gauss_bonnet_error(mesh, u.geometry, result))
     << ", \"initial_length_error\": " << number(run.initial_length_error) << "},\n";
   j << "  \"area\": " << number(result.area) << ",\n";
-  if (run.layout) {
-    j << "  \"layout\": {\"kind\": \"plane\", \"flipped_faces\": " << run.flipped_input_faces
-      << ", \"flipped_faces_of_flow_triangulation\": " << run.layout->num_flipped_faces
-      << ", \"max_relative_length_error\": " << number(run.layout->max_relative_length_error)
-      << "}\n";
-  } else if (run.model_layout) {
-    const ModelLayout& m = *run.model_layout;
-    const char* kind = m.geometry == Geometry::Spherical    ? "sphere"
-                       : m.geometry == Geometry::Hyperbolic ? "poincare-disk"
-                                                            : "plane-cut";
-    j << "  \"layout\": {\"kind\": \"" << kind
-      << "\", \"flipped_faces\": " << run.flipped_input_faces
-      << ", \"flipped_faces_of_flow_triangulation\": " << m.num_flipped_faces
-      << ", \"closure_error\": " << number(m.closure_error)
-      << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators
-      << ", \"deck_transformations\": [";
-    // E2: z -> a z + b; H2: z -> (a z + b) / (conj(b) z + conj(a)); a and b as [re, im].
-    for (size_t k = 0; k < m.deck.size(); ++k) {
-      const DiskIsometry& d = m.deck[k];
-      j << (k ? ", " : "") << "{\"a\": [" << number(d.a.real()) << ", " << number(d.a.imag())
-        << "], \"b\": [" << number(d.b.real()) << ", " << number(d.b.imag()) << "]}";
-    }
-    j << "]}\n";
-  } else {
-    j << "  \"layout\": null\n";
-  }
+  j << "  \"layout\": " << layout_json(u) << "\n";
   j << "}\n";
   std::ofstream out(path);
   if (!out) throw IoError("cannot write report '" + path + "'");

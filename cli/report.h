@@ -5,24 +5,18 @@
 #include <string>
 
 #include "ricci/compact_mesh.h"
-#include "ricci/layout.h"
-#include "ricci/model_layout.h"
 #include "ricci/ricci_flow.h"
 #include "ricci/scheme.h"
+#include "ricci/uniformize.h"
 
 namespace ricci::cli {
 
 struct RunSummary {
   std::string input;
-  Geometry geometry = Geometry::Euclidean;
   Scheme scheme = Scheme::Yamabe;
-  std::string target;
+  std::string target;  //!< as given on the command line
   double tolerance = 0;
-  double length_scale = 1;
   double initial_length_error = 0;  //!< max relative error of the initial metric vs input
-  const PlanarLayout* layout = nullptr;
-  const ModelLayout* model_layout = nullptr;  //!< surfaces that are not E2 disks
-  int flipped_input_faces = 0;  //!< input faces turned over by the layout (after edge flips)
   double read_seconds = 0;
 };
 
@@ -34,6 +28,6 @@ double gauss_bonnet_error(const CompactMesh& mesh, Geometry geometry, const Flow
 
 //! \throws IoError
 void write_report(const std::string& path, const CompactMesh& mesh, const RunSummary& run,
-                  const FlowResult& result);
+                  const Uniformization& u);
 
 }  // namespace ricci::cli

@@ -62,7 +62,7 @@ void write_file(const std::string& path, const std::string& text) {
 TEST(Cli, DiskResultFollowsThePlyContract) {
   const std::string out = temp("disk.ply"), report = temp("disk.json"), png = temp("disk.png");
   const CliRun r = ricci_flow(cgal("nefertiti.off") + " -o " + out + " --report " + report +
-                              " --picture " + png);
+                              " --picture " + png + " --target free-boundary");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("converged in"), std::string::npos) << r.out;
   const ricci::test::PlyData ply = read_ply(out);
@@ -211,7 +211,7 @@ TEST(Cli, BadInputGetsAClearError) {
                {"hyperbolic geometry needs"});
   expect_error(cgal("sphere.off") + out + " --target free-boundary", 1, {"needs a boundary"});
   expect_error(cgal("sphere.off") + out + " --picture " + temp("x.png"), 1,
-               {"--picture needs a planar layout"});
+               {"--picture needs a layout in the plane"});
   expect_error(cgal("blobby_3cc.off") + out, 1, {"3 connected components", "blobby_3cc.off"});
   expect_error(cgal("nefertiti.off") + out + " --target zero", 1, {"Gauss-Bonnet fails"});
   // Targets from a file

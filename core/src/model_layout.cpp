@@ -280,6 +280,59 @@ std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid
   return corners;
 }
 
+double surface_group_relation_error(const Triangulation& mesh, const ModelLayout& layout) {
+  if (layout.geometry == Geometry::Spherical || layout.deck.empty()) return 0;
+  std::vector<int> path_of(mesh.num_edges(), -1), walked_from(mesh.num_edges(), -1);
+  std::vector<int> cut_degree(mesh.num_vertices(), 0);
+  for (size_t k = 0; k < layout.cut.paths.size(); ++k) {
+    const CutPath& path = layout.cut.paths[k];
+    for (size_t i = 0; i < path.edges.size(); ++i) {
+      path_of[path.edges[i]] = static_cast<int>(k);
+      walked_from[path.edges[i]] = path.vertices[i];
+      for (int v : mesh.edge_vertices(path.edges[i])) ++cut_degree[v];
+    }
+  }
+  double extent = 1;
+  if (layout.geometry == Geometry::Euclidean) {
+    extent = 0;
+    for (const auto& face : layout.corner) {
+      for (const auto& p : face) extent = std::max(extent, p.norm());
+    }
+    extent = std::max(extent, 1e-300);
+  }
+  // The face of interior vertex v's first corner, and v's corner there.
+  std::vector<int> face_at(mesh.num_vertices(), -1);
+  for (int f = mesh.num_faces() - 1; f >= 0; --f) {
+    for (int c = 0; c < 3; ++c) face_at[mesh.face_vertex(f, c)] = f;
+  }
+  double error = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (cut_degree[v] < 3 || mesh.is_boundary_vertex(v)) continue;
+    DiskIsometry product{layout.geometry, 1.0, 0.0};  // from the current face to the first
+    const int first = face_at[v];
+    int f = first;
+    do {
+      const int h = 3 * f + (corner_of(mesh, f, v) + 2) % 3;  // the halfedge leaving v
+      const int e = mesh.face_edge(f, h % 3), g = mesh.twin(h) / 3;
+      if (path_of[e] >= 0) {
+        const auto& ends = mesh.edge_vertices(e);
+        const int from = walked_from[e], to = from == ends[0] ? ends[1] : ends[0];
+        // The path's left face holds the halfedge walked from `from` to `to`.
+        const bool into_left =
+            mesh.halfedge_tail(mesh.twin(h)) == from && mesh.halfedge_head(mesh.twin(h)) == to;
+        const DiskIsometry& deck = layout.deck[path_of[e]];
+        product = product * (into_left ? deck.inverse() : deck);
+      }
+      f = g;
+    } while (f != first);
+    const double a = layout.geometry == Geometry::Hyperbolic
+                         ? std::min(std::abs(product.a - 1.0), std::abs(product.a + 1.0))
+                         : std::abs(product.a - 1.0);
+    error = std::max({error, a, std::abs(product.b) / extent});
+  }
+  return error;
+}
+
 std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points) {
   if (points.empty()) return points;
   // phi_a(x) = ((1 - |a|^2)(x - a) - |x - a|^2 a) / (1 - 2 a.x + |a|^2 |x|^2): the automorphism

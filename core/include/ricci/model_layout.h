@@ -63,6 +63,14 @@ std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid
                                                        const ModelLayout& layout,
                                                        const Triangulation& other);
 
+//! The surface group's relations, measured: walking once around an interior vertex where cut
+//! paths meet, the deck transformations of the paths crossed compose to the identity (Poincare's
+//! polygon theorem: these vertex cycles generate the relations, for a single-vertex cut
+//! [a1, b1] ... [ag, bg] = 1). Returns the largest distance of such a product from the identity:
+//! max(|a -/+ 1|, |b| / extent) with extent the layout's largest coordinate in E2, 1 in H2;
+//! 0 for S2 and for cuts without such vertices.
+double surface_group_relation_error(const Triangulation& mesh, const ModelLayout& layout);
+
 //! S2: the Moebius transformation of the sphere that moves the points' centre of mass to the
 //! origin (iterated ball automorphisms); returns the moved points. \pre unit vectors.
 std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points);

@@ -1,0 +1,37 @@
+// How good a layout is, measured against the input mesh: the numbers the tool's report and the
+// plugin's log give.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/compact_mesh.h"
+#include "ricci/ricci_flow.h"
+
+namespace ricci {
+
+struct LayoutQuality {
+  double max_curvature_error = 0;   //!< max |K - Kbar| over vertices with a target
+  double mean_curvature_error = 0;  //!< mean |K - Kbar| over them
+  //! Quasi-conformal ratio sigma_max / sigma_min of the affine map from each input triangle to
+  //! its layout triangle (1 = angles kept): median, 95th percentile, max over faces.
+  double quasi_conformal_median = 1, quasi_conformal_p95 = 1, quasi_conformal_max = 1;
+  //! Area ratio per face, (layout area / total) / (input area / total): 5th percentile, median,
+  //! 95th percentile.
+  double area_ratio_p5 = 1, area_ratio_median = 1, area_ratio_p95 = 1;
+  int flipped_faces = 0;  //!< input faces whose layout triangle is turned over or degenerate
+};
+
+//! Measures a layout given per input face and corner: points in the plane (z = 0), in the
+//! Poincare disk (z = 0, measured in its Euclidean coordinates, as a texture shows them), or on
+//! the unit sphere (chords; orientation against the outward normal).
+LayoutQuality measure_layout(const CompactMesh& mesh, Geometry geometry, const FlowResult& result,
+                             const std::vector<std::array<Eigen::Vector3d, 3>>& corners);
+
+//! The quasi-conformal ratio of the affine map between two triangles given by their side
+//! lengths (l[k] opposite corner k); infinity for a degenerate triangle.
+double quasi_conformal_ratio(const std::array<double, 3>& from, const std::array<double, 3>& to);
+
+}  // namespace ricci
