@@ -111,6 +111,7 @@ TEST(ModelLayout, FlatTorusWedgesDifferByTheTwoPeriods) {
       span = std::max(span, std::abs(std::imag(std::conj(d.b) * e.b)));
   }
   EXPECT_GT(span, 1e-3 * r.area);
+  EXPECT_LE(surface_group_relation_error(t, layout), 1e-9);  // the periods commute
 }
 
 TEST(ModelLayout, GenusTwoFundamentalDomainInThePoincareDisk) {
@@ -149,6 +150,12 @@ TEST(ModelLayout, GenusTwoFundamentalDomainInThePoincareDisk) {
     EXPECT_NEAR(std::norm(d.a) - std::norm(d.b), 1.0, 1e-8);
     EXPECT_GT(std::abs(d.b), 0.1);
   }
+  // The surface group's relations: around every node of the cut the deck maps compose to the
+  // identity; a deck map off by a small rotation breaks them.
+  EXPECT_LE(surface_group_relation_error(t, layout), 1e-8);
+  ModelLayout broken = layout;
+  broken.deck[0] = broken.deck[0] * DiskIsometry{Geometry::Hyperbolic, std::polar(1.0, 0.01), 0.0};
+  EXPECT_GT(surface_group_relation_error(t, broken), 1e-3);
 }
 
 TEST(ModelLayout, RoundSphereOnTheUnitSphereCentred) {

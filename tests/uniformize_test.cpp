@@ -1,0 +1,259 @@
+// Target presets and the uniformization pipeline: the unit disk against the analytic conformal map
+// of a square, circle domains, polygons from corner angles, automatic choices by topology, and the
+// errors of requests that cannot be met.
+#include "ricci/uniformize.h"
+
+#include <cmath>
+#include <complex>
+
+#include <gtest/gtest.h>
+
+#include "ricci/errors.h"
+#include "test_meshes.h"
+
+namespace ricci {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+using Complex = std::complex<double>;
+
+// The Schwarz-Christoffel map of the unit disk onto the square [-1, 1]^2 (corners at w^4 = -1):
+// f(w) = c * integral_0^w dt / sqrt(1 + t^4), along the ray after s = 1 - (1 - sigma)^2, which
+// smooths the corners' square-root singularity; two-point Gauss-Legendre on 400 panels.
+Complex ray_integral(Complex w) {
+  const int panels = 400;
+  const double node = 0.5 / std::sqrt(3.0);
+  Complex sum = 0;
+  for (int k = 0; k < panels; ++k) {
+    for (double offset : {0.5 - node, 0.5 + node}) {
+      const double sigma = (k + offset) / panels, s = 1 - (1 - sigma) * (1 - sigma);
+      const Complex t = s * w;
+      sum += w * 2.0 * (1 - sigma) / std::sqrt(1.0 + t * t * t * t);
+    }
+  }
+  return sum / (2.0 * panels);
+}
+
+Complex square_map(Complex w) {
+  static const double c = std::sqrt(2.0) / std::abs(ray_integral(std::polar(1.0, kPi / 4)));
+  return c * ray_integral(w);
+}
+
+// The inverse map at z, by Newton's method from w (the computed image).
+Complex inverse_square_map(Complex z, Complex w) {
+  static const double c = std::sqrt(2.0) / std::abs(ray_integral(std::polar(1.0, kPi / 4)));
+  for (int it = 0; it < 50; ++it) {
+    const Complex step = (square_map(w) - z) * std::sqrt(1.0 + w * w * w * w) / c;
+    w -= step;
+    if (std::abs(step) < 1e-14) break;
+  }
+  return w;
+}
+
+struct SquareError {
+  double max = 0, mean = 0, corner = 0;
+};
+
+// The disk preset on an n x n grid of [-1, 1]^2, centre vertex at 0 and the right side's midpoint
+// on the positive axis, against the analytic map.
+SquareError square_to_disk_error(int n) {
+  const CompactMesh grid = test::square_grid(n);
+  UniformizationOptions o;
+  o.preset = TargetPreset::UnitDisk;
+  o.center_vertex = (n / 2) * (n + 1) + n / 2;
+  o.axis_vertex = (n / 2) * (n + 1) + n;
+  const Uniformization u = uniformize(grid, o);
+  EXPECT_TRUE(u.result.converged) << u.result.failure;
+  EXPECT_EQ(u.layout, LayoutKind::Plane);
+  SquareError e;
+  int count = 0;
+  for (int v = 0; v < grid.num_vertices(); ++v) {
+    const Complex z(2 * grid.positions()[v].x() - 1, 2 * grid.positions()[v].y() - 1);
+    const Complex w(u.position[v].x(), u.position[v].y());
+    if (std::abs(std::abs(z.real()) - 1) < 1e-12 && std::abs(std::abs(z.imag()) - 1) < 1e-12) {
+      e.corner = std::max(e.corner, std::abs(w - std::polar(1.0, std::arg(z))));
+      continue;  // the map's derivative is infinite at the corners
+    }
+    const double d = std::abs(inverse_square_map(z, w) - w);
+    e.max = std::max(e.max, d);
+    e.mean += d;
+    ++count;
+  }
+  e.mean /= count;
+  return e;
+}
+
+TEST(Uniformize, SquareOntoTheDiskConvergesToTheConformalMap) {
+  // The analytic map itself: corners on the diagonals, the axis point fixed.
+  EXPECT_NEAR(std::abs(square_map(std::polar(1.0, kPi / 4)) - Complex(1, 1)), 0.0, 1e-12);
+  EXPECT_NEAR(std::abs(square_map(1.0) - 1.0), 0.0, 1e-12);
+  const SquareError e8 = square_to_disk_error(8), e16 = square_to_disk_error(16),
+                    e32 = square_to_disk_error(32);
+  std::printf(
+      "square -> disk, max/mean/corner error: n=8 %.2e/%.2e/%.2e  n=16 %.2e/%.2e/%.2e  "
+      "n=32 %.2e/%.2e/%.2e\n",
+      e8.max, e8.mean, e8.corner, e16.max, e16.mean, e16.corner, e32.max, e32.mean, e32.corner);
+  EXPECT_LT(e16.max, e8.max);
+  EXPECT_LT(e32.max, e16.max);
+  EXPECT_LT(e16.mean, 0.6 * e8.mean);
+  EXPECT_LT(e32.mean, 0.6 * e16.mean);
+  EXPECT_LT(e32.max, 0.02);
+  EXPECT_LT(e32.corner, 0.02);
+}
+
+TEST(Uniformize, DiskPresetPutsTheBoundaryOnTheUnitCircle) {
+  const CompactMesh disk = test::cgal_mesh("nefertiti.off");
+  UniformizationOptions o;  // auto: a disk goes to the unit disk
+  int interior = 0;
+  while (disk.is_boundary_vertex(interior)) ++interior;
+  o.center_vertex = interior;
+  o.axis_vertex = disk.boundary_loops()[0][0];
+  o.preset = TargetPreset::FreeBoundary;
+  EXPECT_THROW(uniformize(disk, o), InvalidArgumentError);  // a centre needs the disk preset
+  o.preset = TargetPreset::Automatic;                       // a disk's automatic preset
+  const Uniformization u = uniformize(disk, o);
+  ASSERT_TRUE(u.result.converged) << u.result.failure;
+  EXPECT_LE(u.circle_error, 1e-8);
+  for (int v : disk.boundary_loops()[0]) EXPECT_NEAR(u.position[v].norm(), 1.0, 1e-8);
+  EXPECT_LE(u.position[interior].norm(), 1e-12);
+  EXPECT_NEAR(u.position[o.axis_vertex].x(), 1.0, 1e-8);
+  EXPECT_NEAR(u.position[o.axis_vertex].y(), 0.0, 1e-12);
+  EXPECT_EQ(u.quality.flipped_faces, 0);
+  EXPECT_LE(u.quality.max_curvature_error, 1e-9);
+  EXPECT_LT(u.boundary_iterations, 40);
+}
+
+TEST(Uniformize, GenusZeroWithSevenHolesBecomesACircleDomain) {
+  const CompactMesh holes = test::cgal_mesh("holes.off");
+  ASSERT_EQ(holes.num_boundary_loops(), 7);
+  const Uniformization u = uniformize(holes, {});
+  ASSERT_TRUE(u.result.converged) << u.result.failure;
+  EXPECT_EQ(u.preset, TargetPreset::UnitDisk);
+  EXPECT_EQ(u.geometry, Geometry::Euclidean);
+  EXPECT_EQ(u.layout, LayoutKind::Plane);
+  EXPECT_LE(u.circle_error, 1e-7);  // every loop on a circle
+  // The cut closes up: the deck transformations are the identity, so the domain is planar.
+  ASSERT_TRUE(u.model.has_value());
+  EXPECT_LE(u.model->closure_error, 1e-9);
+  for (const DiskIsometry& d : u.model->deck) {
+    EXPECT_LE(std::abs(d.a - 1.0), 1e-7);
+    EXPECT_LE(std::abs(d.b), 1e-7);
+  }
+  // The outer loop is the unit circle and the others lie inside it.
+  const int outer = outer_boundary_loop(holes, holes.input_lengths());
+  for (int c = 0; c < holes.num_boundary_loops(); ++c) {
+    for (int v : holes.boundary_loops()[c]) {
+      if (c == outer) {
+        EXPECT_NEAR(u.position[v].norm(), 1.0, 1e-7);
+      } else {
+        EXPECT_LT(u.position[v].norm(), 1.0 - 1e-3);
+      }
+    }
+  }
+  EXPECT_EQ(u.quality.flipped_faces, 0);
+}
+
+TEST(Uniformize, CornerAnglesMakeARectangle) {
+  const CompactMesh disk = test::cgal_mesh("nefertiti.off");
+  const std::vector<int>& loop = disk.boundary_loops()[0];
+  const size_t n = loop.size();
+  std::vector<Cone> corners;
+  for (size_t k = 0; k < 4; ++k) corners.push_back({loop[k * n / 4], kPi / 2});
+  UniformizationOptions o;
+  o.preset = TargetPreset::Values;
+  o.values = cone_target(disk, corners).curvature;
+  const Uniformization u = uniformize(disk, o);
+  ASSERT_TRUE(u.result.converged) << u.result.failure;
+  EXPECT_EQ(u.geometry, Geometry::Euclidean);  // four right angles: Gauss-Bonnet in E2
+  // Every boundary vertex lies on the side through the two corners around it, and the sides meet
+  // at right angles.
+  double size = 0;
+  for (const auto& p : u.position) size = std::max(size, p.norm());
+  for (size_t k = 0; k < 4; ++k) {
+    const size_t begin = k * n / 4, end = (k + 1) * n / 4;
+    const Eigen::Vector2d a = u.position[loop[begin]].head<2>();
+    const Eigen::Vector2d b = u.position[loop[end % n]].head<2>();
+    const Eigen::Vector2d c = u.position[loop[((k + 2) * n / 4) % n]].head<2>();
+    const Eigen::Vector2d side = (b - a).normalized();
+    EXPECT_NEAR(side.dot((c - b).normalized()), 0.0, 1e-8);
+    for (size_t i = begin; i <= end; ++i) {
+      const Eigen::Vector2d p = u.position[loop[i % n]].head<2>() - a;
+      EXPECT_NEAR(side.x() * p.y() - side.y() * p.x(), 0.0, 1e-8 * size);
+    }
+  }
+}
+
+TEST(Uniformize, ConesCheckTheirInput) {
+  const CompactMesh disk = test::cgal_mesh("nefertiti.off");
+  EXPECT_THROW(cone_target(disk, {{disk.num_vertices(), 1.0}}), InvalidTargetError);
+  EXPECT_THROW(cone_target(disk, {{3, 1.0}, {3, 2.0}}), InvalidTargetError);
+  EXPECT_THROW(cone_target(disk, {{3, -1.0}}), InvalidTargetError);
+  // Three right-angled corners: Gauss-Bonnet asks for positive curvature, an octant of a sphere.
+  const std::vector<int>& loop = disk.boundary_loops()[0];
+  const size_t n = loop.size();
+  const TargetCurvature t =
+      cone_target(disk, {{loop[0], kPi / 2}, {loop[n / 3], kPi / 2}, {loop[2 * n / 3], kPi / 2}});
+  EXPECT_EQ(geometry_for_target(disk, t), Geometry::Spherical);
+}
+
+TEST(Uniformize, AutomaticChoiceByTopology) {
+  const auto check = [](const CompactMesh& mesh, TargetPreset preset, Geometry geometry,
+                        LayoutKind layout) {
+    const auto [p, g] = automatic_preset(mesh);
+    EXPECT_EQ(p, preset) << mesh.topology_name();
+    EXPECT_EQ(g, geometry) << mesh.topology_name();
+    EXPECT_EQ(planned_layout(mesh, p, g), layout) << mesh.topology_name();
+  };
+  check(test::cgal_mesh("nefertiti.off"), TargetPreset::UnitDisk, Geometry::Euclidean,
+        LayoutKind::Plane);
+  check(test::cgal_mesh("holes.off"), TargetPreset::UnitDisk, Geometry::Euclidean,
+        LayoutKind::Plane);
+  check(test::cgal_mesh("sphere.off"), TargetPreset::Zero, Geometry::Spherical, LayoutKind::Sphere);
+  check(test::cgal_mesh("pipe.off"), TargetPreset::Zero, Geometry::Euclidean, LayoutKind::PlaneCut);
+  check(test::cgal_mesh("eight.off"), TargetPreset::Zero, Geometry::Hyperbolic,
+        LayoutKind::PoincareDisk);
+}
+
+TEST(Uniformize, TorusWithAHoleGetsAGeodesicBoundaryInH2) {
+  const CompactMesh closed = test::torus(16, 8);
+  std::vector<std::array<int, 3>> faces(closed.faces().begin() + 1, closed.faces().end());
+  const CompactMesh holed(closed.positions(), faces);
+  ASSERT_EQ(holed.genus(), 1);
+  ASSERT_EQ(holed.num_boundary_loops(), 1);
+  const Uniformization u = uniformize(holed, {});
+  ASSERT_TRUE(u.result.converged) << u.result.failure;
+  EXPECT_EQ(u.geometry, Geometry::Hyperbolic);
+  EXPECT_EQ(u.layout, LayoutKind::PoincareDisk);
+  for (int v : holed.boundary_loops()[0]) {
+    EXPECT_NEAR(u.result.curvature[v], 0.0, 1e-9);  // angle sum pi: geodesic boundary
+  }
+  EXPECT_NEAR(u.result.area, 2 * kPi, 1e-8);  // -2 pi chi
+  EXPECT_LE(u.model->closure_error, 1e-9);
+  for (const auto& face : u.corners) {
+    for (const auto& p : face) EXPECT_LT(p.norm(), 1.0);
+  }
+}
+
+TEST(Uniformize, RequestsThatCannotBeMetAreRefused) {
+  const CompactMesh sphere = test::cgal_mesh("sphere.off");
+  UniformizationOptions o;
+  o.preset = TargetPreset::UnitDisk;
+  EXPECT_THROW(uniformize(sphere, o), InvalidTargetError);
+  o.preset = TargetPreset::FreeBoundary;
+  EXPECT_THROW(uniformize(sphere, o), InvalidTargetError);
+  const CompactMesh disk = test::cgal_mesh("nefertiti.off");
+  o.preset = TargetPreset::UnitDisk;
+  o.geometry = Geometry::Hyperbolic;
+  EXPECT_THROW(uniformize(disk, o), InvalidTargetError);
+  o.geometry.reset();
+  o.center_vertex = disk.boundary_loops()[0][0];
+  try {
+    uniformize(disk, o);
+    ADD_FAILURE() << "a boundary centre vertex was accepted";
+  } catch (const InvalidArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("lies on the boundary"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ricci
