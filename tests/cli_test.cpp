@@ -166,6 +166,72 @@ TEST(Cli, ClosedSurfacesInTheirOwnGeometry) {
   }
 }
 
+TEST(Cli, AutoTargetLaysOutEveryTopology) {
+  struct Case {
+    std::string mesh, kind;
+  };
+  for (const Case& c :
+       {Case{"nefertiti.off", "plane"}, Case{"head.off", "plane"}, Case{"sphere.off", "sphere"},
+        Case{"pipe.off", "plane-cut"}, Case{"eight.off", "poincare-disk"}}) {
+    const std::string out = temp("auto.ply"), report = temp("auto.json");
+    const CliRun r = ricci_flow(cgal(c.mesh) + " -o " + out + " --report " + report);
+    ASSERT_EQ(r.exit_code, 0) << c.mesh << ": " << r.err;
+    const std::string json = slurp(report);
+    EXPECT_NE(json.find("\"kind\": \"" + c.kind + "\""), std::string::npos) << c.mesh << json;
+    for (const char* key : {"\"quasi_conformal\": {\"median\": ", "\"area_ratio\": {\"p5\": ",
+                            "\"max_abs_curvature_error\": "}) {
+      EXPECT_NE(json.find(key), std::string::npos) << c.mesh << ": " << key << " missing";
+    }
+    const ricci::test::PlyData ply = read_ply(out);
+    if (c.kind == "plane") {
+      // A disk onto the unit disk, head.off's three boundary loops onto circles in it.
+      EXPECT_NE(json.find("\"preset\": \"disk\""), std::string::npos) << json;
+      const ricci::CompactMesh mesh = ricci::test::cgal_mesh(c.mesh);
+      double outer = 0;
+      for (int v = 0; v < mesh.num_vertices(); ++v) {
+        const double r2 = std::hypot(ply.vertex.at("layout_x")[v], ply.vertex.at("layout_y")[v]);
+        EXPECT_LE(r2, 1.0 + 1e-7) << c.mesh;
+        outer = std::max(outer, r2);
+      }
+      EXPECT_NEAR(outer, 1.0, 1e-7) << c.mesh;
+    } else if (c.kind != "sphere") {
+      EXPECT_EQ(ply.face_texcoords.size(), ply.faces.size()) << c.mesh;
+      EXPECT_NE(json.find("\"relation_error\": "), std::string::npos) << json;
+    }
+  }
+}
+
+TEST(Cli, ConesFileAndDiskNormalization) {
+  const ricci::CompactMesh mesh = ricci::test::cgal_mesh("nefertiti.off");
+  const std::vector<int>& loop = mesh.boundary_loops()[0];
+  const std::string cones = temp("cones.txt"), out = temp("cones.ply");
+  std::string text = "# vertex angle_degrees\n";
+  for (size_t k = 0; k < 4; ++k) text += std::to_string(loop[k * loop.size() / 4]) + " 90\n";
+  write_file(cones, text);
+  CliRun r = ricci_flow(cgal("nefertiti.off") + " -o " + out + " --target cones:" + cones);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("euclidean geometry"), std::string::npos) << r.out;
+  write_file(cones, "12 ninety\n");
+  r = ricci_flow(cgal("nefertiti.off") + " -o " + out + " --target cones:" + cones);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(":1: '12 ninety' is not 'VERTEX ANGLE_DEGREES'"), std::string::npos)
+      << r.err;
+
+  int interior = 0;
+  while (mesh.is_boundary_vertex(interior)) ++interior;
+  r = ricci_flow(cgal("nefertiti.off") + " -o " + out + " --target disk --center " +
+                 std::to_string(interior) + " --axis " + std::to_string(loop[0]));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const ricci::test::PlyData ply = read_ply(out);
+  EXPECT_NEAR(ply.vertex.at("layout_x")[interior], 0.0, 1e-12);
+  EXPECT_NEAR(ply.vertex.at("layout_y")[interior], 0.0, 1e-12);
+  EXPECT_NEAR(ply.vertex.at("layout_x")[loop[0]], 1.0, 1e-8);
+  EXPECT_NEAR(ply.vertex.at("layout_y")[loop[0]], 0.0, 1e-12);
+  r = ricci_flow(cgal("pipe.off") + " -o " + out + " --center 3");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("needs the disk target"), std::string::npos) << r.err;
+}
+
 TEST(Cli, MixedSchemeReadsEpsFileAndTargetFile) {
   const ricci::CompactMesh mesh = ricci::test::cgal_mesh("nefertiti.off");
   std::string eps, target;
