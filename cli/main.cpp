@@ -137,13 +137,9 @@ int run(const ricci::cli::Options& o) {
 
   cli::ResultLayout written;
   written.position = u.position;
-  if (u.layout == LayoutKind::Plane) {
-    std::vector<Eigen::Vector2d> planar;
-    for (const auto& p : u.position) planar.emplace_back(p.x(), p.y());
-    written.texture = normalized_texture_coordinates(planar);
-  } else if (u.layout == LayoutKind::PlaneCut || u.layout == LayoutKind::PoincareDisk) {
-    written.wedge_texture = cli::wedge_texture_coordinates(geometry, u.corners);
-  }
+  TextureCoordinates uv = texture_coordinates(u);
+  written.texture = std::move(uv.vertex);
+  written.wedge_texture = std::move(uv.wedge);
   if (!o.report.empty()) cli::write_report(o.report, mesh, summary, u);
   if (!result.converged) {
     throw ConvergenceError("ricci flow (" + to_string(geometry) + ", " + to_string(scheme.scheme) +

@@ -43,24 +43,6 @@ class PlyOut {
 
 }  // namespace
 
-std::vector<std::array<Eigen::Vector2d, 3>> wedge_texture_coordinates(
-    Geometry geometry, const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
-  std::vector<Eigen::Vector2d> flat;
-  for (const auto& face : corners) {
-    for (const auto& p : face) flat.push_back(p.head<2>());
-  }
-  if (geometry == Geometry::Euclidean) {
-    flat = normalized_texture_coordinates(flat);
-  } else {
-    for (auto& p : flat) p = (p + Eigen::Vector2d::Ones()) / 2;
-  }
-  std::vector<std::array<Eigen::Vector2d, 3>> uv(corners.size());
-  for (size_t f = 0; f < corners.size(); ++f) {
-    for (int c = 0; c < 3; ++c) uv[f][c] = flat[3 * f + c];
-  }
-  return uv;
-}
-
 void write_result_ply(const std::string& path, const CompactMesh& mesh, const FlowResult& result,
                       const ResultLayout& layout, bool ascii) {
   std::ofstream out(path, std::ios::binary);

@@ -25,11 +25,6 @@ struct ResultLayout {
   std::vector<std::array<Eigen::Vector2d, 3>> wedge_texture;
 };
 
-//! Wedge texture coordinates in [0, 1]^2 from a cut-open layout's corners: E2 scaled into the unit
-//! square with the aspect ratio kept, H2's Poincare disk z as (z + 1) / 2.
-std::vector<std::array<Eigen::Vector2d, 3>> wedge_texture_coordinates(
-    Geometry geometry, const std::vector<std::array<Eigen::Vector3d, 3>>& corners);
-
 //! \throws IoError when the file cannot be written.
 void write_result_ply(const std::string& path, const CompactMesh& mesh, const FlowResult& result,
                       const ResultLayout& layout, bool ascii);

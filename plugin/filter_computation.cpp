@@ -1,6 +1,7 @@
 #include "filter_computation.h"
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "ricci/errors.h"
@@ -11,10 +12,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Geometry choose_geometry(GeometryChoice choice, const CompactMesh& mesh) {
+std::optional<Geometry> chosen_geometry(GeometryChoice choice) {
   switch (choice) {
     case GeometryChoice::Auto:
-      return automatic_geometry(mesh);
+      return std::nullopt;
     case GeometryChoice::Euclidean:
       return Geometry::Euclidean;
     case GeometryChoice::Hyperbolic:
@@ -22,22 +23,23 @@ Geometry choose_geometry(GeometryChoice choice, const CompactMesh& mesh) {
     case GeometryChoice::Spherical:
       return Geometry::Spherical;
   }
-  return Geometry::Euclidean;
+  return std::nullopt;
 }
 
-TargetCurvature choose_target(const MeshInput& in, TargetChoice choice) {
-  const CompactMesh& mesh = in.mesh;
+void choose_target(const MeshInput& in, TargetChoice choice, UniformizationOptions& o) {
   switch (choice) {
     case TargetChoice::Auto:
-      return TargetCurvature::automatic(mesh);
+      o.preset = TargetPreset::Automatic;
+      return;
     case TargetChoice::FreeBoundary:
-      if (mesh.is_closed()) {
-        throw InvalidTargetError("target 'Free boundary' needs a boundary, but the mesh is a " +
-                                 mesh.topology_name() + "; choose 'Zero curvature everywhere'");
-      }
-      return TargetCurvature::free_boundary(mesh);
+      o.preset = TargetPreset::FreeBoundary;
+      return;
     case TargetChoice::Zero:
-      return TargetCurvature::zero(mesh);
+      o.preset = TargetPreset::Zero;
+      return;
+    case TargetChoice::UnitDisk:
+      o.preset = TargetPreset::UnitDisk;
+      return;
     case TargetChoice::VertexQuality:
       if (in.quality.empty()) {
         throw InvalidTargetError(
@@ -45,11 +47,11 @@ TargetCurvature choose_target(const MeshInput& in, TargetChoice choice) {
             "quality; compute one first (e.g. Filters > Quality Measure "
             "and Computations > Per Vertex Quality Function)");
       }
-      return TargetCurvature::from_values(
-          mesh, Eigen::Map<const Eigen::VectorXd>(in.quality.data(),
-                                                  static_cast<long>(in.quality.size())));
+      o.preset = TargetPreset::Values;
+      o.values = Eigen::Map<const Eigen::VectorXd>(in.quality.data(),
+                                                   static_cast<long>(in.quality.size()));
+      return;
   }
-  return TargetCurvature::automatic(mesh);
 }
 
 std::vector<int> mixed_eps(const MeshInput& in, MixedEpsSource source) {
@@ -74,54 +76,80 @@ std::vector<int> mixed_eps(const MeshInput& in, MixedEpsSource source) {
 
 FilterComputation compute(const MeshInput& input, const FilterSettings& settings,
                           const std::function<bool(const FlowProgress&)>& progress) {
-  const CompactMesh& mesh = input.mesh;
+  UniformizationOptions o;
+  o.geometry = chosen_geometry(settings.geometry);
+  choose_target(input, settings.target, o);
+  o.scheme.scheme = settings.scheme;
+  o.scheme.intersection_angle = settings.thurston_angle_degrees * kPi / 180;
+  if (settings.scheme == Scheme::Mixed) o.scheme.eps = mixed_eps(input, settings.mixed_eps);
+  o.flow.tolerance = settings.tolerance;
+  o.flow.max_iterations = settings.max_iterations;
+  o.flow.linear_solver = settings.linear_solver;
+  o.flow.max_step_halvings = settings.max_step_halvings;
+  o.flow.edge_flips = settings.edge_flips;
+  o.flow.progress = progress;
   FilterComputation c;
-  c.geometry = choose_geometry(settings.geometry, mesh);
-  SchemeOptions scheme;
-  scheme.scheme = settings.scheme;
-  scheme.intersection_angle = settings.thurston_angle_degrees * kPi / 180;
-  if (settings.scheme == Scheme::Mixed) scheme.eps = mixed_eps(input, settings.mixed_eps);
-  const TargetCurvature target = choose_target(input, settings.target);
-  FlowOptions options;
-  options.tolerance = settings.tolerance;
-  options.max_iterations = settings.max_iterations;
-  options.linear_solver = settings.linear_solver;
-  options.max_step_halvings = settings.max_step_halvings;
-  options.edge_flips = settings.edge_flips;
-  options.progress = progress;
-  c.result = compute_ricci_flow(mesh, c.geometry, scheme, target, options);
-  if (c.geometry == Geometry::Euclidean && mesh.is_disk()) {
-    c.layout = layout_disk(result_triangulation(mesh, c.result), c.result.edge_lengths,
-                           settings.linear_solver);
-    c.flipped_input_faces = count_flipped_faces(mesh, c.layout->position);
-    c.texture = normalized_texture_coordinates(c.layout->position);
+  c.uniformization = uniformize(input.mesh, o);
+  const FlowResult& r = c.uniformization.result;
+  if (!r.converged) {
+    throw ConvergenceError("ricci flow (" + to_string(c.uniformization.geometry) + ", " +
+                               to_string(settings.scheme) + "): " + r.failure,
+                           r.iterations, r.residual);
   }
+  c.texture = texture_coordinates(c.uniformization);
   return c;
+}
+
+WrittenComponents written_components(const FilterSettings& settings, const FilterComputation& c) {
+  WrittenComponents w;
+  w.quality_and_color = settings.write_quality;
+  w.vertex_texcoord = settings.write_texture_coordinates && !c.texture.vertex.empty();
+  w.wedge_texcoord = settings.write_texture_coordinates && !c.texture.wedge.empty();
+  w.layout_layer = settings.add_layout_layer && c.has_vertex_layout();
+  return w;
 }
 
 std::vector<std::string> summary(const MeshInput& input, const FilterSettings& settings,
                                  const FilterComputation& c) {
   const CompactMesh& mesh = input.mesh;
+  const Uniformization& u = c.uniformization;
+  const FlowResult& r = u.result;
   std::vector<std::string> lines;
   std::ostringstream s;
   s << "Ricci flow: " << mesh.topology_name() << ", " << mesh.num_vertices() << " vertices, "
-    << mesh.num_faces() << " faces; " << to_string(c.geometry) << " geometry, "
-    << to_string(settings.scheme) << " scheme";
+    << mesh.num_faces() << " faces; " << to_string(u.geometry) << " geometry, "
+    << to_string(settings.scheme) << " scheme, target " << to_string(u.preset);
   lines.push_back(s.str());
   s.str("");
   s.precision(3);
-  s << "Converged in " << c.result.iterations << " Newton iterations with " << c.result.num_flips
-    << " edge flips: max |K - Kbar| = " << c.result.residual << " (" << c.result.times.total
-    << " s)";
+  s << "Converged in " << r.iterations << " Newton iterations with " << r.num_flips
+    << " edge flips: max |K - Kbar| = " << u.quality.max_curvature_error << ", mean "
+    << u.quality.mean_curvature_error << " (" << r.times.total << " s)";
   lines.push_back(s.str());
-  if (c.layout) {
+  if (u.preset == TargetPreset::UnitDisk) {
     s.str("");
-    s << "Planar layout: " << c.flipped_input_faces << " of the mesh's faces flipped, max relative "
-      << "edge length error " << c.layout->max_relative_length_error;
+    s << "Boundary loops on circles after " << u.boundary_iterations << " flows ("
+      << u.newton_iterations << " Newton iterations): circle error " << u.circle_error;
     lines.push_back(s.str());
-  } else {
-    lines.push_back("No layout written: only Euclidean disks are laid out so far (this is a " +
-                    mesh.topology_name() + " in " + to_string(c.geometry) + " geometry)");
+  }
+  if (u.layout == LayoutKind::None) {
+    lines.push_back("No layout: a " + mesh.topology_name() + " in " + to_string(u.geometry) +
+                    " geometry has none here");
+    return lines;
+  }
+  const LayoutQuality& q = u.quality;
+  s.str("");
+  s << "Layout (" << to_string(u.layout) << "): " << q.flipped_faces
+    << " faces flipped; quasi-conformal ratio median " << q.quasi_conformal_median << ", 95% "
+    << q.quasi_conformal_p95 << ", max " << q.quasi_conformal_max << "; area ratio 5%.."
+    << "95% " << q.area_ratio_p5 << ".." << q.area_ratio_p95;
+  lines.push_back(s.str());
+  if (u.model && !u.model->cut.paths.empty()) {
+    s.str("");
+    s << "Cut into a disk along " << u.model->cut.paths.size() << " paths ("
+      << u.model->cut.num_generators << " generators): closure error " << u.model->closure_error
+      << ", surface group relation error " << u.relation_error;
+    lines.push_back(s.str());
   }
   return lines;
 }

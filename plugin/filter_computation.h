@@ -12,9 +12,8 @@
 #include <vcg/complex/complex.h>
 
 #include "filter_settings.h"
-#include "ricci/layout.h"
 #include "ricci/mesh_io.h"
-#include "ricci/ricci_flow.h"
+#include "ricci/uniformize.h"
 
 namespace ricci::plugin {
 
@@ -27,12 +26,22 @@ struct MeshInput {
 };
 
 struct FilterComputation {
-  Geometry geometry = Geometry::Euclidean;
-  FlowResult result;
-  std::optional<PlanarLayout> layout;    //!< Euclidean disks
-  int flipped_input_faces = 0;           //!< input faces the layout turns over (after flips)
-  std::vector<Eigen::Vector2d> texture;  //!< the layout in [0,1]^2
+  Uniformization uniformization;  //!< flow, layout and its quality
+  TextureCoordinates texture;     //!< per vertex (plane) or per face corner (cut open)
+
+  const FlowResult& result() const { return uniformization.result; }
+  //! The layout has one position per vertex (plane, sphere).
+  bool has_vertex_layout() const { return !uniformization.position.empty(); }
 };
+
+//! The optional mesh components a computation writes, for the adapter to enable first.
+struct WrittenComponents {
+  bool quality_and_color = false;
+  bool vertex_texcoord = false;
+  bool wedge_texcoord = false;
+  bool layout_layer = false;  //!< a new layer at the per-vertex layout
+};
+WrittenComponents written_components(const FilterSettings& settings, const FilterComputation& c);
 
 //! Reads positions, faces, selection and, if has_quality, the quality of the live vertices.
 //! (MeshLab's meshes always carry a quality field; whether it holds data is in the MeshModel's
@@ -55,7 +64,7 @@ MeshInput read_mesh_input(const MeshT& m, bool has_quality) {
   return in;
 }
 
-//! Runs the flow (and the layout of a Euclidean disk).
+//! Runs the flow and lays out its result (uniformize.h).
 //! \throws the core's errors, and ConvergenceError when the flow does not converge.
 FilterComputation compute(const MeshInput& input, const FilterSettings& settings,
                           const std::function<bool(const FlowProgress&)>& progress = {});
@@ -65,59 +74,78 @@ std::vector<std::string> summary(const MeshInput& input, const FilterSettings& s
                                  const FilterComputation& c);
 
 //! Writes the results: custom attributes ricci_u, ricci_radius, ricci_curvature, ricci_target
-//! (float) and, with a layout, ricci_layout (Point3) and vertex texture coordinates; vertex
-//! quality = u with a color ramp. The caller enables the optional components first (quality,
-//! color, texture coordinates) as the settings ask.
+//! (float) and, with a per-vertex layout, ricci_layout (Point3); texture coordinates per vertex
+//! (plane) or per wedge (cut open); vertex quality = u with a color ramp. The caller enables the
+//! optional components first (quality, color, vertex or wedge texture coordinates) as
+//! texture_components() and the settings ask.
 template <class MeshT>
 void write_results(MeshT& m, const MeshInput& input, const FilterSettings& settings,
                    const FilterComputation& c) {
   using Allocator = vcg::tri::Allocator<MeshT>;
   using Scalar = typename MeshT::ScalarType;
   using Point3 = vcg::Point3<Scalar>;
+  const FlowResult& result = c.result();
   auto u = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_u");
   auto radius = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_radius");
   auto curvature = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_curvature");
   auto target = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_target");
-  const bool write_uv = c.layout && settings.write_texture_coordinates;
-  if (write_uv) vcg::tri::RequirePerVertexTexCoord(m);
+  const bool vertex_uv = !c.texture.vertex.empty() && settings.write_texture_coordinates;
+  const bool wedge_uv = !c.texture.wedge.empty() && settings.write_texture_coordinates;
+  if (vertex_uv) vcg::tri::RequirePerVertexTexCoord(m);
+  if (wedge_uv) vcg::tri::RequirePerFaceWedgeTexCoord(m);
   if (settings.write_quality) vcg::tri::RequirePerVertexQuality(m);
   std::optional<typename MeshT::template PerVertexAttributeHandle<Point3>> layout;
-  if (c.layout) layout = Allocator::template GetPerVertexAttribute<Point3>(m, "ricci_layout");
+  if (c.has_vertex_layout()) {
+    layout = Allocator::template GetPerVertexAttribute<Point3>(m, "ricci_layout");
+  }
   for (size_t i = 0; i < m.vert.size(); ++i) {
     const int v = input.compact_index[i];
     if (v < 0) continue;
     auto& vertex = m.vert[i];
-    u[vertex] = static_cast<Scalar>(c.result.u[v]);
-    radius[vertex] = static_cast<Scalar>(c.result.radius[v]);
-    curvature[vertex] = static_cast<Scalar>(c.result.curvature[v]);
-    target[vertex] = static_cast<Scalar>(c.result.target[v]);
+    u[vertex] = static_cast<Scalar>(result.u[v]);
+    radius[vertex] = static_cast<Scalar>(result.radius[v]);
+    curvature[vertex] = static_cast<Scalar>(result.curvature[v]);
+    target[vertex] = static_cast<Scalar>(result.target[v]);
     if (layout) {
-      const Eigen::Vector2d& p = c.layout->position[v];
-      (*layout)[vertex] = Point3(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()), 0);
+      const Eigen::Vector3d& p = c.uniformization.position[v];
+      (*layout)[vertex] = Point3(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()),
+                                 static_cast<Scalar>(p.z()));
     }
-    if (write_uv) {
-      vertex.T().U() = static_cast<Scalar>(c.texture[v].x());
-      vertex.T().V() = static_cast<Scalar>(c.texture[v].y());
+    if (vertex_uv) {
+      vertex.T().U() = static_cast<Scalar>(c.texture.vertex[v].x());
+      vertex.T().V() = static_cast<Scalar>(c.texture.vertex[v].y());
       vertex.T().N() = 0;
     }
-    if (settings.write_quality) vertex.Q() = static_cast<Scalar>(c.result.u[v]);
+    if (settings.write_quality) vertex.Q() = static_cast<Scalar>(result.u[v]);
+  }
+  if (wedge_uv) {
+    size_t f = 0;  // compact faces are the live faces in storage order
+    for (auto& face : m.face) {
+      if (face.IsD()) continue;
+      for (int k = 0; k < 3; ++k) {
+        face.WT(k).U() = static_cast<Scalar>(c.texture.wedge[f][k].x());
+        face.WT(k).V() = static_cast<Scalar>(c.texture.wedge[f][k].y());
+        face.WT(k).N() = 0;
+      }
+      ++f;
+    }
   }
   if (settings.write_quality && vcg::tri::HasPerVertexColor(m)) {
     vcg::tri::UpdateColor<MeshT>::PerVertexQualityRamp(m);
   }
 }
 
-//! Moves the vertices of `layer`, a copy of the input mesh, to the planar layout (z = 0).
-//! \pre c.layout, and layer has the input's vertex slots.
+//! Moves the vertices of `layer`, a copy of the input mesh, to the per-vertex layout (the plane
+//! at z = 0, or the unit sphere). \pre c.has_vertex_layout(), and layer has the input's slots.
 template <class MeshT>
 void place_at_layout(MeshT& layer, const MeshInput& input, const FilterComputation& c) {
   using Scalar = typename MeshT::ScalarType;
   for (size_t i = 0; i < layer.vert.size(); ++i) {
     const int v = input.compact_index[i];
     if (v < 0) continue;
-    const Eigen::Vector2d& p = c.layout->position[v];
-    layer.vert[i].P() =
-        vcg::Point3<Scalar>(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()), 0);
+    const Eigen::Vector3d& p = c.uniformization.position[v];
+    layer.vert[i].P() = vcg::Point3<Scalar>(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()),
+                                            static_cast<Scalar>(p.z()));
   }
 }
 

@@ -46,9 +46,10 @@ const std::vector<ParameterSpec>& parameter_specs() {
        0,
        {"Auto by topology", "Euclidean (E2)", "Hyperbolic (H2)", "Spherical (S2)"},
        "Background geometry",
-       "Geometry of the triangles of the result. Auto: spherical for a closed genus-0 surface, "
-       "Euclidean for a torus and for every surface with boundary, hyperbolic for closed genus "
-       ">= 2."},
+       "Geometry of the triangles of the result. Auto: the target's (for the Auto target: "
+       "spherical for a closed genus-0 surface, Euclidean for a torus and for genus 0 with "
+       "boundary, hyperbolic for genus >= 2 and for genus >= 1 with boundary; for per-vertex "
+       "targets the one Gauss-Bonnet admits)."},
       {"scheme",
        Kind::Enum,
        3,
@@ -75,12 +76,15 @@ const std::vector<ParameterSpec>& parameter_specs() {
       {"target",
        Kind::Enum,
        0,
-       {"Auto (free boundary, or zero when closed)", "Free boundary", "Zero curvature everywhere",
-        "Per vertex from vertex quality"},
+       {"Auto by topology (uniformization)", "Free boundary", "Zero curvature everywhere",
+        "Per vertex from vertex quality", "Unit disk / circle domain"},
        "Target curvature",
+       "Auto: round sphere (closed genus 0), flat torus (genus 1), hyperbolic metric (genus >= 2, "
+       "geodesic boundary when it has one), unit disk (a disk) or circle domain (genus 0 with "
+       "several boundaries). Unit disk: boundary loops on circles, the outer one the unit circle. "
        "Free boundary: u = 0 on the boundary (its lengths kept), flat inside: least area "
-       "distortion. Zero: Kbar = 0 at every vertex (flat torus, hyperbolic metric, round sphere). "
-       "Vertex quality: Kbar in radians per vertex; NaN holds that vertex's u fixed."},
+       "distortion. Zero: Kbar = 0 at every vertex. Vertex quality: Kbar in radians per vertex; "
+       "NaN holds that vertex's u fixed."},
       {"tolerance", Kind::Float, 1e-10, {}, "Tolerance", "Converged when max |K - Kbar| <= this."},
       {"maxIterations", Kind::Int, 100, {}, "Iteration limit", "Newton iterations at most."},
       {"linearSolver",
@@ -107,8 +111,9 @@ const std::vector<ParameterSpec>& parameter_specs() {
        Kind::Bool,
        1,
        {},
-       "Write UV (vertex texture coordinates)",
-       "For a planar layout (Euclidean disk), store it as vertex texture coordinates in [0,1]^2."},
+       "Write UV (texture coordinates)",
+       "Store a planar layout as texture coordinates in [0,1]^2: per vertex for a disk or circle "
+       "domain; per wedge (face corner) for surfaces cut open (torus, Poincare disk)."},
       {"writeQuality",
        Kind::Bool,
        1,
@@ -120,7 +125,8 @@ const std::vector<ParameterSpec>& parameter_specs() {
        0,
        {},
        "Add a layer with the layout",
-       "Add a new mesh layer whose vertices are at the planar layout (z = 0)."},
+       "Add a new mesh layer whose vertices are at the layout: the plane (z = 0) for disks and "
+       "circle domains, the unit sphere for genus 0 in spherical geometry."},
   };
   return specs;
 }
@@ -162,7 +168,8 @@ std::string filter_name() {
 
 std::string filter_info() {
   return "Computes a discrete metric of prescribed curvature that is conformal to the mesh, by "
-         "Newton's method on the Ricci energy, and for disks its layout in the plane (UV). One "
+         "Newton's method on the Ricci energy, and its layout: in the plane (UV), in the Poincare "
+         "disk, or on the unit sphere. One "
          "algorithm for 3 background geometries x 6 schemes, after M. Zhang, R. Guo, W. Zeng, "
          "F. Luo, S.-T. Yau and X. Gu, <i>The Unified Surface Ricci Flow</i>.<br><br>"
          "<b>Which scheme:</b> <i>Yamabe</i> (default) keeps the mesh's own conformal structure "
@@ -172,8 +179,11 @@ std::string filter_info() {
          "of a prescribed circle pattern; <i>mixed</i> takes eps per vertex (selection or quality "
          "sign).<br><br>"
          "<b>Results:</b> per-vertex attributes ricci_u, ricci_radius, ricci_curvature, "
-         "ricci_target and, with a planar layout, ricci_layout; vertex quality = u with a color "
-         "ramp; vertex texture coordinates for Euclidean disks. The mesh must be one connected, "
+         "ricci_target and, for layouts one point per vertex (disk, circle domain, sphere), "
+         "ricci_layout; vertex quality = u with a color ramp; vertex texture coordinates for disks "
+         "and circle domains, wedge texture coordinates for surfaces cut open (torus in the plane, "
+         "higher genus in the Poincare disk). The log reports the layout's quality. The mesh must "
+         "be one connected, "
          "manifold, orientable triangle mesh without degenerate faces; otherwise it is left "
          "unchanged and the log says why.";
 }

@@ -15,7 +15,8 @@ namespace ricci::plugin {
 
 enum class GeometryChoice { Auto, Euclidean, Hyperbolic, Spherical };
 enum class MixedEpsSource { Selection, QualitySign };
-enum class TargetChoice { Auto, FreeBoundary, Zero, VertexQuality };
+//! In dialog order; new choices are appended so that saved scripts keep their meaning.
+enum class TargetChoice { Auto, FreeBoundary, Zero, VertexQuality, UnitDisk };
 
 //! Everything the filter needs to know, in core terms.
 struct FilterSettings {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "ply_reader.h"
 #include "test_meshes.h"
@@ -35,7 +36,7 @@ ServerRun meshlabserver(const std::string& input, const std::string& output,
   const std::string log = temp("server.log");
   std::remove(output.c_str());
   const std::string cmd = "xvfb-run -a " + std::string(RICCI_MESHLAB_PREFIX) +
-                          "/bin/meshlabserver -i " + input + " -o " + output + " -m vq vt -s " +
+                          "/bin/meshlabserver -i " + input + " -o " + output + " -m vq vt wt -s " +
                           mlx + " >" + log + " 2>&1 </dev/null";
   const int status = std::system(cmd.c_str());
   ServerRun r;
@@ -63,13 +64,26 @@ TEST(MeshlabServer, EuclideanScriptFlattensADisk) {
   const ricci::CompactMesh mesh = ricci::test::cgal_mesh("nefertiti.off");
   ASSERT_EQ(ply.vertex.at("quality").size(), static_cast<size_t>(mesh.num_vertices()));
   double max_u = 0;
+  // The auto target maps a disk onto the unit disk: the boundary's UVs lie on one circle
+  // (algebraic least-squares fit x^2 + y^2 + d x + e y + f = 0).
+  const std::vector<int>& loop = mesh.boundary_loops()[0];
+  Eigen::MatrixXd fit(loop.size(), 3);
+  Eigen::VectorXd rhs(loop.size());
+  for (size_t i = 0; i < loop.size(); ++i) {
+    const double x = ply.vertex.at("texture_u")[loop[i]], y = ply.vertex.at("texture_v")[loop[i]];
+    fit.row(static_cast<long>(i)) << x, y, 1.0;
+    rhs[static_cast<long>(i)] = -(x * x + y * y);
+  }
+  const Eigen::Vector3d def = fit.colPivHouseholderQr().solve(rhs);
+  const Eigen::Vector2d center(-def[0] / 2, -def[1] / 2);
+  const double radius = std::sqrt(center.squaredNorm() - def[2]);
+  for (int v : loop) {
+    const Eigen::Vector2d uv(ply.vertex.at("texture_u")[v], ply.vertex.at("texture_v")[v]);
+    EXPECT_NEAR((uv - center).norm() / radius, 1.0, 1e-5) << "boundary UV off the circle";
+  }
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     const double u = ply.vertex.at("quality")[v];
     ASSERT_TRUE(std::isfinite(u));
-    // Yamabe with a free boundary: u stays 0 on the boundary.
-    if (mesh.is_boundary_vertex(v)) {
-      EXPECT_EQ(u, 0.0);
-    }
     max_u = std::max(max_u, std::abs(u));
     EXPECT_GE(ply.vertex.at("texture_u")[v], 0.0);
     EXPECT_LE(ply.vertex.at("texture_v")[v], 1.0);
@@ -96,15 +110,16 @@ TEST(MeshlabServer, EuclideanScriptFlattensADisk) {
 
 TEST(MeshlabServer, EachGeometryScriptOnItsTopology) {
   struct Case {
-    std::string mesh, mlx, geometry;
+    std::string mesh, mlx, geometry, layout;
   };
-  const Case cases[] = {{"pipe.off", "ricci_flow_euclidean.mlx", "euclidean"},
-                        {"eight.off", "ricci_flow_hyperbolic.mlx", "hyperbolic"},
-                        {"sphere.off", "ricci_flow_spherical.mlx", "spherical"},
-                        {"nefertiti.off", "ricci_flow_auto.mlx", "euclidean"},
-                        {"sphere.off", "ricci_flow_auto.mlx", "spherical"},
-                        {"pipe.off", "ricci_flow_auto.mlx", "euclidean"},
-                        {"eight.off", "ricci_flow_auto.mlx", "hyperbolic"}};
+  const Case cases[] = {{"pipe.off", "ricci_flow_euclidean.mlx", "euclidean", "plane-cut"},
+                        {"eight.off", "ricci_flow_hyperbolic.mlx", "hyperbolic", "poincare-disk"},
+                        {"sphere.off", "ricci_flow_spherical.mlx", "spherical", "sphere"},
+                        {"nefertiti.off", "ricci_flow_auto.mlx", "euclidean", "plane"},
+                        {"head.off", "ricci_flow_auto.mlx", "euclidean", "plane"},
+                        {"sphere.off", "ricci_flow_auto.mlx", "spherical", "sphere"},
+                        {"pipe.off", "ricci_flow_auto.mlx", "euclidean", "plane-cut"},
+                        {"eight.off", "ricci_flow_auto.mlx", "hyperbolic", "poincare-disk"}};
   for (const auto& c : cases) {
     const std::string out = temp("closed.ply");
     const ServerRun r = meshlabserver(ricci::test::cgal_mesh_path(c.mesh), out, script(c.mlx));
@@ -119,6 +134,19 @@ TEST(MeshlabServer, EachGeometryScriptOnItsTopology) {
       hi = std::max(hi, u);
     }
     EXPECT_GT(hi - lo, 1e-3) << c.mesh << ": quality holds u, which varies";
+    EXPECT_NE(r.log.find("Layout (" + c.layout + ")"), std::string::npos) << r.log;
+    // Surfaces cut open come back with wedge texture coordinates, the others per vertex.
+    const bool cut_open = c.layout == "plane-cut" || c.layout == "poincare-disk";
+    if (cut_open) {
+      EXPECT_EQ(ply.face_texcoords.size(), ply.faces.size()) << c.mesh;
+    }
+    EXPECT_EQ(ply.has_vertex("texture_u"), c.layout == "plane") << c.mesh;
+    for (const auto& t : ply.face_texcoords) {
+      for (double x : t) {
+        EXPECT_GE(x, 0.0);
+        EXPECT_LE(x, 1.0);
+      }
+    }
   }
 }
 

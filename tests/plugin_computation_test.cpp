@@ -24,6 +24,7 @@ void load(CMeshO& m, const std::string& name) {
 // CMeshO always has quality and color; texture coordinates are optional.
 void enable_outputs(CMeshO& m) {
   m.vert.EnableTexCoord();
+  m.face.EnableWedgeTexCoord();
 }
 
 // vcglib's mesh destructor leaves custom attributes allocated (MeshLab frees them itself).
@@ -45,7 +46,7 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   int progress_calls = 0;
   const FilterComputation c =
       compute(input, settings, [&](const FlowProgress&) { return ++progress_calls > 0; });
-  ASSERT_TRUE(c.layout.has_value());
+  ASSERT_EQ(c.uniformization.layout, LayoutKind::Plane);  // auto: the unit disk
   EXPECT_GT(progress_calls, 1);
   enable_outputs(m);
   write_results(m, input, settings, c);
@@ -62,10 +63,14 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   for (size_t i = 0; i < m.vert.size(); ++i) {
     const auto& v = m.vert[i];
     EXPECT_FLOAT_EQ(v.cQ(), u[v]);
-    EXPECT_FLOAT_EQ(u[v], static_cast<float>(c.result.u[input.compact_index[i]]));
-    EXPECT_EQ(std::isnan(target[v]), mesh.is_boundary_vertex(input.compact_index[i]));
-    if (!mesh.is_boundary_vertex(input.compact_index[i])) {
+    EXPECT_FLOAT_EQ(u[v], static_cast<float>(c.result().u[input.compact_index[i]]));
+    EXPECT_FALSE(std::isnan(target[v]));
+    EXPECT_NEAR(k[v], target[v], 1e-6f);
+    if (mesh.is_boundary_vertex(input.compact_index[i])) {
+      EXPECT_NEAR(layout[v].Norm(), 1.0f, 1e-5f);  // on the unit circle
+    } else {
       EXPECT_NEAR(k[v], 0.0f, 1e-6f);
+      EXPECT_LT(layout[v].Norm(), 1.0f);
     }
     EXPECT_GE(v.cT().U(), 0.0f);
     EXPECT_LE(v.cT().U(), 1.0f);
@@ -76,18 +81,21 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   }
   EXPECT_TRUE(colors_differ) << "quality color ramp";
   const auto lines = summary(input, settings, c);
-  ASSERT_EQ(lines.size(), 3u);
+  ASSERT_EQ(lines.size(), 4u);
   EXPECT_NE(lines[1].find("Converged in"), std::string::npos);
+  EXPECT_NE(lines[2].find("on circles"), std::string::npos);
+  EXPECT_NE(lines[3].find("Layout (plane): 0 faces flipped"), std::string::npos) << lines[3];
 
   // The optional layout layer: a copy of the mesh moved onto the plane; its edges that the flow
-  // kept (not flipped) have their flat lengths.
-  const Triangulation& flow_triangulation = result_triangulation(mesh, c.result);
+  // kept (not flipped) have their flat lengths, all scaled by the same factor (unit disk).
+  const Triangulation& flow_triangulation = result_triangulation(mesh, c.result());
   std::map<std::pair<int, int>, double> flat_length;
   for (int edge = 0; edge < flow_triangulation.num_edges(); ++edge) {
     const auto ends = flow_triangulation.edge_vertices(edge);
-    flat_length[{ends[0], ends[1]}] = c.result.edge_lengths[edge];
+    flat_length[{ends[0], ends[1]}] = c.result().edge_lengths[edge];
   }
   int compared = 0;
+  double scale = 0;
   CMeshO layer;
   FreeAttributesAtExit layer_cleanup{layer};
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(layer, m);
@@ -99,14 +107,16 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
       const int b = input.compact_index[vcg::tri::Index(layer, f.cV((e + 1) % 3))];
       const auto it = flat_length.find({std::min(a, b), std::max(a, b)});
       if (it == flat_length.end()) continue;
-      EXPECT_NEAR(vcg::Distance(f.cP(e), f.cP((e + 1) % 3)) / it->second, 1.0, 1e-5);
+      const double ratio = vcg::Distance(f.cP(e), f.cP((e + 1) % 3)) / it->second;
+      if (scale == 0) scale = ratio;
+      EXPECT_NEAR(ratio / scale, 1.0, 1e-5);
       ++compared;
     }
   }
   EXPECT_GT(compared, mesh.num_edges());  // the kept edges, interior ones from both sides
 }
 
-TEST(PluginComputation, ClosedSurfacesGetMetricButNoLayout) {
+TEST(PluginComputation, ClosedSurfacesGetTheirLayouts) {
   for (const char* name : {"sphere.off", "eight.off", "pipe.off"}) {
     CMeshO m;
     FreeAttributesAtExit cleanup{m};
@@ -114,12 +124,32 @@ TEST(PluginComputation, ClosedSurfacesGetMetricButNoLayout) {
     const FilterSettings settings = settings_from_values({{"scheme", 2}});
     const MeshInput input = read_mesh_input(m, false);
     const FilterComputation c = compute(input, settings);
-    EXPECT_FALSE(c.layout.has_value());
     enable_outputs(m);
     write_results(m, input, settings, c);
     EXPECT_TRUE(has_attribute(m, "ricci_u"));
-    EXPECT_FALSE(has_attribute(m, "ricci_layout"));
-    EXPECT_NE(summary(input, settings, c)[2].find("No layout written"), std::string::npos);
+    const WrittenComponents written = written_components(settings, c);
+    EXPECT_FALSE(written.vertex_texcoord);
+    if (std::string(name) == "sphere.off") {
+      // On the unit sphere: a per-vertex layout, no texture.
+      EXPECT_FALSE(written.wedge_texcoord);
+      ASSERT_TRUE(has_attribute(m, "ricci_layout"));
+      auto layout =
+          vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<vcg::Point3f>(m, "ricci_layout");
+      for (const auto& v : m.vert) EXPECT_NEAR(layout[v].Norm(), 1.0f, 1e-6f);
+    } else {
+      // Cut open: wedge texture coordinates in the unit square.
+      EXPECT_TRUE(written.wedge_texcoord);
+      EXPECT_FALSE(has_attribute(m, "ricci_layout"));
+      for (const auto& f : m.face) {
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_GE(f.cWT(k).U(), 0.0f);
+          EXPECT_LE(f.cWT(k).V(), 1.0f);
+        }
+      }
+      const auto lines = summary(input, settings, c);
+      EXPECT_NE(lines.back().find("surface group relation error"), std::string::npos)
+          << lines.back();
+    }
   }
 }
 
@@ -139,11 +169,11 @@ TEST(PluginComputation, MixedEpsFromSelectionAndTargetFromQuality) {
       compute(input, settings_from_values({{"scheme", 5}, {"target", 3}}));
   const FilterComputation by_preset =
       compute(input, settings_from_values({{"scheme", 5}, {"target", 1}}));
-  EXPECT_LE((by_quality.result.u - by_preset.result.u).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LE((by_quality.result().u - by_preset.result().u).cwiseAbs().maxCoeff(), 1e-12);
   // The selection really made the scheme mixed: the result differs from plain Yamabe.
   const FilterComputation yamabe =
       compute(input, settings_from_values({{"scheme", 3}, {"target", 1}}));
-  EXPECT_GT((yamabe.result.radius - by_preset.result.radius).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_GT((yamabe.result().radius - by_preset.result().radius).cwiseAbs().maxCoeff(), 1e-6);
 }
 
 TEST(PluginComputation, FailureLeavesTheMeshUntouched) {
@@ -178,6 +208,7 @@ TEST(PluginComputation, FailureLeavesTheMeshUntouched) {
     }
     EXPECT_FALSE(has_attribute(m, "ricci_u"));
     EXPECT_FALSE(m.vert.IsTexCoordEnabled());
+    EXPECT_FALSE(m.face.IsWedgeTexCoordEnabled());
     ASSERT_EQ(m.vert.size(), before.size());
     for (size_t i = 0; i < before.size(); ++i) {
       EXPECT_EQ(m.vert[i].cP(), before[i]);

@@ -154,6 +154,30 @@ std::string to_string(LayoutKind k) {
   return "?";
 }
 
+TextureCoordinates texture_coordinates(const Uniformization& u) {
+  TextureCoordinates t;
+  if (u.layout == LayoutKind::Plane) {
+    std::vector<Eigen::Vector2d> planar;
+    for (const auto& p : u.position) planar.emplace_back(p.x(), p.y());
+    t.vertex = normalized_texture_coordinates(planar);
+  } else if (u.layout == LayoutKind::PlaneCut || u.layout == LayoutKind::PoincareDisk) {
+    std::vector<Eigen::Vector2d> flat;
+    for (const auto& face : u.corners) {
+      for (const auto& p : face) flat.push_back(p.head<2>());
+    }
+    if (u.layout == LayoutKind::PlaneCut) {
+      flat = normalized_texture_coordinates(flat);
+    } else {
+      for (auto& p : flat) p = (p + Eigen::Vector2d::Ones()) / 2;
+    }
+    t.wedge.resize(u.corners.size());
+    for (size_t f = 0; f < u.corners.size(); ++f) {
+      for (int c = 0; c < 3; ++c) t.wedge[f][c] = flat[3 * f + c];
+    }
+  }
+  return t;
+}
+
 std::vector<Eigen::Vector3d> normalize_to_unit_disk(std::vector<Eigen::Vector3d> points,
                                                     const std::vector<int>& boundary, int center,
                                                     int axis) {

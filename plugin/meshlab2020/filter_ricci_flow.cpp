@@ -76,7 +76,8 @@ int FilterRicciFlowPlugin::getPreConditions(QAction*) const {
 }
 
 int FilterRicciFlowPlugin::postCondition(QAction*) const {
-  return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTTEXCOORD;
+  return MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR | MeshModel::MM_VERTTEXCOORD |
+         MeshModel::MM_WEDGTEXCOORD;
 }
 
 void FilterRicciFlowPlugin::initParameterSet(QAction*, MeshModel&, RichParameterList& parameters) {
@@ -116,12 +117,14 @@ bool FilterRicciFlowPlugin::applyFilter(QAction*, MeshDocument& md,
       return true;
     });
     // Everything succeeded: only now is the mesh changed.
+    const WrittenComponents written = written_components(settings, c);
     int mask = 0;
-    if (settings.write_quality) mask |= MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
-    if (c.layout && settings.write_texture_coordinates) mask |= MeshModel::MM_VERTTEXCOORD;
+    if (written.quality_and_color) mask |= MeshModel::MM_VERTQUALITY | MeshModel::MM_VERTCOLOR;
+    if (written.vertex_texcoord) mask |= MeshModel::MM_VERTTEXCOORD;
+    if (written.wedge_texcoord) mask |= MeshModel::MM_WEDGTEXCOORD;
     m.updateDataMask(mask);
     write_results(m.cm, input, settings, c);
-    if (c.layout && settings.add_layout_layer) {
+    if (written.layout_layer) {
       MeshModel* layer = md.addNewMesh("", m.label() + " (Ricci flow layout)", false);
       layer->updateDataMask(&m);
       vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(layer->cm, m.cm);

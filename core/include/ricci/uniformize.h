@@ -88,6 +88,15 @@ LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geomet
 //!   ConvergenceError when the flow does not converge.
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& options);
 
+//! Texture coordinates in [0, 1]^2 of a layout: per vertex for Plane (scaled with the aspect ratio
+//! kept), per face corner for PlaneCut (the same) and PoincareDisk ((z + 1) / 2); none for the
+//! sphere.
+struct TextureCoordinates {
+  std::vector<Eigen::Vector2d> vertex;
+  std::vector<std::array<Eigen::Vector2d, 3>> wedge;
+};
+TextureCoordinates texture_coordinates(const Uniformization& u);
+
 //! The points scaled and moved so that the circle fitted to the `boundary` points is the unit
 //! circle; then, with center >= 0, the Moebius map of the unit disk taking point `center` to 0,
 //! and with axis >= 0 the rotation taking point `axis` onto the positive real axis.
