@@ -1,5 +1,6 @@
 #include "filter_settings.h"
 
+#include <cctype>
 #include <cmath>
 
 #include "ricci/errors.h"
@@ -186,6 +187,23 @@ std::string filter_info() {
          "be one connected, "
          "manifold, orientable triangle mesh without degenerate faces; otherwise it is left "
          "unchanged and the log says why.";
+}
+
+std::string python_filter_name() {
+  return "compute_texcoord_parametrization_ricci_flow";
+}
+
+std::string python_parameter_name(const std::string& script_name) {
+  std::string out;
+  for (size_t i = 0; i < script_name.size(); ++i) {
+    const char c = script_name[i];
+    const bool upper = std::isupper(static_cast<unsigned char>(c)) != 0;
+    if (upper && i > 0 && std::islower(static_cast<unsigned char>(script_name[i - 1]))) {
+      out += '_';
+    }
+    out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return out;
 }
 
 }  // namespace ricci::plugin

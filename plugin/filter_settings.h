@@ -60,4 +60,10 @@ FilterSettings settings_from_values(const ParameterValues& values);
 std::string filter_name();
 std::string filter_info();
 
+//! The filter's name in pymeshlab (MeshLab 2021.05 and later): a function of pymeshlab.MeshSet.
+std::string python_filter_name();
+//! A parameter's name as pymeshlab shows it (keyword arguments): the .mlx name in snake case,
+//! "thurstonAngle" -> "thurston_angle", "writeUV" -> "write_uv".
+std::string python_parameter_name(const std::string& script_name);
+
 }  // namespace ricci::plugin

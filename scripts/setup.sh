@@ -8,6 +8,12 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 third_party="$here/third_party"
 meshlab_version="2020.09+dfsg1-2"
+# MeshLab 2025.07 (the one pymeshlab 2025.7 bundles): only the upstream tarball of Debian's
+# unstable source package is used, fetched with a private apt state so the system stays bookworm.
+meshlab2025_version="2025.07~dfsg-4"
+meshlab2025_tarball="meshlab_2025.07~dfsg.orig.tar.xz"
+pymeshlab_version="2025.7.post1"
+pytest_version="8.3.4"
 cgal_demo_package="libcgal-demo"
 
 packages=(
@@ -17,6 +23,7 @@ packages=(
   qtbase5-dev libqt5opengl5-dev libglew-dev
   "meshlab=$meshlab_version"
   xvfb xauth xdotool imagemagick
+  python3-venv xz-utils
 )
 
 as_root() {
@@ -82,4 +89,52 @@ if [ ! -f "$cgal_data/.complete" ]; then
   tar -xzf "$tarball" -C "$cgal_data" data/meshes
   rm -rf "$cgal_data/pkg" "$deb"
   touch "$cgal_data/.complete"
+fi
+
+# --- MeshLab 2025.07's source (headers and vcglib for the plugin pymeshlab loads)
+meshlab2025_src="$third_party/meshlab-2025.07"
+if [ ! -f "$meshlab2025_src/.complete" ]; then
+  rm -rf "$meshlab2025_src" && mkdir -p "$meshlab2025_src/apt/lists/partial" \
+    "$meshlab2025_src/apt/cache/archives/partial" "$meshlab2025_src/apt/sources.list.d"
+  : >"$meshlab2025_src/apt/sources.list"
+  own=/etc/apt/sources.list.d/debian.sources
+  if [ ! -f "$own" ]; then
+    echo "setup: $own not found; cannot derive a deb-src entry for MeshLab 2025.07" >&2
+    exit 1
+  fi
+  # The machine's first entry, as deb-src of the unstable suite (no address is written here).
+  sed -n '1,/^$/p' "$own" | sed -e '/^#/d' -e 's/^Types:.*/Types: deb-src/' \
+    -e 's/^Suites:.*/Suites: unstable/' >"$meshlab2025_src/apt/sources.list.d/unstable-src.sources"
+  private_apt=(-o "Dir::State::Lists=$meshlab2025_src/apt/lists"
+    -o "Dir::Etc::sourcelist=$meshlab2025_src/apt/sources.list"
+    -o "Dir::Etc::sourceparts=$meshlab2025_src/apt/sources.list.d"
+    -o "Dir::Cache=$meshlab2025_src/apt/cache")
+  echo "setup: fetching MeshLab $meshlab2025_version's upstream source into $meshlab2025_src"
+  apt-get "${private_apt[@]}" update -qq
+  # The upstream tarball is all we need; the package's .dsc may be gone from the mirror, which
+  # makes apt-get exit non-zero after the tarball arrived, so the tarball itself is checked.
+  (cd "$meshlab2025_src" &&
+    apt-get "${private_apt[@]}" source --download-only -qq "meshlab=$meshlab2025_version" \
+      >/dev/null 2>&1 || true)
+  if [ ! -f "$meshlab2025_src/$meshlab2025_tarball" ]; then
+    echo "setup: apt-get source meshlab=$meshlab2025_version did not fetch $meshlab2025_tarball" >&2
+    exit 1
+  fi
+  tar -xf "$meshlab2025_src/$meshlab2025_tarball" -C "$meshlab2025_src"
+  dir=$(find "$meshlab2025_src" -maxdepth 1 -mindepth 1 -type d -name 'meshlab-*' | head -1)
+  [ -f "$dir/src/common/plugins/interfaces/filter_plugin.h" ] ||
+    { echo "setup: $dir has no src/common/plugins/interfaces/filter_plugin.h" >&2; exit 1; }
+  ln -sfn "$(basename "$dir")" "$meshlab2025_src/source"
+  rm -rf "$meshlab2025_src/apt" "$meshlab2025_src"/*.tar.* "$meshlab2025_src"/*.dsc
+  touch "$meshlab2025_src/.complete"
+fi
+
+# --- a Python with pymeshlab (its wheel carries MeshLab 2025.07) and pytest
+venv="$third_party/pymeshlab-venv"
+if [ ! -f "$venv/.complete-$pymeshlab_version" ]; then
+  rm -rf "$venv"
+  echo "setup: installing pymeshlab==$pymeshlab_version and pytest into $venv"
+  python3 -m venv "$venv"
+  "$venv/bin/pip" install -q "pymeshlab==$pymeshlab_version" "pytest==$pytest_version"
+  touch "$venv/.complete-$pymeshlab_version"
 fi

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Set up, check formatting, build with warnings as errors, and run every test: once in a Release
-# build, and once more in a build with the address and undefined-behaviour sanitizers.
+# build, once more in a build with the address and undefined-behaviour sanitizers, and the plugin
+# built for MeshLab 2025.07 loaded into pymeshlab (pytest).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 bash "$root/scripts/setup.sh"
@@ -18,3 +19,10 @@ bash "$root/scripts/build.sh" asan -DCMAKE_BUILD_TYPE=Debug -DRICCI_SANITIZE=ON 
   -DRICCI_WARNINGS_AS_ERRORS=ON -DRICCI_BUILD_PLUGIN=ON
 ASAN_OPTIONS=detect_leaks=1 ctest --test-dir "$root/build/asan" --output-on-failure \
   --parallel "$(nproc)"
+
+echo "== plugin for MeshLab 2025.07, loaded by pymeshlab (pytest)"
+bash "$root/scripts/build.sh" pymeshlab -DCMAKE_BUILD_TYPE=Release -DRICCI_WARNINGS_AS_ERRORS=ON \
+  -DRICCI_BUILD_PLUGIN=ON -DRICCI_BUILD_CLI=OFF \
+  -DRICCI_MESHLAB_SOURCE="$root/third_party/meshlab-2025.07/source" \
+  -DRICCI_PYMESHLAB_PYTHON="$root/third_party/pymeshlab-venv/bin/python"
+ctest --test-dir "$root/build/pymeshlab" --output-on-failure --verbose

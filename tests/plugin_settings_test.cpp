@@ -2,6 +2,7 @@
 // (meshlabserver aborts unless a script lists every parameter with its type).
 #include "filter_settings.h"
 
+#include <cctype>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -54,6 +55,20 @@ TEST(PluginSettings, OutOfRangeValuesAreRefused) {
   EXPECT_THROW(settings_from_values({{"tolerance", 0}}), InvalidArgumentError);
   EXPECT_THROW(settings_from_values({{"maxIterations", -3}}), InvalidArgumentError);
   EXPECT_THROW(settings_from_values({{"noSuchParameter", 1}}), InvalidArgumentError);
+}
+
+TEST(PluginSettings, PythonNamesAreDistinctSnakeCase) {
+  EXPECT_EQ(python_parameter_name("thurstonAngle"), "thurston_angle");
+  EXPECT_EQ(python_parameter_name("writeUV"), "write_uv");
+  EXPECT_EQ(python_parameter_name("geometry"), "geometry");
+  std::set<std::string> names;
+  for (const ParameterSpec& spec : parameter_specs()) {
+    const std::string name = python_parameter_name(spec.name);
+    EXPECT_TRUE(names.insert(name).second) << name;
+    for (char c : name)
+      EXPECT_TRUE(std::islower(static_cast<unsigned char>(c)) || c == '_') << name;
+  }
+  EXPECT_EQ(python_filter_name(), "compute_texcoord_parametrization_ricci_flow");
 }
 
 TEST(PluginSettings, EveryParameterHasLabelAndTooltip) {

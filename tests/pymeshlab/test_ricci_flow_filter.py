@@ -1,0 +1,144 @@
+"""The Ricci flow filter built for MeshLab 2025.07, loaded into pymeshlab's wheel and called from
+Python: every topology's layout read back through pymeshlab's API, enums by label, and bad input
+raising a clear exception with the mesh left as it was.
+
+Run by ctest in the build against MeshLab 2025.07 (RICCI_PYMESHLAB_PLUGIN names the plugin,
+RICCI_CGAL_DATA_DIR the mesh folder).
+"""
+import math
+import os
+
+import numpy as np
+import pymeshlab
+import pytest
+
+FILTER = "compute_texcoord_parametrization_ricci_flow"
+MESHES = os.environ.get("RICCI_CGAL_DATA_DIR", "")
+
+
+@pytest.fixture(scope="session", autouse=True)
+def plugin():
+    path = os.environ["RICCI_PYMESHLAB_PLUGIN"]
+    pymeshlab.load_plugin(path)
+    return path
+
+
+def mesh_set(name):
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(os.path.join(MESHES, name))
+    return ms
+
+
+def boundary_vertices(faces):
+    edges = {}
+    for f in faces:
+        for a, b in ((f[0], f[1]), (f[1], f[2]), (f[2], f[0])):
+            key = (min(a, b), max(a, b))
+            edges[key] = edges.get(key, 0) + 1
+    return sorted({v for e, n in edges.items() if n == 1 for v in e})
+
+
+def circle_fit_residual(points):
+    """max | |p - c| - r | / r of the least-squares circle through the points."""
+    a = np.column_stack([points[:, 0], points[:, 1], np.ones(len(points))])
+    b = -(points[:, 0] ** 2 + points[:, 1] ** 2)
+    d, e, f = np.linalg.lstsq(a, b, rcond=None)[0]
+    centre = np.array([-d / 2, -e / 2])
+    radius = math.sqrt(centre @ centre - f)
+    return np.max(np.abs(np.linalg.norm(points - centre, axis=1) - radius)) / radius
+
+
+def test_the_filter_is_listed_with_snake_case_parameters():
+    assert FILTER in pymeshlab.filter_list()
+    defaults = mesh_set("pipe.off").filter_parameter_values(FILTER)
+    for name in ("geometry", "scheme", "thurston_angle", "target", "tolerance", "max_iterations",
+                 "edge_flips", "write_uv", "layout_layer"):
+        assert name in defaults, name
+
+
+def test_a_disk_goes_onto_the_unit_disk_with_vertex_uvs():
+    ms = mesh_set("nefertiti.off")
+    out = ms.apply_filter(FILTER)
+    m = ms.current_mesh()
+    assert out["max_curvature_error"] <= 1e-9
+    assert out["flipped_faces"] == 0
+    assert out["circle_error"] <= 1e-8
+    assert m.has_vertex_tex_coord()
+    uv = m.vertex_tex_coord_matrix()
+    assert np.all(np.isfinite(uv)) and uv.min() >= 0 and uv.max() <= 1
+    boundary = boundary_vertices(m.face_matrix())
+    assert circle_fit_residual(uv[boundary]) <= 1e-5  # float texture coordinates
+    # Vertex quality is u; the custom attributes hold the curvature reached and its target.
+    u = m.vertex_custom_scalar_attribute_array("ricci_u")
+    assert np.allclose(m.vertex_scalar_array(), u)
+    k = m.vertex_custom_scalar_attribute_array("ricci_curvature")
+    target = m.vertex_custom_scalar_attribute_array("ricci_target")
+    assert np.max(np.abs(k - target)) <= 1e-9
+    layout = m.vertex_custom_point_attribute_matrix("ricci_layout")
+    assert np.allclose(np.linalg.norm(layout[boundary, :2], axis=1), 1, atol=1e-8)
+
+
+def test_a_circle_domain_for_genus_zero_with_three_boundaries():
+    ms = mesh_set("head.off")
+    out = ms.apply_filter(FILTER)
+    m = ms.current_mesh()
+    assert out["circle_error"] <= 1e-8
+    layout = m.vertex_custom_point_attribute_matrix("ricci_layout")
+    assert np.max(np.linalg.norm(layout[:, :2], axis=1)) == pytest.approx(1, abs=1e-8)
+    assert m.has_vertex_tex_coord()
+
+
+def test_a_closed_genus_zero_surface_goes_onto_the_unit_sphere():
+    ms = mesh_set("sphere.off")
+    out = ms.apply_filter(FILTER, layout_layer=True)
+    assert out["max_curvature_error"] <= 1e-9
+    layout = ms.current_mesh().vertex_custom_point_attribute_matrix("ricci_layout")
+    assert np.allclose(np.linalg.norm(layout, axis=1), 1, atol=1e-12)
+    assert np.linalg.norm(layout.mean(axis=0)) <= 1e-9  # centred by a Moebius map
+    assert ms.mesh_number() == 2  # the layout layer: the mesh moved onto the sphere
+    ms.set_current_mesh(1)
+    assert np.allclose(np.linalg.norm(ms.current_mesh().vertex_matrix(), axis=1), 1, atol=1e-9)
+
+
+@pytest.mark.parametrize("name, poincare", [("pipe.off", False), ("eight.off", True)])
+def test_surfaces_cut_open_get_wedge_uvs(name, poincare):
+    ms = mesh_set(name)
+    out = ms.apply_filter(FILTER)
+    m = ms.current_mesh()
+    assert out["max_curvature_error"] <= 1e-9
+    assert out["closure_error"] <= 1e-9
+    assert m.has_wedge_tex_coord() and not m.has_vertex_tex_coord()
+    wedges = m.wedge_tex_coord_matrix()
+    assert wedges.shape == (3 * m.face_number(), 2)
+    assert np.all(np.isfinite(wedges)) and wedges.min() >= 0 and wedges.max() <= 1
+    if poincare:  # (z + 1) / 2 of points of the Poincare disk
+        assert np.max(np.linalg.norm(2 * wedges - 1, axis=1)) < 1
+
+
+def test_enums_by_label_and_by_index():
+    by_label = mesh_set("pipe.off").apply_filter(
+        FILTER, geometry="Euclidean (E2)", scheme="Tangential circle packing")
+    by_index = mesh_set("pipe.off").apply_filter(FILTER, geometry=1, scheme=0)
+    assert by_label["edge_flips"] == by_index["edge_flips"] == 0  # tangential packing: no flips
+    assert by_label["quasi_conformal_median"] == by_index["quasi_conformal_median"]
+    with pytest.raises(pymeshlab.InvalidEnumException):
+        mesh_set("pipe.off").apply_filter(FILTER, scheme="Ricci")
+
+
+@pytest.mark.parametrize("name, options, reason", [
+    ("blobby_3cc.off", {}, "3 connected components"),
+    ("sphere.off", {"target": "Free boundary"}, "needs a boundary"),
+    ("pipe.off", {"geometry": "Spherical (S2)"}, "spherical geometry needs"),
+])
+def test_bad_input_raises_the_reason_and_leaves_the_mesh(name, options, reason):
+    ms = mesh_set(name)
+    before = ms.current_mesh().vertex_matrix().copy()
+    with pytest.raises(pymeshlab.PyMeshLabException) as error:
+        ms.apply_filter(FILTER, **options)
+    assert reason in str(error.value)
+    assert "the mesh is unchanged" in str(error.value)
+    m = ms.current_mesh()
+    assert np.array_equal(m.vertex_matrix(), before)
+    assert not m.has_vertex_tex_coord() and not m.has_wedge_tex_coord()
+    with pytest.raises(Exception):
+        m.vertex_custom_scalar_attribute_array("ricci_u")
