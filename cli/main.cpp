@@ -176,6 +176,10 @@ int run(const ricci::cli::Options& o) {
           u.model->cut.paths.size(), u.model->cut.num_generators, u.model->closure_error,
           u.relation_error);
     }
+    if (!u.periods.empty()) {
+      std::printf("flat torus: periods (%.6g, %.6g) and (%.6g, %.6g)\n", u.periods[0].real(),
+                  u.periods[0].imag(), u.periods[1].real(), u.periods[1].imag());
+    }
     std::printf("wrote %s\n", o.output.c_str());
     if (!o.picture.empty()) std::printf("wrote %s\n", o.picture.c_str());
     if (!o.report.empty()) std::printf("wrote %s\n", o.report.c_str());

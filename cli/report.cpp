@@ -85,8 +85,12 @@ std::string layout_json(const Uniformization& u) {
   j << ", \"flipped_faces_of_flow_triangulation\": " << m.num_flipped_faces
     << ", \"closure_error\": " << number(m.closure_error)
     << ", \"relation_error\": " << number(u.relation_error)
-    << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators
-    << ", \"deck_transformations\": [";
+    << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators;
+  if (!u.periods.empty()) {
+    j << ", \"periods\": [[" << number(u.periods[0].real()) << ", " << number(u.periods[0].imag())
+      << "], [" << number(u.periods[1].real()) << ", " << number(u.periods[1].imag()) << "]]";
+  }
+  j << ", \"deck_transformations\": [";
   // E2: z -> a z + b; H2: z -> (a z + b) / (conj(b) z + conj(a)); a and b as [re, im].
   for (size_t k = 0; k < m.deck.size(); ++k) {
     const DiskIsometry& d = m.deck[k];

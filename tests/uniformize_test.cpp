@@ -214,6 +214,26 @@ TEST(Uniformize, AutomaticChoiceByTopology) {
         LayoutKind::PoincareDisk);
 }
 
+TEST(Uniformize, FlatTorusReportsItsPeriodLattice) {
+  const CompactMesh knot = test::cgal_mesh("knot1.off");
+  const Uniformization u = uniformize(knot, {});
+  ASSERT_TRUE(u.result.converged) << u.result.failure;
+  EXPECT_EQ(u.layout, LayoutKind::PlaneCut);
+  ASSERT_EQ(u.periods.size(), 2u);
+  // The two periods span a fundamental parallelogram of the torus's area, and every deck
+  // transformation is a translation by an integer combination of them.
+  const Complex w0 = u.periods[0], w1 = u.periods[1];
+  const double det = std::imag(std::conj(w0) * w1);
+  EXPECT_NEAR(std::abs(det), u.result.area, 1e-8 * u.result.area);
+  for (const DiskIsometry& d : u.model->deck) {
+    EXPECT_LE(std::abs(d.a - 1.0), 1e-9);
+    const double m = std::imag(std::conj(d.b) * w1) / det, n = std::imag(std::conj(w0) * d.b) / det;
+    EXPECT_NEAR(m, std::round(m), 1e-8);
+    EXPECT_NEAR(n, std::round(n), 1e-8);
+  }
+  EXPECT_LE(u.relation_error, 1e-9);
+}
+
 TEST(Uniformize, TorusWithAHoleGetsAGeodesicBoundaryInH2) {
   const CompactMesh closed = test::torus(16, 8);
   std::vector<std::array<int, 3>> faces(closed.faces().begin() + 1, closed.faces().end());

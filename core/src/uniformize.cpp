@@ -344,6 +344,16 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
                                           o.center_vertex, o.axis_vertex);
     out.circle_error = circle_error(out.position, mesh);
   }
+  if (out.model && geometry == Geometry::Euclidean && mesh.is_closed() && mesh.genus() == 1) {
+    // The deck translations are sums of two generators; the most independent pair spans them.
+    double best = 0;
+    for (const DiskIsometry& a : out.model->deck) {
+      for (const DiskIsometry& b : out.model->deck) {
+        const double cross = std::abs(std::imag(std::conj(a.b) * b.b));
+        if (cross > best) best = cross, out.periods = {a.b, b.b};
+      }
+    }
+  }
   if (!out.position.empty()) out.corners = corners_of(mesh, out.position);
   out.quality = measure_layout(mesh, geometry, out.result, out.corners);
   return out;

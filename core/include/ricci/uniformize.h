@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <complex>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -72,6 +73,9 @@ struct Uniformization {
   std::optional<ModelLayout> model;      //!< the developed layout (all but E2 disks)
   double max_relative_length_error = 0;  //!< E2 disks: of the least-squares layout
   double relation_error = 0;             //!< surface_group_relation_error
+  //! Flat torus (E2, closed genus 1): two translations spanning the period lattice, from the deck
+  //! transformations; |Im(conj(w0) w1)| is the torus's area.
+  std::vector<std::complex<double>> periods;
   LayoutQuality quality;
 };
 
