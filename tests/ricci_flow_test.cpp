@@ -251,6 +251,24 @@ TEST(RicciFlow, ResultHasHistoryAndTimings) {
   EXPECT_GE(r.times.total, r.times.factorization);
 }
 
+TEST(RicciFlow, WarmStartFromASolutionNeedsNoNewtonStep) {
+  // A real scan whose flow flips edges: the solution's u is not valid on the input triangulation,
+  // so the warm start has to walk there with flips.
+  const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
+  const TargetCurvature target = TargetCurvature::free_boundary(mesh);
+  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target);
+  const FlowResult cold = run_ricci_flow(mesh, s, target);
+  ASSERT_TRUE(cold.converged);
+  ASSERT_GT(cold.num_flips, 0);
+  FlowOptions warm;
+  warm.warm_start = cold.u;
+  const FlowResult r = run_ricci_flow(mesh, s, target, warm);
+  ASSERT_TRUE(r.converged) << r.failure;
+  EXPECT_LE(r.iterations, 1);
+  EXPECT_LT(r.iterations, cold.iterations);
+  EXPECT_LE((r.u - cold.u).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(RicciFlow, CancelStopsTheFlow) {
   const CompactMesh mesh = test::bumpy_disk(10);
   FlowOptions options;

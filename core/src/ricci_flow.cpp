@@ -83,6 +83,8 @@ class NewtonSolver {
   bool compute_step(const MetricState& state, const Eigen::VectorXd& r, Eigen::VectorXd& du);
   // S2, closed genus 0: moves u towards the stereographic start (spherical_start.h) with flips.
   void walk_to_stereographic_start(Eigen::VectorXd& u, MetricState& state, FlowResult& result);
+  void walk_towards(const Eigen::VectorXd& goal, Eigen::VectorXd& u, MetricState& state,
+                    FlowResult& result);
   // Flips to (power) Delaunay; a changed connectivity gets a new Hessian pattern and analysis.
   void keep_delaunay(const Eigen::VectorXd& u, MetricState& state, FlowResult& result);
   void finish(FlowResult& result, const Eigen::VectorXd& u, const MetricState& state,
@@ -186,10 +188,15 @@ void NewtonSolver::walk_to_stereographic_start(Eigen::VectorXd& u, MetricState& 
     return;  // the direct flow may still converge
   }
   if (!lifted.allFinite()) return;
-  // The lifted u need not give valid triangles on the current triangulation: walk there in the
+  walk_towards(lifted, u, state, result);
+}
+
+void NewtonSolver::walk_towards(const Eigen::VectorXd& goal, Eigen::VectorXd& u, MetricState& state,
+                                FlowResult& result) {
+  // The goal need not give valid triangles on the current triangulation: walk there in the
   // longest valid steps, flipping to Delaunay after each (Ptolemy keeps the conformal class).
   for (int step = 0; step < 200; ++step) {
-    const Eigen::VectorXd d = lifted - u;
+    const Eigen::VectorXd d = goal - u;
     double alpha = 1;
     MetricState trial;
     for (; alpha > 1e-6; alpha *= 0.5) {
@@ -244,7 +251,15 @@ FlowResult NewtonSolver::run() {
     return result;
   }
   keep_delaunay(u, state, result);
-  if (use_stereographic_start()) walk_to_stereographic_start(u, state, result);
+  if (options_.warm_start.size() == u.size()) {
+    Eigen::VectorXd goal = options_.warm_start;
+    for (int v = 0; v < goal.size(); ++v) {
+      if (target_.is_fixed(v)) goal[v] = u[v];
+    }
+    if (goal.allFinite()) walk_towards(goal, u, state, result);
+  } else if (use_stereographic_start()) {
+    walk_to_stereographic_start(u, state, result);
+  }
   Eigen::VectorXd k = curvature(triangulation_, state);
   for (int it = 0;; ++it) {
     result.residual = max_residual(k, target_);

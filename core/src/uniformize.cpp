@@ -268,21 +268,24 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   out.structure = prepare_flow(mesh, geometry, o.scheme, target);
 
   // --- the flow; for the disk preset repeated, the boundary curvature re-fitted each time
-  // Each flow starts from the initial structure: the previous result's u may be invalid on the
-  // input triangulation when the flow flipped edges. The boundary curvature is a fixed point of
-  // flow -> circle_boundary_target, found by Anderson-accelerated iteration; a combination the
-  // flow cannot reach falls back to the plain iteration.
+  // The boundary curvature is a fixed point of flow -> circle_boundary_target, found by
+  // Anderson-accelerated iteration; a combination the flow cannot reach falls back to the plain
+  // iteration. Each flow starts from the initial structure and walks to the previous result's u
+  // (a warm start: that u may give invalid triangles on the input triangulation).
   AndersonMixing mixing(5);
   TargetCurvature plain = target;  // the last plain iterate, g(x)
+  FlowOptions flow = o.flow;
   for (;;) {
-    out.result = run_ricci_flow(mesh, out.structure, target, o.flow);
+    out.result = run_ricci_flow(mesh, out.structure, target, flow);
     out.newton_iterations += out.result.iterations;
     if (preset != TargetPreset::UnitDisk) break;
     ++out.boundary_iterations;
     if (!out.result.converged) {
-      if (target.curvature == plain.curvature) break;  // the plain iterate failed too
+      // Retry once with the plain iterate from a cold start; give up when that failed.
+      if (target.curvature == plain.curvature && flow.warm_start.size() == 0) break;
       mixing.reset();
       target = plain;
+      flow.warm_start.resize(0);
       continue;
     }
     const TargetCurvature next = circle_boundary_target(result_triangulation(mesh, out.result),
@@ -299,6 +302,7 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
       break;
     }
     plain = next;
+    flow.warm_start = out.result.u;
     target.curvature = mixing.next(target.curvature, next.curvature);
     try {
       check_target(mesh, geometry, target);

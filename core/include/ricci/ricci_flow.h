@@ -38,6 +38,10 @@ struct FlowOptions {
   //! S2 on a closed genus-0 surface: start from the stereographic lift of the flattened
   //! punctured mesh (spherical_start.h) instead of u0.
   bool stereographic_start = true;
+  //! A warm start: before Newton's iterations, walk from u0 towards this u (one value per vertex;
+  //! fixed vertices keep u0) in the longest steps that keep every triangle valid, flipping to
+  //! Delaunay after each (edge_flips). Used instead of the stereographic start. Empty: none.
+  Eigen::VectorXd warm_start;
   //! Called once per iteration; returning false cancels the flow.
   std::function<bool(const FlowProgress&)> progress;
 };
