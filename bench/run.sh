@@ -6,5 +6,7 @@ bash "$root/scripts/setup.sh"
 bash "$root/scripts/build.sh" bench -DCMAKE_BUILD_TYPE=Release -DRICCI_BUILD_TESTS=OFF \
   -DRICCI_BUILD_BENCHMARKS=ON
 mkdir -p "$root/out/bench"
-"$root/build/bench/bench/bench_flow" --benchmark_out="$root/out/bench/bench_flow.json" \
-  --benchmark_out_format=json "$@"
+for program in bench_flow bench_uniformize; do
+  "$root/build/bench/bench/$program" --benchmark_out="$root/out/bench/$program.json" \
+    --benchmark_out_format=json "$@"
+done
