@@ -254,6 +254,23 @@ TEST(Uniformize, TorusWithAHoleGetsAGeodesicBoundaryInH2) {
   }
 }
 
+TEST(Uniformize, GenusTwoWithThreeHolesGetsGeodesicBoundariesInH2) {
+  const CompactMesh mesh = test::cgal_mesh("double-torus-3-holes.off");
+  ASSERT_EQ(mesh.genus(), 2);
+  ASSERT_EQ(mesh.num_boundary_loops(), 3);
+  const Uniformization u = uniformize(mesh, {});
+  ASSERT_TRUE(u.result.converged) << u.result.failure;
+  EXPECT_EQ(u.preset, TargetPreset::Zero);
+  EXPECT_EQ(u.layout, LayoutKind::PoincareDisk);
+  for (const auto& loop : mesh.boundary_loops()) {
+    for (int v : loop) EXPECT_NEAR(u.result.curvature[v], 0.0, 1e-9);  // geodesic boundary
+  }
+  EXPECT_NEAR(u.result.area, -2 * kPi * mesh.euler_characteristic(), 1e-7);  // 10 pi
+  EXPECT_EQ(u.model->cut.num_generators, 6);  // 2 g + b - 1
+  EXPECT_LE(u.model->closure_error, 1e-9);
+  EXPECT_LE(u.relation_error, 1e-8);
+}
+
 TEST(Uniformize, RequestsThatCannotBeMetAreRefused) {
   const CompactMesh sphere = test::cgal_mesh("sphere.off");
   UniformizationOptions o;
