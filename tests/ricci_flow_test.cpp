@@ -3,6 +3,7 @@
 // of each scheme checked independently of the solver.
 #include "ricci/ricci_flow.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -10,6 +11,7 @@
 
 #include "ricci/errors.h"
 #include "ricci/metric.h"
+#include "ricci/presets.h"
 #include "test_meshes.h"
 
 namespace ricci {
@@ -251,22 +253,33 @@ TEST(RicciFlow, ResultHasHistoryAndTimings) {
   EXPECT_GE(r.times.total, r.times.factorization);
 }
 
-TEST(RicciFlow, WarmStartFromASolutionNeedsNoNewtonStep) {
-  // A real scan whose flow flips edges: the solution's u is not valid on the input triangulation,
-  // so the warm start has to walk there with flips.
+TEST(RicciFlow, ResumeFromAnotherTargetsResult) {
+  // The disk target's second flow (presets.h): boundary curvature refitted to circles through the
+  // first result's boundary chords, a target near the first. Resumed from the first result (a real
+  // scan whose flow flipped edges), it takes fewer iterations and reaches the cold start's u.
   const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
-  const TargetCurvature target = TargetCurvature::free_boundary(mesh);
-  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target);
-  const FlowResult cold = run_ricci_flow(mesh, s, target);
-  ASSERT_TRUE(cold.converged);
-  ASSERT_GT(cold.num_flips, 0);
-  FlowOptions warm;
-  warm.warm_start = cold.u;
-  const FlowResult r = run_ricci_flow(mesh, s, target, warm);
-  ASSERT_TRUE(r.converged) << r.failure;
-  EXPECT_LE(r.iterations, 1);
-  EXPECT_LT(r.iterations, cold.iterations);
-  EXPECT_LE((r.u - cold.u).cwiseAbs().maxCoeff(), 1e-9);
+  const int outer = outer_boundary_loop(mesh, mesh.input_lengths());
+  const TargetCurvature target1 = circle_boundary_target(mesh, mesh.input_lengths(), outer);
+  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target1);
+  const FlowResult first = run_ricci_flow(mesh, s, target1);
+  ASSERT_TRUE(first.converged);
+  ASSERT_GT(first.num_flips, 0);
+  const TargetCurvature target2 =
+      circle_boundary_target(result_triangulation(mesh, first), first.edge_lengths, outer);
+  const FlowResult cold = run_ricci_flow(mesh, s, target2);
+  FlowOptions resume;
+  resume.resume = &first;
+  const FlowResult warm = run_ricci_flow(mesh, s, target2, resume);
+  ASSERT_TRUE(cold.converged) << cold.failure;
+  ASSERT_TRUE(warm.converged) << warm.failure;
+  EXPECT_LT(warm.iterations, cold.iterations);
+  EXPECT_LE(warm.num_analyses, cold.num_analyses);
+  EXPECT_LE((warm.u - cold.u).cwiseAbs().maxCoeff(), 1e-8);
+  // The flips replay from the input: the sequence starts with the first flow's.
+  ASSERT_GE(warm.flip_sequence.size(), first.flip_sequence.size());
+  EXPECT_TRUE(std::equal(first.flip_sequence.begin(), first.flip_sequence.end(),
+                         warm.flip_sequence.begin()));
+  ASSERT_TRUE(warm.triangulation.has_value());
 }
 
 TEST(RicciFlow, CancelStopsTheFlow) {

@@ -62,9 +62,11 @@ class NewtonSolver {
   NewtonSolver(const CompactMesh& mesh, const ConformalStructure& structure,
                const TargetCurvature& target, const FlowOptions& options)
       : mesh_(mesh),
-        triangulation_(mesh),
+        triangulation_(options.resume && options.resume->triangulation
+                           ? *options.resume->triangulation
+                           : static_cast<const Triangulation&>(mesh)),
         input_structure_(structure),
-        structure_(structure),
+        structure_(options.resume ? options.resume->structure : structure),
         target_(target),
         options_(options),
         spherical_(structure.geometry == Geometry::Spherical),
@@ -77,14 +79,12 @@ class NewtonSolver {
  private:
   std::vector<int> make_free_index() const;
   bool use_stereographic_start() const {
-    return spherical_ && options_.stereographic_start && mesh_.is_closed() && mesh_.genus() == 0 &&
-           target_.num_fixed() == 0;
+    return spherical_ && options_.stereographic_start && !options_.resume && mesh_.is_closed() &&
+           mesh_.genus() == 0 && target_.num_fixed() == 0;
   }
   bool compute_step(const MetricState& state, const Eigen::VectorXd& r, Eigen::VectorXd& du);
   // S2, closed genus 0: moves u towards the stereographic start (spherical_start.h) with flips.
   void walk_to_stereographic_start(Eigen::VectorXd& u, MetricState& state, FlowResult& result);
-  void walk_towards(const Eigen::VectorXd& goal, Eigen::VectorXd& u, MetricState& state,
-                    FlowResult& result);
   // Flips to (power) Delaunay; a changed connectivity gets a new Hessian pattern and analysis.
   void keep_delaunay(const Eigen::VectorXd& u, MetricState& state, FlowResult& result);
   void finish(FlowResult& result, const Eigen::VectorXd& u, const MetricState& state,
@@ -173,7 +173,11 @@ void NewtonSolver::finish(FlowResult& result, const Eigen::VectorXd& u, const Me
     result.target[v] =
         target_.is_fixed(v) ? std::numeric_limits<double>::quiet_NaN() : target_.curvature[v];
   }
-  if (result.num_flips > 0) result.triangulation = triangulation_;
+  if (result.num_flips > 0 || (options_.resume && options_.resume->triangulation)) {
+    result.triangulation = triangulation_;
+  }
+  result.structure = structure_;
+  result.structure.u0 = u;
   result.num_analyses = solver_.num_analyses();
   result.num_factorizations = solver_.num_factorizations();
   result.times = times_;
@@ -188,15 +192,10 @@ void NewtonSolver::walk_to_stereographic_start(Eigen::VectorXd& u, MetricState& 
     return;  // the direct flow may still converge
   }
   if (!lifted.allFinite()) return;
-  walk_towards(lifted, u, state, result);
-}
-
-void NewtonSolver::walk_towards(const Eigen::VectorXd& goal, Eigen::VectorXd& u, MetricState& state,
-                                FlowResult& result) {
-  // The goal need not give valid triangles on the current triangulation: walk there in the
+  // The lifted u need not give valid triangles on the current triangulation: walk there in the
   // longest valid steps, flipping to Delaunay after each (Ptolemy keeps the conformal class).
   for (int step = 0; step < 200; ++step) {
-    const Eigen::VectorXd d = goal - u;
+    const Eigen::VectorXd d = lifted - u;
     double alpha = 1;
     MetricState trial;
     for (; alpha > 1e-6; alpha *= 0.5) {
@@ -230,6 +229,7 @@ void NewtonSolver::keep_delaunay(const Eigen::VectorXd& u, MetricState& state, F
 FlowResult NewtonSolver::run() {
   const auto start = Clock::now();
   FlowResult result;
+  if (options_.resume) result.flip_sequence = options_.resume->flip_sequence;
   const int n = assembler_->num_free();
   Eigen::VectorXd u = structure_.u0;
   MetricState state = evaluate_metric(triangulation_, structure_, u);
@@ -251,15 +251,7 @@ FlowResult NewtonSolver::run() {
     return result;
   }
   keep_delaunay(u, state, result);
-  if (options_.warm_start.size() == u.size()) {
-    Eigen::VectorXd goal = options_.warm_start;
-    for (int v = 0; v < goal.size(); ++v) {
-      if (target_.is_fixed(v)) goal[v] = u[v];
-    }
-    if (goal.allFinite()) walk_towards(goal, u, state, result);
-  } else if (use_stereographic_start()) {
-    walk_to_stereographic_start(u, state, result);
-  }
+  if (use_stereographic_start()) walk_to_stereographic_start(u, state, result);
   Eigen::VectorXd k = curvature(triangulation_, state);
   for (int it = 0;; ++it) {
     result.residual = max_residual(k, target_);
@@ -410,6 +402,15 @@ FlowResult run_ricci_flow(const CompactMesh& mesh, const ConformalStructure& str
   if (static_cast<int>(structure.eps.size()) != nv || structure.u0.size() != nv ||
       static_cast<int>(structure.eta.size()) != mesh.num_edges()) {
     throw InvalidArgumentError("ricci flow: the conformal structure was built for another mesh");
+  }
+  if (const FlowResult* r = options.resume) {
+    if (r->u.size() != nv || static_cast<int>(r->structure.eta.size()) != mesh.num_edges() ||
+        r->structure.geometry != structure.geometry ||
+        (r->triangulation && r->triangulation->num_vertices() != nv)) {
+      throw InvalidArgumentError(
+          "ricci flow: the result to resume from belongs to another mesh "
+          "or geometry");
+    }
   }
   NewtonSolver solver(mesh, structure, target, options);
   return solver.run();

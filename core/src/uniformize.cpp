@@ -270,11 +270,11 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   // --- the flow; for the disk preset repeated, the boundary curvature re-fitted each time
   // The boundary curvature is a fixed point of flow -> circle_boundary_target, found by
   // Anderson-accelerated iteration; a combination the flow cannot reach falls back to the plain
-  // iteration. Each flow starts from the initial structure and walks to the previous result's u
-  // (a warm start: that u may give invalid triangles on the input triangulation).
+  // iteration. Each flow resumes from the previous one: its u, triangulation and structure.
   AndersonMixing mixing(5);
   TargetCurvature plain = target;  // the last plain iterate, g(x)
   FlowOptions flow = o.flow;
+  FlowResult previous;
   for (;;) {
     out.result = run_ricci_flow(mesh, out.structure, target, flow);
     out.newton_iterations += out.result.iterations;
@@ -282,10 +282,10 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
     ++out.boundary_iterations;
     if (!out.result.converged) {
       // Retry once with the plain iterate from a cold start; give up when that failed.
-      if (target.curvature == plain.curvature && flow.warm_start.size() == 0) break;
+      if (target.curvature == plain.curvature && !flow.resume) break;
       mixing.reset();
       target = plain;
-      flow.warm_start.resize(0);
+      flow.resume = nullptr;
       continue;
     }
     const TargetCurvature next = circle_boundary_target(result_triangulation(mesh, out.result),
@@ -302,7 +302,8 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
       break;
     }
     plain = next;
-    flow.warm_start = out.result.u;
+    previous = out.result;
+    flow.resume = &previous;
     target.curvature = mixing.next(target.curvature, next.curvature);
     try {
       check_target(mesh, geometry, target);

@@ -38,10 +38,10 @@ struct FlowOptions {
   //! S2 on a closed genus-0 surface: start from the stereographic lift of the flattened
   //! punctured mesh (spherical_start.h) instead of u0.
   bool stereographic_start = true;
-  //! A warm start: before Newton's iterations, walk from u0 towards this u (one value per vertex;
-  //! fixed vertices keep u0) in the longest steps that keep every triangle valid, flipping to
-  //! Delaunay after each (edge_flips). Used instead of the stereographic start. Empty: none.
-  Eigen::VectorXd warm_start;
+  //! Continue from an earlier result of the same mesh and scheme (another target, say): start at
+  //! its u on its triangulation and conformal structure instead of at u0 on the input's. The
+  //! result's flip_sequence then begins with the earlier one. Not owned; null: start at u0.
+  const struct FlowResult* resume = nullptr;
   //! Called once per iteration; returning false cancels the flow.
   std::function<bool(const FlowProgress&)> progress;
 };
@@ -63,9 +63,13 @@ struct FlowResult {
   std::vector<double> edge_lengths;  //!< per edge of result_triangulation()
   int num_flips = 0;                 //!< edge flips done during the flow
   int connectivity_changes = 0;      //!< flip rounds that changed the triangulation
-  std::vector<int> flip_sequence;    //!< every flipped edge, in order (replays the flips)
+  //! Every flipped edge since the input triangulation, in order (replays the flips).
+  std::vector<int> flip_sequence;
   //! The final connectivity when flips changed it (edge indices as in the input).
   std::optional<Triangulation> triangulation;
+  //! The conformal structure (eps, eta) on the final triangulation, with u0 = u: where a flow
+  //! that resumes from this result starts (FlowOptions::resume).
+  ConformalStructure structure;
   double area = 0;  //!< total area in the background geometry
 
   int iterations = 0;
