@@ -29,7 +29,7 @@ TEST_P(RealMesh, ConvergesWithFlips) {
   scheme.scheme = c.scheme;
   for (int v = 0; v < mesh.num_vertices(); ++v) scheme.eps.push_back(v % 3 - 1);  // for mixed
   const FlowResult r =
-      compute_ricci_flow(mesh, c.geometry, scheme, TargetCurvature::automatic(mesh));
+      compute_ricci_flow(mesh, c.geometry, scheme, TargetCurvature::free_boundary_or_zero(mesh));
   EXPECT_TRUE(r.converged);
   EXPECT_LE(r.residual, 1e-10);
   EXPECT_LE(r.iterations, 20);
@@ -86,7 +86,7 @@ TEST(RealMesh, FixedTriangulationStallsWhereFlipsConverge) {
   SchemeOptions scheme;
   FlowOptions fixed;
   fixed.edge_flips = false;
-  const TargetCurvature target = TargetCurvature::automatic(mesh);
+  const TargetCurvature target = TargetCurvature::free_boundary_or_zero(mesh);
   const FlowResult stalled =
       run_ricci_flow(mesh, prepare_flow(mesh, Geometry::Euclidean, scheme, target), target, fixed);
   EXPECT_FALSE(stalled.converged);

@@ -28,7 +28,7 @@ TEST(Target, PresetsAndAutomaticGeometry) {
   const TargetCurvature fb = TargetCurvature::free_boundary(disk);
   for (int v = 0; v < disk.num_vertices(); ++v)
     EXPECT_EQ(fb.is_fixed(v), disk.is_boundary_vertex(v));
-  EXPECT_EQ(TargetCurvature::automatic(torus).num_fixed(), 0);
+  EXPECT_EQ(TargetCurvature::free_boundary_or_zero(torus).num_fixed(), 0);
   EXPECT_EQ(automatic_geometry(disk), Geometry::Euclidean);
   EXPECT_EQ(automatic_geometry(torus), Geometry::Euclidean);
   EXPECT_EQ(automatic_geometry(sphere), Geometry::Spherical);

@@ -266,7 +266,7 @@ TEST(Uniformize, GenusTwoWithThreeHolesGetsGeodesicBoundariesInH2) {
     for (int v : loop) EXPECT_NEAR(u.result.curvature[v], 0.0, 1e-9);  // geodesic boundary
   }
   EXPECT_NEAR(u.result.area, -2 * kPi * mesh.euler_characteristic(), 1e-7);  // 10 pi
-  EXPECT_EQ(u.model->cut.num_generators, 6);  // 2 g + b - 1
+  EXPECT_EQ(u.model->cut.num_generators, 6);                                 // 2 g + b - 1
   EXPECT_LE(u.model->closure_error, 1e-9);
   EXPECT_LE(u.relation_error, 1e-8);
 }

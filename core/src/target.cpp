@@ -56,7 +56,7 @@ TargetCurvature TargetCurvature::from_values(const CompactMesh& mesh,
   return t;
 }
 
-TargetCurvature TargetCurvature::automatic(const CompactMesh& mesh) {
+TargetCurvature TargetCurvature::free_boundary_or_zero(const CompactMesh& mesh) {
   return mesh.is_closed() ? zero(mesh) : free_boundary(mesh);
 }
 

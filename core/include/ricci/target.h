@@ -26,8 +26,9 @@ struct TargetCurvature {
   static TargetCurvature free_boundary(const CompactMesh& mesh);
   //! Explicit Kbar per vertex; NaN entries mean "u fixed at this vertex".
   static TargetCurvature from_values(const CompactMesh& mesh, const Eigen::VectorXd& values);
-  //! free_boundary on surfaces with boundary, zero on closed ones.
-  static TargetCurvature automatic(const CompactMesh& mesh);
+  //! free_boundary on surfaces with boundary, zero on closed ones (the uniformization presets,
+  //! such as the unit disk, are in presets.h).
+  static TargetCurvature free_boundary_or_zero(const CompactMesh& mesh);
 };
 
 //! Checks that a solution can exist: sizes, finite values, Kbar < 2 pi inside and < pi on the
