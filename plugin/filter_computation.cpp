@@ -54,6 +54,18 @@ void choose_target(const MeshInput& in, TargetChoice choice, UniformizationOptio
   }
 }
 
+// A vertex index of the MeshLab mesh (its storage slot) as an index of the compact mesh.
+int compact_vertex(const MeshInput& in, int slot, const char* what) {
+  if (slot < 0) return -1;
+  if (slot >= static_cast<int>(in.compact_index.size()) || in.compact_index[slot] < 0) {
+    throw InvalidArgumentError(std::string(what) + " vertex " + std::to_string(slot) +
+                               " is not a vertex of the mesh (indices 0.." +
+                               std::to_string(static_cast<int>(in.compact_index.size()) - 1) +
+                               ", deleted ones excluded); give another index, or -1 for none");
+  }
+  return in.compact_index[slot];
+}
+
 std::vector<int> mixed_eps(const MeshInput& in, MixedEpsSource source) {
   std::vector<int> eps(in.mesh.num_vertices(), 0);
   if (source == MixedEpsSource::Selection) {
@@ -79,6 +91,8 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
   UniformizationOptions o;
   o.geometry = chosen_geometry(settings.geometry);
   choose_target(input, settings.target, o);
+  o.center_vertex = compact_vertex(input, settings.center_vertex, "the center");
+  o.axis_vertex = compact_vertex(input, settings.axis_vertex, "the axis");
   o.scheme.scheme = settings.scheme;
   o.scheme.intersection_angle = settings.thurston_angle_degrees * kPi / 180;
   if (settings.scheme == Scheme::Mixed) o.scheme.eps = mixed_eps(input, settings.mixed_eps);

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <utility>
 
 #include "ricci/errors.h"
 
@@ -86,6 +87,20 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "Free boundary: u = 0 on the boundary (its lengths kept), flat inside: least area "
        "distortion. Zero: Kbar = 0 at every vertex. Vertex quality: Kbar in radians per vertex; "
        "NaN holds that vertex's u fixed."},
+      {"centerVertex",
+       Kind::Int,
+       -1,
+       {},
+       "Unit disk: center vertex",
+       "Unit disk target (or Auto on a disk or circle domain): the index of the interior vertex "
+       "mapped to the centre of the disk, by a Moebius map of the disk; -1: none."},
+      {"axisVertex",
+       Kind::Int,
+       -1,
+       {},
+       "Unit disk: axis vertex",
+       "Unit disk target: the index of the vertex turned onto the positive real axis (u axis of "
+       "the UVs); -1: none."},
       {"tolerance", Kind::Float, 1e-10, {}, "Tolerance", "Converged when max |K - Kbar| <= this."},
       {"maxIterations", Kind::Int, 100, {}, "Iteration limit", "Newton iterations at most."},
       {"linearSolver",
@@ -151,6 +166,15 @@ FilterSettings settings_from_values(const ParameterValues& values) {
     throw InvalidArgumentError(
         "parameters 'maxIterations' (0..1000000) and 'maxStepHalvings' "
         "(0..200) are out of range");
+  }
+  for (const auto& [name, vertex] :
+       {std::pair{"centerVertex", &s.center_vertex}, std::pair{"axisVertex", &s.axis_vertex}}) {
+    const double v = number(values, name);
+    if (!(v >= -1) || v != std::floor(v)) {
+      throw InvalidArgumentError(std::string("parameter '") + name +
+                                 "' is a vertex index, or -1 for none; got " + std::to_string(v));
+    }
+    *vertex = static_cast<int>(v);
   }
   s.max_iterations = static_cast<int>(iterations);
   s.max_step_halvings = static_cast<int>(halvings);

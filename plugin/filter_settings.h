@@ -25,6 +25,8 @@ struct FilterSettings {
   double thurston_angle_degrees = 60;
   MixedEpsSource mixed_eps = MixedEpsSource::Selection;
   TargetChoice target = TargetChoice::Auto;
+  int center_vertex = -1;  //!< unit disk: mesh vertex index mapped to the centre, -1: none
+  int axis_vertex = -1;    //!< unit disk: mesh vertex index turned onto the positive real axis
   double tolerance = 1e-10;
   int max_iterations = 100;
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;

@@ -116,6 +116,28 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   EXPECT_GT(compared, mesh.num_edges());  // the kept edges, interior ones from both sides
 }
 
+TEST(PluginComputation, CenterAndAxisVerticesNormalizeTheDisk) {
+  CMeshO m;
+  FreeAttributesAtExit cleanup{m};
+  load(m, "nefertiti.off");
+  const MeshInput input = read_mesh_input(m, false);
+  int center = 0;
+  while (input.mesh.is_boundary_vertex(input.compact_index[center])) ++center;
+  const int axis = input.mesh.boundary_loops()[0][0];  // compact = slot: nothing is deleted
+  const FilterComputation c =
+      compute(input, settings_from_values({{"centerVertex", center}, {"axisVertex", axis}}));
+  const auto& p = c.uniformization.position;
+  EXPECT_LE(p[input.compact_index[center]].norm(), 1e-12);
+  EXPECT_NEAR(p[axis].x(), 1.0, 1e-8);
+  EXPECT_NEAR(p[axis].y(), 0.0, 1e-12);
+  try {
+    compute(input, settings_from_values({{"centerVertex", 100000}}));
+    ADD_FAILURE() << "an out-of-range center vertex was accepted";
+  } catch (const ricci::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a vertex of the mesh"), std::string::npos);
+  }
+}
+
 TEST(PluginComputation, ClosedSurfacesGetTheirLayouts) {
   for (const char* name : {"sphere.off", "eight.off", "pipe.off"}) {
     CMeshO m;

@@ -27,6 +27,8 @@ TEST(PluginSettings, DefaultsAreTheCoreDefaults) {
   EXPECT_TRUE(s.write_texture_coordinates);
   EXPECT_TRUE(s.write_quality);
   EXPECT_FALSE(s.add_layout_layer);
+  EXPECT_EQ(s.center_vertex, -1);
+  EXPECT_EQ(s.axis_vertex, -1);
 }
 
 TEST(PluginSettings, EveryEnumChoiceTranslates) {
@@ -55,6 +57,8 @@ TEST(PluginSettings, OutOfRangeValuesAreRefused) {
   EXPECT_THROW(settings_from_values({{"tolerance", 0}}), InvalidArgumentError);
   EXPECT_THROW(settings_from_values({{"maxIterations", -3}}), InvalidArgumentError);
   EXPECT_THROW(settings_from_values({{"noSuchParameter", 1}}), InvalidArgumentError);
+  EXPECT_THROW(settings_from_values({{"centerVertex", -2}}), InvalidArgumentError);
+  EXPECT_THROW(settings_from_values({{"axisVertex", 1.5}}), InvalidArgumentError);
 }
 
 TEST(PluginSettings, PythonNamesAreDistinctSnakeCase) {
