@@ -1,6 +1,6 @@
 // Time of the disk target (uniformize.h): a real disk scan mapped onto the unit disk, at about 17k,
-// 67k and 267k faces, Yamabe with edge flips: the boundary curvature's fixed point, every flow
-// warm-started, and the layout. Run by bench/run.sh in a Release build.
+// 67k and 267k faces, Yamabe with edge flips: the boundary curvature's fixed point, each flow
+// resumed from the previous one, and the layout. Run by bench/run.sh in a Release build.
 #include <benchmark/benchmark.h>
 
 #include "bench_meshes.h"

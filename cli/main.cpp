@@ -4,17 +4,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <iostream>
 #include <limits>
 
-#include <Eigen/Geometry>
+#include <Eigen/Core>
 
 #include "options.h"
 #include "picture.h"
 #include "report.h"
 #include "result_ply.h"
 #include "ricci/errors.h"
-#include "ricci/layout.h"
 #include "ricci/mesh_io.h"
 #include "ricci/uniformize.h"
 
