@@ -72,15 +72,7 @@ int run(const ricci::cli::Options& o) {
   using namespace ricci;
   const bool show_progress = !o.quiet && isatty(fileno(stderr));
   const auto read_start = std::chrono::steady_clock::now();
-  VcgMesh vcg_mesh;
-  read_mesh(o.input, vcg_mesh);
-  CompactMesh mesh = [&] {
-    try {
-      return compact_mesh_from_vcg(vcg_mesh);
-    } catch (const InvalidMeshError& e) {
-      throw InvalidMeshError(o.input + ": " + e.what());
-    }
-  }();
+  const CompactMesh mesh = read_mesh(o.input);
   const double read_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
 

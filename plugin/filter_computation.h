@@ -12,8 +12,8 @@
 #include <vcg/complex/complex.h>
 
 #include "filter_settings.h"
-#include "ricci/mesh_io.h"
 #include "ricci/uniformize.h"
+#include "ricci/vcg_adapter.h"
 
 namespace ricci::plugin {
 

@@ -8,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include "ricci/errors.h"
-#include "ricci/mesh_io.h"
 #include "test_meshes.h"
 
 namespace ricci {
@@ -142,38 +141,6 @@ TEST(CompactMesh, RejectsSeveralComponents) {
   for (const auto& q : square_points()) p.push_back(q + Eigen::Vector3d(3, 0, 0));
   const std::string m = rejection(p, {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}, {4, 7, 5}});
   EXPECT_NE(m.find("2 connected components"), std::string::npos) << m;
-}
-
-TEST(MeshIo, ReadsOffAndRejectsMissingFiles) {
-  VcgMesh m;
-  read_mesh(test::cgal_mesh_path("eight.off"), m);
-  EXPECT_EQ(m.vn, 315);
-  VcgMesh missing;
-  EXPECT_THROW(read_mesh("/nonexistent/mesh.off", missing), IoError);
-}
-
-TEST(MeshIo, MergesStlCorners) {
-  const std::string path = ::testing::TempDir() + "/two_triangles.stl";
-  {
-    std::ofstream out(path);
-    out << "solid t\n";
-    const double tri[2][3][3] = {{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}},
-                                 {{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}};
-    for (const auto& t : tri) {
-      out << "facet normal 0 0 1\nouter loop\n";
-      for (const auto& v : t) out << "vertex " << v[0] << " " << v[1] << " " << v[2] << "\n";
-      out << "endloop\nendfacet\n";
-    }
-    // vcglib's ASCII/binary sniffing reads the 1000 bytes after the 84-byte header, past the end
-    // of shorter files: pad the file so that it tells ASCII apart reliably.
-    out << std::string(1200, ' ') << "\nendsolid t\n";
-  }
-  VcgMesh m;
-  read_mesh(path, m);
-  const CompactMesh mesh = compact_mesh_from_vcg(m);
-  EXPECT_EQ(mesh.num_vertices(), 4);
-  EXPECT_EQ(mesh.num_faces(), 2);
-  std::remove(path.c_str());
 }
 
 }  // namespace

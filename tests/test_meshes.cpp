@@ -111,9 +111,7 @@ std::string cgal_mesh_path(const std::string& name) {
 }
 
 CompactMesh cgal_mesh(const std::string& name) {
-  VcgMesh m;
-  read_mesh(cgal_mesh_path(name), m);
-  return compact_mesh_from_vcg(m);
+  return read_mesh(cgal_mesh_path(name));
 }
 
 }  // namespace ricci::test

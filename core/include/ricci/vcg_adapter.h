@@ -1,0 +1,41 @@
+// The adapter from vcglib's meshes (MeshLab's CMeshO, or any vcg::tri::TriMesh) to the compact
+// mesh. A template over the mesh type: it uses vcglib's member names only, so the core does not
+// depend on vcglib; whoever includes this has vcglib.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/compact_mesh.h"
+
+namespace ricci {
+
+//! Index arrays of a vcg::tri mesh (deleted elements skipped, vertices in storage order).
+//! If vertex_index is given, it receives the compact index of every slot of m.vert (-1 where
+//! deleted). \throws InvalidMeshError as CompactMesh does.
+template <class MeshT>
+CompactMesh compact_mesh_from_vcg(const MeshT& m, std::vector<int>* vertex_index = nullptr) {
+  std::vector<int> index(m.vert.size(), -1);
+  std::vector<Eigen::Vector3d> positions;
+  positions.reserve(m.vn);
+  for (size_t i = 0; i < m.vert.size(); ++i) {
+    if (m.vert[i].IsD()) continue;
+    index[i] = static_cast<int>(positions.size());
+    const auto& p = m.vert[i].cP();
+    positions.emplace_back(double(p[0]), double(p[1]), double(p[2]));
+  }
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(m.fn);
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    std::array<int, 3> t;
+    for (int c = 0; c < 3; ++c) t[c] = index[f.cV(c) - &m.vert[0]];
+    faces.push_back(t);
+  }
+  if (vertex_index) *vertex_index = index;
+  return CompactMesh(std::move(positions), std::move(faces));
+}
+
+}  // namespace ricci

@@ -1,0 +1,158 @@
+#include "ricci/mesh_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "text_reader.h"
+
+namespace ricci {
+
+namespace io {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError("read_mesh: cannot open '" + path + "' (missing file or no permission)");
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (in.bad()) throw IoError("read_mesh: reading '" + path + "' failed");
+  return s.str();
+}
+
+std::vector<std::string_view> tokens(std::string_view line) {
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    const size_t start = i;
+    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i > start) out.push_back(line.substr(start, i - start));
+  }
+  return out;
+}
+
+bool LineReader::next(std::vector<std::string_view>& fields) {
+  if (pos_ >= text_.size()) return false;
+  size_t end = text_.find('\n', pos_);
+  if (end == std::string_view::npos) end = text_.size();
+  std::string_view line = text_.substr(pos_, end - pos_);
+  pos_ = end + 1;
+  ++line_;
+  const size_t hash = line.find('#');
+  if (hash != std::string_view::npos) line = line.substr(0, hash);
+  fields = tokens(line);
+  return true;
+}
+
+std::vector<std::string_view> LineReader::next_nonempty(const std::string& what) {
+  std::vector<std::string_view> fields;
+  while (next(fields)) {
+    if (!fields.empty()) return fields;
+  }
+  fail("the file ends before " + what);
+}
+
+void LineReader::fail(const std::string& what) const {
+  throw IoError("read_mesh: '" + path_ + "', line " + std::to_string(line_) + ": " + what);
+}
+
+double LineReader::number(std::string_view token) const {
+  const std::string text(token);
+  char* end = nullptr;
+  errno = 0;
+  const double x = std::strtod(text.c_str(), &end);
+  // NaN and infinity are numbers here: the mesh checks name the vertices that have them.
+  if (text.empty() || *end != '\0') fail("'" + text + "' is not a number");
+  return x;
+}
+
+long LineReader::integer(std::string_view token) const {
+  const std::string text(token);
+  char* end = nullptr;
+  errno = 0;
+  const long x = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE) fail("'" + text + "' is not an integer");
+  return x;
+}
+
+void add_polygon(MeshFile& mesh, const std::vector<int>& corners) {
+  if (corners.size() < 3) {
+    ++mesh.skipped_faces;
+    return;
+  }
+  if (corners.size() > 3) ++mesh.polygons;
+  for (size_t k = 1; k + 1 < corners.size(); ++k) {
+    mesh.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+  }
+}
+
+}  // namespace io
+
+namespace {
+
+std::string lowercase_extension(const std::string& path) {
+  const size_t dot = path.find_last_of('.');
+  const size_t slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// The format of a file without a known extension, from its first bytes.
+std::string sniff_format(std::string_view bytes) {
+  const auto starts = [&](std::string_view s) { return bytes.substr(0, s.size()) == s; };
+  if (starts("ply")) return "ply";
+  if (starts("solid")) return "stl";
+  if (bytes.substr(0, bytes.find('\n')).find("OFF") != std::string_view::npos) return "off";
+  if (io::is_binary_stl(bytes)) return "stl";
+  return "obj";
+}
+
+}  // namespace
+
+MeshFile read_mesh_file(const std::string& path) {
+  const std::string bytes = io::read_file(path);
+  std::string format = lowercase_extension(path);
+  if (format != "off" && format != "obj" && format != "ply" && format != "stl") {
+    format = sniff_format(bytes);
+  }
+  MeshFile mesh;
+  if (format == "off") {
+    mesh = io::read_off(path, bytes);
+  } else if (format == "obj") {
+    mesh = io::read_obj(path, bytes);
+  } else if (format == "ply") {
+    mesh = io::read_ply(path, bytes);
+  } else {
+    mesh = io::read_stl(path, bytes);
+  }
+  mesh.format = format;
+  const int n = static_cast<int>(mesh.positions.size());
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (int v : mesh.triangles[f]) {
+      if (v < 0 || v >= n) {
+        throw IoError("read_mesh: '" + path + "': face " + std::to_string(f) +
+                      " refers to vertex " + std::to_string(v) + ", but the file has vertices 0.." +
+                      std::to_string(n - 1) + "; the file is corrupt, re-export it");
+      }
+    }
+  }
+  return mesh;
+}
+
+CompactMesh read_mesh(const std::string& path) {
+  MeshFile file = read_mesh_file(path);
+  try {
+    return CompactMesh(std::move(file.positions), std::move(file.triangles));
+  } catch (const InvalidMeshError& e) {
+    throw InvalidMeshError(path + ": " + e.what());
+  }
+}
+
+}  // namespace ricci

@@ -1,0 +1,52 @@
+// What the mesh readers share: the file's bytes, lines without comments, numbers that name the
+// line they came from, and how polygons become triangles (not installed API).
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ricci/errors.h"
+#include "ricci/mesh_io.h"
+
+namespace ricci::io {
+
+//! The whole file. \throws IoError when it cannot be opened or read.
+std::string read_file(const std::string& path);
+
+//! Splits a line into whitespace-separated tokens.
+std::vector<std::string_view> tokens(std::string_view line);
+
+//! Walks a text file line by line; `#` starts a comment.
+class LineReader {
+ public:
+  LineReader(const std::string& path, std::string_view text) : path_(path), text_(text) {}
+  //! The next line with its comment removed and its tokens; false at the end of the file.
+  bool next(std::vector<std::string_view>& fields);
+  //! The next line that has tokens. \throws IoError at the end of the file, naming `what`.
+  std::vector<std::string_view> next_nonempty(const std::string& what);
+  int line_number() const { return line_; }
+  [[noreturn]] void fail(const std::string& what) const;
+  double number(std::string_view token) const;
+  long integer(std::string_view token) const;
+
+ private:
+  const std::string& path_;
+  std::string_view text_;
+  size_t pos_ = 0;
+  int line_ = 0;
+};
+
+//! Adds a polygon (vertex indices in order) as a fan of triangles from its first corner.
+void add_polygon(MeshFile& mesh, const std::vector<int>& corners);
+
+//! True when the bytes have the size of a binary STL file with the triangle count they state.
+bool is_binary_stl(std::string_view bytes);
+
+MeshFile read_off(const std::string& path, std::string_view text);
+MeshFile read_obj(const std::string& path, std::string_view text);
+MeshFile read_stl(const std::string& path, std::string_view bytes);
+MeshFile read_ply(const std::string& path, std::string_view bytes);
+
+}  // namespace ricci::io

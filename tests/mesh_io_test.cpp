@@ -1,0 +1,174 @@
+// Every format the tool reads, on files written here: the same square (two triangles, or one quad)
+// and the same tetrahedron in each, with the extras real files carry.
+#include "ricci/mesh_io.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "ricci/errors.h"
+#include "test_meshes.h"
+
+namespace ricci {
+namespace {
+
+std::string write_file(const std::string& name, const std::string& bytes) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+template <class T>
+void put(std::string& out, T x, bool big_endian = false) {
+  char b[sizeof(T)];
+  std::memcpy(b, &x, sizeof(T));
+  if (big_endian) std::reverse(b, b + sizeof(T));
+  out.append(b, sizeof(T));
+}
+
+const char* kTetrahedronObj =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+
+void expect_tetrahedron(const CompactMesh& mesh) {
+  EXPECT_EQ(mesh.num_vertices(), 4);
+  EXPECT_EQ(mesh.num_faces(), 4);
+  EXPECT_TRUE(mesh.is_closed());
+  EXPECT_EQ(mesh.genus(), 0);
+  EXPECT_EQ(mesh.positions()[3], Eigen::Vector3d(0, 0, 1));
+}
+
+TEST(MeshIo, ReadsTheTetrahedronAsObjAndOff) {
+  // Every OBJ file used to be refused ("1 unreferenced vertices"): the tetrahedron reproduced it.
+  expect_tetrahedron(read_mesh(write_file("tet.obj", kTetrahedronObj)));
+  expect_tetrahedron(read_mesh(write_file(
+      "tet.off", "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n")));
+}
+
+TEST(MeshIo, ObjWithTextureNormalsGroupsMaterialsAndPolygons) {
+  const std::string obj =
+      "# exported\nmtllib square.mtl\no square\nv 0 0 0\nv 1 0 0\nv 1 1 0 1.0\nv 0 1 0\n"
+      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\ng top\nusemtl paper\ns off\n"
+      "f 1/1/1 2/2/1 3/3/1 4/4/1\n"
+      "v 0.5 0.5 1\nf -1//1 -4//1 -5//1\n";  // negative: relative to the last vertex
+  const MeshFile file = read_mesh_file(write_file("square.obj", obj));
+  EXPECT_EQ(file.format, "obj");
+  ASSERT_EQ(file.positions.size(), 5u);
+  ASSERT_EQ(file.triangles.size(), 3u);
+  EXPECT_EQ(file.polygons, 1);
+  // The quad as a fan from its first corner.
+  EXPECT_EQ(file.triangles[0], (std::array<int, 3>{0, 1, 2}));
+  EXPECT_EQ(file.triangles[1], (std::array<int, 3>{0, 2, 3}));
+  EXPECT_EQ(file.triangles[2], (std::array<int, 3>{4, 1, 0}));
+}
+
+TEST(MeshIo, OffWithCommentsColorsAndPolygons) {
+  const std::string off =
+      "COFF\n# a square as one quad\n\n4 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n"
+      "1 1 0 0 0 255 255  # corner\n0 1 0 9 9 9 255\n4 0 1 2 3 128 128 128\n";
+  const MeshFile file = read_mesh_file(write_file("square.off", off));
+  EXPECT_EQ(file.positions.size(), 4u);
+  EXPECT_EQ(file.triangles.size(), 2u);
+  EXPECT_EQ(file.polygons, 1);
+  EXPECT_EQ(read_mesh(write_file("square2.off", off)).num_boundary_loops(), 1);
+}
+
+TEST(MeshIo, PlyAsciiWithExtraPropertiesAndElements) {
+  const std::string ply =
+      "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 4\nproperty float x\n"
+      "property float y\nproperty float z\nproperty uchar red\nproperty float confidence\n"
+      "element face 1\nproperty list uchar int vertex_indices\nproperty uchar flags\n"
+      "element material 1\nproperty float shine\nend_header\n"
+      "0 0 0 1 0.5\n1 0 0 2 0.5\n1 1 0 3 0.5\n0 1 0 4 0.5\n4 0 1 2 3 7\n0.25\n";
+  const MeshFile file = read_mesh_file(write_file("square.ply", ply));
+  EXPECT_EQ(file.format, "ply");
+  ASSERT_EQ(file.positions.size(), 4u);
+  EXPECT_EQ(file.positions[2], Eigen::Vector3d(1, 1, 0));
+  EXPECT_EQ(file.triangles.size(), 2u);
+}
+
+std::string binary_ply(bool big_endian) {
+  std::string out = std::string("ply\nformat ") +
+                    (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                    " 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+                    "property double z\nproperty ushort id\nelement face 4\n"
+                    "property uchar extra\nproperty list uchar uint vertex_indices\nend_header\n";
+  const double p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (int v = 0; v < 4; ++v) {
+    for (double x : p[v]) put(out, x, big_endian);
+    put(out, static_cast<std::uint16_t>(v), big_endian);
+  }
+  const std::uint32_t f[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  for (const auto& t : f) {
+    put(out, static_cast<std::uint8_t>(9));
+    put(out, static_cast<std::uint8_t>(3));
+    for (std::uint32_t v : t) put(out, v, big_endian);
+  }
+  return out;
+}
+
+TEST(MeshIo, PlyBinaryBothByteOrders) {
+  expect_tetrahedron(read_mesh(write_file("tet_le.ply", binary_ply(false))));
+  expect_tetrahedron(read_mesh(write_file("tet_be.ply", binary_ply(true))));
+}
+
+TEST(MeshIo, StlAsciiAndBinaryMergeCorners) {
+  const float tri[4][3][3] = {{{0, 0, 0}, {0, 1, 0}, {1, 0, 0}},
+                              {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}},
+                              {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+                              {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}}};
+  std::string ascii = "solid tet\n";
+  std::string binary(80, ' ');
+  put(binary, static_cast<std::uint32_t>(4));
+  for (const auto& t : tri) {
+    ascii += "  facet normal 0 0 0\n    outer loop\n";
+    for (int k = 0; k < 3; ++k) put(binary, 0.0f);  // the facet normal
+    for (const auto& v : t) {
+      ascii += "      vertex " + std::to_string(v[0]) + " " + std::to_string(v[1]) + " " +
+               std::to_string(v[2]) + "\n";
+      for (float x : v) put(binary, x);
+    }
+    put(binary, static_cast<std::uint16_t>(0));
+    ascii += "    endloop\n  endfacet\n";
+  }
+  ascii += "endsolid tet\n";
+  for (const auto& [name, bytes] :
+       {std::pair{"tet_ascii.stl", ascii}, {"tet_binary.stl", binary}}) {
+    const MeshFile file = read_mesh_file(write_file(name, bytes));
+    EXPECT_EQ(file.merged_corners, 8) << name;
+    expect_tetrahedron(read_mesh(write_file(name, bytes)));
+  }
+}
+
+TEST(MeshIo, ReadsARealFileAndNamesWhatIsWrong) {
+  EXPECT_EQ(read_mesh(test::cgal_mesh_path("eight.off")).num_vertices(), 315);
+  EXPECT_THROW(read_mesh("/nonexistent/mesh.off"), IoError);
+  const auto message = [](const std::string& name, const std::string& bytes) {
+    try {
+      read_mesh(write_file(name, bytes));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("bad.obj", "v 0 0 0\nv 1 0 x\n").find("line 2: 'x' is not a number"),
+            std::string::npos);
+  EXPECT_NE(message("short.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n").find("the file ends before"),
+            std::string::npos);
+  EXPECT_NE(message("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n").find("refers to vertex 8"),
+            std::string::npos);
+  EXPECT_NE(message("bad.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                    "end_header\n0\n")
+                .find("no x, y and z"),
+            std::string::npos);
+  // Mesh defects are named with the file.
+  EXPECT_NE(message("lonely.obj", std::string(kTetrahedronObj) + "v 5 5 5\n").find("lonely.obj"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace ricci
