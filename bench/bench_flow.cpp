@@ -4,9 +4,9 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_meshes.h"
-#include "ricci/hessian.h"
+#include "hessian.h"
 #include "ricci/linear_solver.h"
-#include "ricci/metric.h"
+#include "metric.h"
 #include "ricci/ricci_flow.h"
 
 namespace ricci::bench {

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "ricci/errors.h"
-#include "ricci/metric.h"
+#include "metric.h"
 
 namespace ricci::cli {
 

@@ -1,14 +1,14 @@
 // Edge flips: the flip routine on its own (Delaunay afterwards, metric kept, a valid
 // triangulation), and Yamabe with flips, whose result is discretely conformal to the input in
 // the Ptolemy sense, checked by replaying the flips with an independent Ptolemy rule.
-#include "ricci/delaunay.h"
+#include "delaunay.h"
 
 #include <cmath>
 #include <set>
 
 #include <gtest/gtest.h>
 
-#include "ricci/metric.h"
+#include "metric.h"
 #include "ricci/ricci_flow.h"
 #include "test_meshes.h"
 

@@ -1,14 +1,14 @@
 // H = dK/du assembled over the mesh equals central finite differences of the curvature, is
 // symmetric, and has the definiteness the theory promises (E2 semi-definite with the constants in
 // its kernel on a closed surface, H2 definite).
-#include "ricci/hessian.h"
+#include "hessian.h"
 
 #include <random>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
-#include "ricci/metric.h"
+#include "metric.h"
 #include "ricci/scheme.h"
 #include "test_meshes.h"
 

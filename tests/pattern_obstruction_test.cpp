@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ricci/pattern_obstruction.h"
+#include "pattern_obstruction.h"
 #include "ricci/ricci_flow.h"
 #include "test_meshes.h"
 

@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "metric.h"
 #include "ricci/errors.h"
-#include "ricci/metric.h"
 #include "ricci/presets.h"
 #include "test_meshes.h"
 
@@ -253,7 +253,7 @@ TEST(RicciFlow, ResultHasHistoryAndTimings) {
   EXPECT_GE(r.times.total, r.times.factorization);
 }
 
-TEST(RicciFlow, ResumeFromAnotherTargetsResult) {
+TEST(RicciFlow, SolverResumesFromItsLastResult) {
   // The disk target's second flow (presets.h): boundary curvature refitted to circles through the
   // first result's boundary chords, a target near the first. Resumed from the first result (a real
   // scan whose flow flipped edges), it takes fewer iterations and reaches the cold start's u.
@@ -261,15 +261,14 @@ TEST(RicciFlow, ResumeFromAnotherTargetsResult) {
   const int outer = outer_boundary_loop(mesh, mesh.input_lengths());
   const TargetCurvature target1 = circle_boundary_target(mesh, mesh.input_lengths(), outer);
   const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target1);
-  const FlowResult first = run_ricci_flow(mesh, s, target1);
+  RicciFlowSolver solver(mesh, s);
+  const FlowResult first = solver.solve(target1);
   ASSERT_TRUE(first.converged);
   ASSERT_GT(first.num_flips, 0);
   const TargetCurvature target2 =
       circle_boundary_target(result_triangulation(mesh, first), first.edge_lengths, outer);
   const FlowResult cold = run_ricci_flow(mesh, s, target2);
-  FlowOptions resume;
-  resume.resume = &first;
-  const FlowResult warm = run_ricci_flow(mesh, s, target2, resume);
+  const FlowResult warm = solver.solve(target2);
   ASSERT_TRUE(cold.converged) << cold.failure;
   ASSERT_TRUE(warm.converged) << warm.failure;
   EXPECT_LT(warm.iterations, cold.iterations);

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "ricci/errors.h"
-#include "ricci/metric.h"
+#include "metric.h"
 #include "test_meshes.h"
 
 namespace ricci {

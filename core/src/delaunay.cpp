@@ -1,9 +1,9 @@
-#include "ricci/delaunay.h"
+#include "delaunay.h"
 
 #include <cmath>
 #include <unordered_set>
 
-#include "ricci/hessian.h"
+#include "hessian.h"
 
 namespace ricci {
 

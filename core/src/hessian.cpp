@@ -1,4 +1,4 @@
-#include "ricci/hessian.h"
+#include "hessian.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "ricci/metric.h"
+#include "metric.h"
 
 namespace ricci {
 

@@ -1,4 +1,4 @@
-#include "ricci/pattern_obstruction.h"
+#include "pattern_obstruction.h"
 
 #include <cmath>
 #include <sstream>

@@ -1,4 +1,4 @@
-#include "ricci/spherical_start.h"
+#include "spherical_start.h"
 
 #include <algorithm>
 #include <cmath>
@@ -157,7 +157,8 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
   flat.u0.resize(disk.num_vertices());
   for (int v = 0; v < disk.num_vertices(); ++v) flat.u0[v] = radius_u[original[v]] + shift[v];
   const TargetCurvature target = TargetCurvature::free_boundary(disk);
-  const FlowResult r = run_ricci_flow(disk, flat, target);
+  RicciFlowSolver solver(disk, flat);
+  const FlowResult r = solver.solve(target);
   if (!r.converged) {
     throw ConvergenceError("spherical start: the punctured mesh did not flatten: " + r.failure,
                            r.iterations, r.residual);
@@ -251,6 +252,21 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
 }
 
 }  // namespace
+
+std::optional<Eigen::VectorXd> flow_start(const CompactMesh& mesh,
+                                          const ConformalStructure& structure,
+                                          const TargetCurvature& target,
+                                          const FlowOptions& options) {
+  if (!options.stereographic_start || structure.geometry != Geometry::Spherical ||
+      !mesh.is_closed() || mesh.genus() != 0 || target.num_fixed() > 0) {
+    return std::nullopt;
+  }
+  try {
+    return stereographic_start(mesh, structure);
+  } catch (const Error&) {
+    return std::nullopt;  // no puncture flattened: the direct flow may still converge
+  }
+}
 
 Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure) {
   // Punctures to try: first the vertex of highest degree (its star is a well-shaped cap), then

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "ricci/errors.h"
+#include "spherical_start.h"
 
 namespace ricci {
 
@@ -270,22 +271,25 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   // --- the flow; for the disk preset repeated, the boundary curvature re-fitted each time
   // The boundary curvature is a fixed point of flow -> circle_boundary_target, found by
   // Anderson-accelerated iteration; a combination the flow cannot reach falls back to the plain
-  // iteration. Each flow resumes from the previous one: its u, triangulation and structure.
+  // iteration. Each flow starts where the previous one ended (the solver keeps u, the flipped
+  // triangulation and the symbolic analysis).
+  RicciFlowSolver solver(mesh, out.structure, o.flow);
+  const std::optional<Eigen::VectorXd> start = flow_start(mesh, out.structure, target, o.flow);
   AndersonMixing mixing(5);
   TargetCurvature plain = target;  // the last plain iterate, g(x)
-  FlowOptions flow = o.flow;
-  FlowResult previous;
+  bool warm = false;               // this flow starts from the last converged one
   for (;;) {
-    out.result = run_ricci_flow(mesh, out.structure, target, flow);
+    out.result = solver.solve(target, start ? &*start : nullptr);
     out.newton_iterations += out.result.iterations;
     if (preset != TargetPreset::UnitDisk) break;
     ++out.boundary_iterations;
     if (!out.result.converged) {
       // Retry once with the plain iterate from a cold start; give up when that failed.
-      if (target.curvature == plain.curvature && !flow.resume) break;
+      if (target.curvature == plain.curvature && !warm) break;
       mixing.reset();
       target = plain;
-      flow.resume = nullptr;
+      solver.restart();
+      warm = false;
       continue;
     }
     const TargetCurvature next = circle_boundary_target(result_triangulation(mesh, out.result),
@@ -302,8 +306,7 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
       break;
     }
     plain = next;
-    previous = out.result;
-    flow.resume = &previous;
+    warm = true;
     target.curvature = mixing.next(target.curvature, next.curvature);
     try {
       check_target(mesh, geometry, target);

@@ -4,11 +4,17 @@
 // with H = dK/du (hessian.h), alpha from a backtracking line search on |Kbar - K|^2 that never
 // leaves the set where every triangle is valid. E2 fixes the scaling gauge by pinning one vertex
 // when no u is held fixed; S2, whose Hessian is indefinite and singular along the sphere's
-// Moebius maps at the solution, takes Levenberg-Marquardt steps (H^2 + mu I) du = H (Kbar - K).
-// Between steps, edge flips keep the triangulation (power) Delaunay (delaunay.h).
+// Moebius maps at the solution, takes Levenberg-Marquardt steps (H^2 + mu I) du = H (Kbar - K)
+// instead of Newton steps. Between steps, edge flips keep the triangulation (power) Delaunay
+// (delaunay.h).
+//
+// RicciFlowSolver keeps the flow's state on one mesh (triangulation as flipped, conformal
+// structure, u, the Hessian's pattern and symbolic analysis) from one solve to the next;
+// compute_ricci_flow is the one-shot call.
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -35,13 +41,9 @@ struct FlowOptions {
   //! Keep the triangulation (power) Delaunay by edge flips, before the first and after every
   //! step (delaunay.h). The result then may live on another triangulation of the same vertices.
   bool edge_flips = true;
-  //! S2 on a closed genus-0 surface: start from the stereographic lift of the flattened
-  //! punctured mesh (spherical_start.h) instead of u0.
+  //! S2 on a closed genus-0 surface (run_ricci_flow, compute_ricci_flow): first walk to the
+  //! stereographic lift of the flattened punctured mesh (spherical_start.h).
   bool stereographic_start = true;
-  //! Continue from an earlier result of the same mesh and scheme (another target, say): start at
-  //! its u on its triangulation and conformal structure instead of at u0 on the input's. The
-  //! result's flip_sequence then begins with the earlier one. Not owned; null: start at u0.
-  const struct FlowResult* resume = nullptr;
   //! Called once per iteration; returning false cancels the flow.
   std::function<bool(const FlowProgress&)> progress;
 };
@@ -61,22 +63,20 @@ struct FlowResult {
   Eigen::VectorXd curvature;         //!< K of the result
   Eigen::VectorXd target;            //!< Kbar; NaN where u was held fixed
   std::vector<double> edge_lengths;  //!< per edge of result_triangulation()
-  int num_flips = 0;                 //!< edge flips done during the flow
-  int connectivity_changes = 0;      //!< flip rounds that changed the triangulation
-  //! Every flipped edge since the input triangulation, in order (replays the flips).
+  int num_flips = 0;                 //!< edge flips done during this solve
+  int connectivity_changes = 0;      //!< flip rounds of this solve that changed the triangulation
+  //! Every flipped edge since the input triangulation, in order (replays the flips), over every
+  //! solve of the solver so far.
   std::vector<int> flip_sequence;
   //! The final connectivity when flips changed it (edge indices as in the input).
   std::optional<Triangulation> triangulation;
-  //! The conformal structure (eps, eta) on the final triangulation, with u0 = u: where a flow
-  //! that resumes from this result starts (FlowOptions::resume).
-  ConformalStructure structure;
   double area = 0;  //!< total area in the background geometry
 
   int iterations = 0;
-  double residual = 0;                   //!< max |K - Kbar| at the end
-  std::vector<double> residual_history;  //!< residual before each iteration, and at the end
-  std::vector<double> step_history;      //!< accepted step length alpha per iteration
-  int num_analyses = 0, num_factorizations = 0;
+  double residual = 0;                           //!< max |K - Kbar| at the end
+  std::vector<double> residual_history;          //!< residual before each iteration, and at the end
+  std::vector<double> step_history;              //!< accepted step length alpha per iteration
+  int num_analyses = 0, num_factorizations = 0;  //!< of this solve
   FlowTimes times;
 };
 
@@ -84,6 +84,37 @@ struct FlowResult {
 inline const Triangulation& result_triangulation(const CompactMesh& mesh, const FlowResult& r) {
   return r.triangulation ? *r.triangulation : mesh;
 }
+
+//! The flow on one mesh and conformal structure, kept between solves: the triangulation as
+//! flipped, the structure's eta on it, u, and the Hessian's pattern with its symbolic analysis
+//! (reused while neither the triangulation nor the set of free vertices changes). A solve starts
+//! where the last one ended: solving for a target near the last one takes few iterations.
+class RicciFlowSolver {
+ public:
+  //! \throws InvalidArgumentError when the structure was built for another mesh, or the options
+  //!   are out of range.
+  RicciFlowSolver(const CompactMesh& mesh, const ConformalStructure& structure,
+                  FlowOptions options = {});
+  ~RicciFlowSolver();
+  RicciFlowSolver(const RicciFlowSolver&) = delete;
+  RicciFlowSolver& operator=(const RicciFlowSolver&) = delete;
+
+  //! Runs the flow to `target` from the current state. With `start`, first walks u towards it in
+  //! the longest valid steps with flips (Ptolemy flips keep the conformal class), then Newton.
+  //! Never throws for non-convergence: the result says why.
+  //! \throws InvalidTargetError for a target that admits no flow.
+  FlowResult solve(const TargetCurvature& target, const Eigen::VectorXd* start = nullptr);
+
+  //! Back to the input triangulation, the input structure and u0.
+  void restart();
+
+  const Triangulation& triangulation() const;
+  const Eigen::VectorXd& u() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 //! The length scale applied to the input before initialization: 1 in E2; in H2 and S2 the scale
 //! giving the area Gauss-Bonnet asks for (area 1 when fixed vertices leave it open), reduced in
@@ -96,7 +127,8 @@ double initial_length_scale(const CompactMesh& mesh, Geometry geometry,
 ConformalStructure prepare_flow(const CompactMesh& mesh, Geometry geometry,
                                 const SchemeOptions& scheme, const TargetCurvature& target);
 
-//! Runs the flow from structure.u0. Never throws for non-convergence: the result says why.
+//! Runs the flow from structure.u0 (on a closed genus-0 surface in S2, by default, after a walk to
+//! the stereographic start). Never throws for non-convergence: the result says why.
 //! \throws InvalidTargetError, InvalidArgumentError for inputs that admit no flow.
 FlowResult run_ricci_flow(const CompactMesh& mesh, const ConformalStructure& structure,
                           const TargetCurvature& target, const FlowOptions& options = {});
@@ -107,5 +139,8 @@ FlowResult run_ricci_flow(const CompactMesh& mesh, const ConformalStructure& str
 FlowResult compute_ricci_flow(const CompactMesh& mesh, Geometry geometry,
                               const SchemeOptions& scheme, const TargetCurvature& target,
                               const FlowOptions& options = {});
+
+//! "ricci flow (GEOMETRY, SCHEME): FAILURE": the one message of a flow that did not converge.
+std::string flow_failure_message(Geometry geometry, Scheme scheme, const FlowResult& result);
 
 }  // namespace ricci

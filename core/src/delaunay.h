@@ -15,7 +15,7 @@
 
 #include <Eigen/Core>
 
-#include "ricci/metric.h"
+#include "metric.h"
 #include "ricci/scheme.h"
 #include "ricci/triangulation.h"
 

@@ -5,10 +5,14 @@
 // Moebius maps, which is why the lift of the flat pattern is close to the round one.
 #pragma once
 
+#include <optional>
+
 #include <Eigen/Core>
 
 #include "ricci/compact_mesh.h"
+#include "ricci/ricci_flow.h"
 #include "ricci/scheme.h"
+#include "ricci/target.h"
 
 namespace ricci {
 
@@ -21,5 +25,13 @@ namespace ricci {
 //! \pre mesh is a closed genus-0 surface, structure.geometry is S2.
 //! \throws ConvergenceError when the punctured flow does not converge.
 Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure);
+
+//! Where the flow to `target` walks before Newton: the stereographic start on a closed genus-0
+//! surface in S2 with a curvature target at every vertex (when options.stereographic_start and a
+//! puncture flattened); otherwise none.
+std::optional<Eigen::VectorXd> flow_start(const CompactMesh& mesh,
+                                          const ConformalStructure& structure,
+                                          const TargetCurvature& target,
+                                          const FlowOptions& options);
 
 }  // namespace ricci

@@ -7,7 +7,7 @@
 
 #include <Eigen/SparseCore>
 
-#include "ricci/metric.h"
+#include "metric.h"
 #include "ricci/triangulation.h"
 
 namespace ricci {

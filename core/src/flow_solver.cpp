@@ -1,0 +1,274 @@
+// RicciFlowSolver: the flow's state between solves, and one solve as a sequence of named steps.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "delaunay.h"
+#include "flow_steps.h"
+#include "pattern_obstruction.h"
+#include "ricci/errors.h"
+#include "ricci/ricci_flow.h"
+
+namespace ricci {
+
+using detail::Clock;
+using detail::seconds_since;
+
+struct RicciFlowSolver::State {
+  State(const CompactMesh& m, const ConformalStructure& s, FlowOptions o)
+      : mesh(m),
+        input_structure(s),
+        options(std::move(o)),
+        triangulation(m),
+        structure(s),
+        u(s.u0),
+        steps(options.linear_solver) {}
+
+  const CompactMesh& mesh;
+  const ConformalStructure input_structure;
+  const FlowOptions options;
+
+  // Kept from one solve to the next.
+  Triangulation triangulation;   // the input's, then as flipped
+  ConformalStructure structure;  // eta changes with flips
+  Eigen::VectorXd u;
+  std::vector<int> flip_sequence;
+  std::vector<int> free_index;  // of the pattern the step solver holds
+  bool pattern_current = false;
+  detail::StepSolver steps;
+
+  // One solve.
+  FlowResult result;
+  FlowTimes times;
+  MetricState metric;
+  Eigen::VectorXd k;
+  double lm_weight = 1;  // S2: mu = lm_weight * |r|
+  detail::StallWindow stall;
+
+  bool spherical() const { return structure.geometry == Geometry::Spherical; }
+  void use_free_vertices(const TargetCurvature& target);
+  void keep_delaunay();
+  void walk_to(const Eigen::VectorXd& start);
+  std::string precondition_failure(const TargetCurvature& target);
+  std::string iterate(const TargetCurvature& target, int it);
+  void normalize_scale(const TargetCurvature& target);
+  void finish(const TargetCurvature& target);
+};
+
+void RicciFlowSolver::State::use_free_vertices(const TargetCurvature& target) {
+  std::vector<int> index =
+      detail::free_vertex_index(mesh.num_vertices(), structure.geometry, target);
+  if (index != free_index) pattern_current = false;
+  free_index = std::move(index);
+  if (!pattern_current) steps.set_pattern(triangulation, free_index);
+  pattern_current = true;
+}
+
+// Flips to (power) Delaunay; a changed connectivity needs a new Hessian pattern and analysis.
+void RicciFlowSolver::State::keep_delaunay() {
+  if (!options.edge_flips) return;
+  const auto t = Clock::now();
+  const FlipReport flips =
+      make_delaunay(triangulation, structure, u, metric, 10 * mesh.num_edges());
+  result.num_flips += flips.flips;
+  flip_sequence.insert(flip_sequence.end(), flips.sequence.begin(), flips.sequence.end());
+  if (flips.flips > 0) {
+    ++result.connectivity_changes;
+    steps.set_pattern(triangulation, free_index);
+  }
+  times.flips += seconds_since(t);
+}
+
+// Moves u towards `start` in the longest valid steps, flipping to Delaunay after each.
+void RicciFlowSolver::State::walk_to(const Eigen::VectorXd& start) {
+  if (!start.allFinite()) return;
+  for (int step = 0; step < 200; ++step) {
+    const Eigen::VectorXd d = start - u;
+    double alpha = 1;
+    MetricState trial;
+    for (; alpha > 1e-6; alpha *= 0.5) {
+      trial = evaluate_metric(triangulation, structure, u + alpha * d);
+      if (trial.valid()) break;
+    }
+    if (!trial.valid()) return;
+    u += alpha * d;
+    metric = std::move(trial);
+    keep_delaunay();
+    if (alpha == 1) return;
+  }
+}
+
+// Why no flow can start here, or "".
+std::string RicciFlowSolver::State::precondition_failure(const TargetCurvature& target) {
+  if (!metric.valid()) {
+    return "the initial metric of this scheme is not valid in " + to_string(structure.geometry) +
+           " geometry: " + detail::describe_invalid(metric) +
+           "; try another scheme (tangential packing is always valid)";
+  }
+  return circle_pattern_obstruction(triangulation, structure, target);
+}
+
+// One Newton (S2: Levenberg-Marquardt) iteration; "" when it moved, else why the flow stops.
+std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int it) {
+  const Eigen::VectorXd r = detail::free_residual(k, target, free_index, steps.num_free());
+  Eigen::VectorXd du;
+  std::ostringstream s;
+  if (!steps.solve(metric, r, spherical(), lm_weight, du, times)) {
+    s << "the Hessian could not be factorized at iteration " << it
+      << " (max |K - Kbar| = " << result.residual << "); the metric is close to degenerate";
+    return s.str();
+  }
+  const auto t = Clock::now();
+  detail::LineSearch step = detail::search_line(triangulation, structure, target, free_index, u, du,
+                                                0.5 * r.squaredNorm(), options.max_step_halvings);
+  times.line_search += seconds_since(t);
+  const char* flips_help = options.edge_flips ? "" : " on this triangulation (edge flips help)";
+  if (!step.accepted) {
+    s << "stalled at iteration " << it << " with max |K - Kbar| = " << result.residual
+      << ": no step of length >= 2^-" << options.max_step_halvings << " reduces the residual";
+    if (!step.state.valid())
+      s << " while keeping every triangle valid (" << detail::describe_invalid(step.state) << ")";
+    s << "; the solution may not exist" << (options.edge_flips ? " for this mesh" : flips_help)
+      << ", or try another scheme";
+    return s.str();
+  }
+  const std::vector<double>& history = result.residual_history;
+  if (stall.stalled(step, history)) {
+    s << "stalled at iteration " << it << ": for " << detail::StallWindow::kLength
+      << " iterations the step was cut below 1/64 to keep triangles from degenerating, and "
+         "max |K - Kbar| only went from "
+      << history[history.size() - detail::StallWindow::kLength] << " to " << result.residual
+      << "; the target is not reachable"
+      << (options.edge_flips ? " even with edge flips" : flips_help)
+      << ", or try the tangential scheme, whose triangles are always valid";
+    return s.str();
+  }
+  if (spherical())
+    lm_weight = step.alpha == 1 ? std::max(lm_weight / 4, 1e-8) : std::min(lm_weight * 8, 1e8);
+  result.step_history.push_back(step.alpha);
+  u = std::move(step.u);
+  metric = std::move(step.state);
+  const int flips_before = result.num_flips;
+  keep_delaunay();
+  k = result.num_flips > flips_before ? curvature(triangulation, metric) : std::move(step.k);
+  return "";
+}
+
+// E2 without fixed vertices: the scale of the input's total area.
+void RicciFlowSolver::State::normalize_scale(const TargetCurvature& target) {
+  if (structure.geometry != Geometry::Euclidean || target.num_fixed() > 0) return;
+  const double area = total_area(triangulation, Geometry::Euclidean, metric);
+  u.array() += 0.5 * std::log(mesh.input_area() / area);
+  metric = evaluate_metric(triangulation, structure, u);
+  k = curvature(triangulation, metric);
+  result.residual = detail::max_residual(k, target);
+}
+
+void RicciFlowSolver::State::finish(const TargetCurvature& target) {
+  const Geometry g = structure.geometry;
+  FlowResult& r = result;
+  r.u = u;
+  r.curvature = k;
+  r.edge_lengths = metric.lengths();
+  r.area = metric.valid() ? total_area(triangulation, g, metric)
+                          : std::numeric_limits<double>::quiet_NaN();
+  r.radius.resize(u.size());
+  r.target.resize(u.size());
+  for (int v = 0; v < u.size(); ++v) {
+    r.radius[v] = radius_from_conformal_factor(g, u[v]);
+    r.target[v] =
+        target.is_fixed(v) ? std::numeric_limits<double>::quiet_NaN() : target.curvature[v];
+  }
+  r.flip_sequence = flip_sequence;
+  if (!flip_sequence.empty()) r.triangulation = triangulation;
+  structure.u0 = u;
+}
+
+RicciFlowSolver::RicciFlowSolver(const CompactMesh& mesh, const ConformalStructure& structure,
+                                 FlowOptions options) {
+  if (!(options.tolerance > 0) || options.max_iterations < 0) {
+    throw InvalidArgumentError(
+        "ricci flow: tolerance must be positive and the iteration limit non-negative");
+  }
+  const int nv = mesh.num_vertices();
+  if (static_cast<int>(structure.eps.size()) != nv || structure.u0.size() != nv ||
+      static_cast<int>(structure.eta.size()) != mesh.num_edges()) {
+    throw InvalidArgumentError("ricci flow: the conformal structure was built for another mesh");
+  }
+  state_ = std::make_unique<State>(mesh, structure, std::move(options));
+}
+
+RicciFlowSolver::~RicciFlowSolver() = default;
+
+void RicciFlowSolver::restart() {
+  State& s = *state_;
+  s.triangulation = s.mesh;
+  s.structure = s.input_structure;
+  s.u = s.input_structure.u0;
+  s.flip_sequence.clear();
+  s.pattern_current = false;
+}
+
+const Triangulation& RicciFlowSolver::triangulation() const {
+  return state_->triangulation;
+}
+const Eigen::VectorXd& RicciFlowSolver::u() const {
+  return state_->u;
+}
+
+FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::VectorXd* start) {
+  State& s = *state_;
+  check_target(s.mesh, s.structure.geometry, target);
+  const auto begin = Clock::now();
+  const int analyses = s.steps.num_analyses(), factorizations = s.steps.num_factorizations();
+  s.result = FlowResult();
+  s.times = FlowTimes();
+  s.lm_weight = 1;
+  s.stall = detail::StallWindow();
+  s.use_free_vertices(target);
+  s.metric = evaluate_metric(s.triangulation, s.structure, s.u);
+  s.times.setup = seconds_since(begin);
+  FlowResult& r = s.result;
+  r.failure = s.precondition_failure(target);
+  if (!r.failure.empty()) {
+    s.k = s.metric.valid() ? curvature(s.triangulation, s.metric)
+                           : Eigen::VectorXd::Constant(s.u.size(), std::nan(""));
+  } else {
+    s.keep_delaunay();
+    if (start) s.walk_to(*start);
+    s.k = curvature(s.triangulation, s.metric);
+    for (int it = 0;; ++it) {
+      r.residual = detail::max_residual(s.k, target);
+      r.residual_history.push_back(r.residual);
+      r.iterations = it;
+      if (s.options.progress && !s.options.progress({it, r.residual})) {
+        r.failure = "cancelled at iteration " + std::to_string(it);
+        break;
+      }
+      if (r.residual <= s.options.tolerance || s.steps.num_free() == 0) {
+        r.converged = true;
+        break;
+      }
+      if (it >= s.options.max_iterations) {
+        std::ostringstream m;
+        m << "no convergence in " << it << " iterations: max |K - Kbar| = " << r.residual
+          << " > tolerance " << s.options.tolerance
+          << "; raise the iteration limit, or loosen the tolerance";
+        r.failure = m.str();
+        break;
+      }
+      r.failure = s.iterate(target, it);
+      if (!r.failure.empty()) break;
+    }
+    if (r.converged) s.normalize_scale(target);
+  }
+  s.finish(target);
+  r.num_analyses = s.steps.num_analyses() - analyses;
+  r.num_factorizations = s.steps.num_factorizations() - factorizations;
+  s.times.total = seconds_since(begin);
+  r.times = s.times;
+  return std::move(s.result);
+}
+
+}  // namespace ricci

@@ -1,0 +1,132 @@
+#include "flow_steps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace ricci::detail {
+
+Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& target,
+                              const std::vector<int>& free_index, int num_free) {
+  Eigen::VectorXd r(num_free);
+  for (size_t v = 0; v < free_index.size(); ++v) {
+    if (free_index[v] >= 0)
+      r[free_index[v]] = target.curvature[static_cast<int>(v)] - k[static_cast<int>(v)];
+  }
+  return r;
+}
+
+double max_residual(const Eigen::VectorXd& k, const TargetCurvature& target) {
+  double m = 0;
+  for (int v = 0; v < k.size(); ++v) {
+    if (!target.is_fixed(v)) m = std::max(m, std::abs(target.curvature[v] - k[v]));
+  }
+  return m;
+}
+
+std::string describe_invalid(const MetricState& state) {
+  std::ostringstream s;
+  if (state.num_invalid_edges > 0) {
+    s << state.num_invalid_edges << " edges without a real length";
+    if (state.num_invalid_faces > 0) s << " and ";
+  }
+  if (state.num_invalid_faces > 0) {
+    s << state.num_invalid_faces << " triangles violating the triangle inequality (first: face "
+      << state.first_invalid_face << ")";
+  }
+  return s.str();
+}
+
+std::vector<int> free_vertex_index(int num_vertices, Geometry geometry,
+                                   const TargetCurvature& target) {
+  std::vector<int> index(num_vertices, -1);
+  int n = 0;
+  const bool pin = geometry == Geometry::Euclidean && target.num_fixed() == 0;
+  for (int v = 0; v < num_vertices; ++v) {
+    if (target.is_fixed(v) || (pin && v == 0)) continue;
+    index[v] = n++;
+  }
+  return index;
+}
+
+// === The step direction
+
+void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& free_index) {
+  assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
+  analyzed_ = false;
+}
+
+bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
+                       double lm_weight, Eigen::VectorXd& du, FlowTimes& times) {
+  auto t = Clock::now();
+  const SparseMatrix& h = assembler_->assemble(state);
+  Eigen::VectorXd rhs = r;
+  const SparseMatrix* system = &h;
+  double shift = 0;
+  if (spherical) {
+    normal_matrix_ = h * h;
+    rhs = h * r;
+    system = &normal_matrix_;
+    shift = lm_weight * r.norm();
+  }
+  times.assembly += seconds_since(t);
+  if (!analyzed_) {
+    t = Clock::now();
+    solver_.analyze(*system);
+    analyzed_ = true;
+    times.analysis += seconds_since(t);
+  }
+  t = Clock::now();
+  // E2 and H2: H is positive (semi)definite; a shift only guards against round-off near
+  // degenerate triangles. S2: H^2 + mu I is positive definite for mu > 0.
+  double max_diag = 0;
+  for (int i = 0; i < system->rows(); ++i)
+    max_diag = std::max(max_diag, std::abs(system->coeff(i, i)));
+  bool ok = solver_.factorize(*system, shift);
+  for (double extra = 1e-12 * std::max(max_diag, 1e-300); !ok && extra < 1e3 * max_diag;
+       extra *= 10) {
+    ok = solver_.factorize(*system, shift + extra);
+  }
+  times.factorization += seconds_since(t);
+  if (!ok) return false;
+  t = Clock::now();
+  du = solver_.solve(rhs);
+  times.solve += seconds_since(t);
+  return du.allFinite();
+}
+
+// === The line search
+
+LineSearch search_line(const Triangulation& mesh, const ConformalStructure& structure,
+                       const TargetCurvature& target, const std::vector<int>& free_index,
+                       const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
+                       int max_halvings) {
+  LineSearch s;
+  s.u = u;
+  const int n = static_cast<int>(du.size());
+  for (int halving = 0; halving <= max_halvings; ++halving, s.alpha *= 0.5) {
+    for (int v = 0; v < u.size(); ++v) {
+      if (free_index[v] >= 0) s.u[v] = u[v] + s.alpha * du[free_index[v]];
+    }
+    s.state = evaluate_metric(mesh, structure, s.u);
+    if (!s.state.valid()) {
+      s.blocked_by_validity = true;
+      continue;
+    }
+    s.k = curvature(mesh, s.state);
+    const double trial_phi = 0.5 * free_residual(s.k, target, free_index, n).squaredNorm();
+    if (trial_phi <= (1 - 1e-4 * s.alpha) * phi) {
+      s.accepted = true;
+      break;
+    }
+  }
+  return s;
+}
+
+bool StallWindow::stalled(const LineSearch& step, const std::vector<double>& residual_history) {
+  short_steps_ = (step.blocked_by_validity && step.alpha <= 1.0 / 64) ? short_steps_ + 1 : 0;
+  const size_t n = residual_history.size();
+  return short_steps_ >= kLength && residual_history[n - 1] > 0.5 * residual_history[n - kLength];
+}
+
+}  // namespace ricci::detail

@@ -1,0 +1,94 @@
+// The pieces of one Newton iteration of the flow (ricci_flow.h), each small enough to check on its
+// own: the residual, the step direction (Newton in E2 and H2, Levenberg-Marquardt in S2), the
+// line search and the stall window. Not installed API.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hessian.h"
+#include "metric.h"
+#include "ricci/linear_solver.h"
+#include "ricci/ricci_flow.h"
+#include "ricci/target.h"
+
+namespace ricci::detail {
+
+using Clock = std::chrono::steady_clock;
+inline double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+//! Kbar - K on the rows of the free vertices.
+Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& target,
+                              const std::vector<int>& free_index, int num_free);
+
+//! max |K - Kbar| over every vertex with a curvature target (a pinned gauge vertex included).
+double max_residual(const Eigen::VectorXd& k, const TargetCurvature& target);
+
+//! "3 edges without a real length and 2 triangles violating the triangle inequality (...)".
+std::string describe_invalid(const MetricState& state);
+
+//! The rows of the unknowns: -1 where u is held fixed, and in E2 without fixed vertices at the
+//! vertex pinned against the scaling (K is invariant under u + c).
+std::vector<int> free_vertex_index(int num_vertices, Geometry geometry,
+                                   const TargetCurvature& target);
+
+//! Solves for the step: H du = r (E2, H2), or (H^2 + mu I) du = H r with mu = weight |r| (S2,
+//! where H is indefinite and singular along the Moebius maps at the solution). The Hessian's
+//! pattern and its symbolic analysis are kept until the triangulation or the free set changes.
+class StepSolver {
+ public:
+  explicit StepSolver(LinearSolverKind kind) : solver_(kind) {}
+
+  //! A new pattern: a new triangulation (flips) or another set of free vertices.
+  void set_pattern(const Triangulation& mesh, const std::vector<int>& free_index);
+  int num_free() const { return assembler_->num_free(); }
+
+  //! False when no shift makes the system factorizable, or the step is not finite.
+  bool solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical, double lm_weight,
+             Eigen::VectorXd& du, FlowTimes& times);
+
+  int num_analyses() const { return solver_.num_analyses(); }
+  int num_factorizations() const { return solver_.num_factorizations(); }
+
+ private:
+  std::unique_ptr<HessianAssembler> assembler_;
+  LinearSolver solver_;
+  SparseMatrix normal_matrix_;  // S2: H^2
+  bool analyzed_ = false;
+};
+
+//! The outcome of the backtracking line search along du.
+struct LineSearch {
+  bool accepted = false;
+  bool blocked_by_validity = false;  //!< a longer step left the set of valid triangles
+  double alpha = 1;
+  Eigen::VectorXd u, k;  //!< accepted point and its curvature
+  MetricState state;     //!< the accepted state, or the last one tried
+};
+
+//! Armijo backtracking on |Kbar - K|^2 / 2 from u along du, halving at most max_halvings times,
+//! never accepting a point where a triangle is invalid.
+LineSearch search_line(const Triangulation& mesh, const ConformalStructure& structure,
+                       const TargetCurvature& target, const std::vector<int>& free_index,
+                       const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
+                       int max_halvings);
+
+//! Steps cut short by degenerating triangles for many iterations with little progress: the flow
+//! is running into the boundary of the valid set, where no solution lies.
+class StallWindow {
+ public:
+  static constexpr int kLength = 10;
+  //! Records an accepted step; true when the flow has stalled.
+  bool stalled(const LineSearch& step, const std::vector<double>& residual_history);
+
+ private:
+  int short_steps_ = 0;
+};
+
+}  // namespace ricci::detail
