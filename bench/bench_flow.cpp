@@ -5,8 +5,8 @@
 
 #include "bench_meshes.h"
 #include "hessian.h"
-#include "ricci/linear_solver.h"
 #include "metric.h"
+#include "ricci/linear_solver.h"
 #include "ricci/ricci_flow.h"
 
 namespace ricci::bench {

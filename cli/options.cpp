@@ -1,9 +1,11 @@
 #include "options.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "ricci/errors.h"
@@ -32,99 +34,248 @@ int parse_int(const std::string& flag, const std::string& text) {
   return static_cast<int>(x);
 }
 
+std::string shortest(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+void set_target(Options& o, const std::string& spec) {
+  o.target = spec;
+  o.target_file.clear();
+  for (const char* name : {"auto", "disk", "free-boundary", "zero"}) {
+    if (spec == name) {
+      o.request.preset = target_preset_from_string(spec);
+      return;
+    }
+  }
+  o.request.preset = TargetPreset::Values;
+  o.target_is_cones = spec.rfind("cones:", 0) == 0;
+  o.target_file = o.target_is_cones ? spec.substr(6) : spec;
+  if (o.target_file.empty()) throw InvalidArgumentError("--target cones: needs a file name");
+}
+
+// One flag: its names, its value's name (empty for a switch), its help (lines after the first
+// are indented under it), the default shown (from a default Options), and what it sets.
+struct Flag {
+  std::vector<std::string> names;
+  std::string value;
+  std::string help;
+  std::function<std::string(const Options&)> shown_default;
+  std::function<void(Options&, const std::string& flag, const std::string& value)> set;
+};
+
+const std::vector<Flag>& flags() {
+  using O = Options;
+  static const std::vector<Flag> table = {
+      {{"-o", "--output"},
+       "FILE.ply",
+       "result: per-vertex ricci_u, ricci_radius, ricci_curvature, ricci_target; layouts: "
+       "layout_x/y/z per vertex (plane, sphere) and texture_u/v (plane), or per face corner "
+       "texcoord (cut open)",
+       nullptr,
+       [](O& o, const std::string&, const std::string& v) { o.output = v; }},
+      {{"--geometry"},
+       "G",
+       "auto (by target and topology), euclidean, hyperbolic, spherical",
+       [](const O& o) { return o.request.geometry ? to_string(*o.request.geometry) : "auto"; },
+       [](O& o, const std::string&, const std::string& v) {
+         if (v == "auto") {
+           o.request.geometry.reset();
+         } else {
+           o.request.geometry = geometry_from_string(v);
+         }
+       }},
+      {{"--scheme"},
+       "S",
+       "tangential, thurston, inversive-distance, yamabe, virtual-radius, mixed",
+       [](const O& o) { return to_string(o.request.scheme.scheme); },
+       [](O& o, const std::string&, const std::string& v) {
+         o.request.scheme.scheme = scheme_from_string(v);
+       }},
+      {{"--angle"},
+       "DEGREES",
+       "Thurston's intersection angle, 0..90",
+       [](const O& o) { return shortest(o.request.scheme.intersection_angle * 180 / kPi); },
+       [](O& o, const std::string& f, const std::string& v) {
+         o.request.scheme.intersection_angle = parse_double(f, v) * kPi / 180;
+       }},
+      {{"--eps"},
+       "FILE",
+       "mixed scheme: +1, 0 or -1 per line, one line per vertex",
+       nullptr,
+       [](O& o, const std::string&, const std::string& v) { o.eps_file = v; }},
+      {{"--target"},
+       "T",
+       "the metric to reach\n"
+       "  auto: by topology: closed genus 0 round sphere (S2), genus 1 flat torus (E2), genus >= 2 "
+       "hyperbolic (H2); genus 0 with boundary the unit disk or a circle domain (E2); genus >= 1 "
+       "with boundary H2 with geodesic boundary\n"
+       "  disk: boundary loops on circles, the outer one the unit circle\n"
+       "  free-boundary: u = 0 on the boundary, flat inside\n"
+       "  zero: Kbar = 0 at every vertex\n"
+       "  cones:FILE: lines \"VERTEX ANGLE_DEGREES\": cone angles inside, corner angles on the "
+       "boundary (rectangles, polygons); flat and straight elsewhere\n"
+       "  FILE: Kbar per line, one line per vertex; 'nan' holds that vertex's u fixed",
+       [](const O& o) { return o.target; },
+       [](O& o, const std::string&, const std::string& v) { set_target(o, v); }},
+      {{"--center"},
+       "VERTEX",
+       "disk target: the vertex mapped to the centre of the disk",
+       nullptr,
+       [](O& o, const std::string& f, const std::string& v) {
+         o.request.center_vertex = parse_int(f, v);
+       }},
+      {{"--axis"},
+       "VERTEX",
+       "disk target: the vertex mapped onto the positive real axis",
+       nullptr,
+       [](O& o, const std::string& f, const std::string& v) {
+         o.request.axis_vertex = parse_int(f, v);
+       }},
+      {{"--tolerance"},
+       "X",
+       "converged when max |K - Kbar| <= X",
+       [](const O& o) { return shortest(o.request.flow.tolerance); },
+       [](O& o, const std::string& f, const std::string& v) {
+         o.request.flow.tolerance = parse_double(f, v);
+         if (!(o.request.flow.tolerance > 0)) throw InvalidArgumentError(f + " must be positive");
+       }},
+      {{"--max-iterations"},
+       "N",
+       "Newton iteration limit",
+       [](const O& o) { return std::to_string(o.request.flow.max_iterations); },
+       [](O& o, const std::string& f, const std::string& v) {
+         o.request.flow.max_iterations = parse_int(f, v);
+       }},
+      {{"--solver"},
+       "NAME",
+       "sparse Cholesky: cholmod or ldlt (Eigen's SimplicialLDLT)",
+       [](const O& o) { return to_string(o.request.flow.linear_solver); },
+       [](O& o, const std::string&, const std::string& v) {
+         o.request.flow.linear_solver = linear_solver_from_string(v);
+       }},
+      {{"--no-flips"},
+       "",
+       "keep the input triangulation (by default edges are flipped to keep it (power) Delaunay, "
+       "which real meshes need)",
+       nullptr,
+       [](O& o, const std::string&, const std::string&) { o.request.flow.edge_flips = false; }},
+      {{"--report"},
+       "FILE.json",
+       "convergence history, timings and errors of the result",
+       nullptr,
+       [](O& o, const std::string&, const std::string& v) { o.report = v; }},
+      {{"--picture"},
+       "FILE.png",
+       "picture of the planar layout (disks, circle domains)",
+       nullptr,
+       [](O& o, const std::string&, const std::string& v) { o.picture = v; }},
+      {{"--ascii"},
+       "",
+       "write ASCII PLY instead of binary",
+       nullptr,
+       [](O& o, const std::string&, const std::string&) { o.ascii = true; }},
+      {{"--quiet"},
+       "",
+       "no progress or summary output",
+       nullptr,
+       [](O& o, const std::string&, const std::string&) { o.quiet = true; }},
+      {{"-h", "--help"},
+       "",
+       "this text",
+       nullptr,
+       [](O& o, const std::string&, const std::string&) { o.help = true; }},
+      {{"--version"},
+       "",
+       "version",
+       nullptr,
+       [](O& o, const std::string&, const std::string&) { o.version = true; }},
+  };
+  return table;
+}
+
+const Flag* find_flag(const std::string& name) {
+  for (const Flag& f : flags()) {
+    for (const std::string& n : f.names) {
+      if (n == name) return &f;
+    }
+  }
+  return nullptr;
+}
+
+// Usage errors that need several flags together.
+void check_combination(const Options& o) {
+  if (o.request.scheme.scheme == Scheme::Mixed && o.eps_file.empty()) {
+    throw InvalidArgumentError("the mixed scheme needs --eps FILE (+1, 0 or -1 per vertex)");
+  }
+  if (o.request.scheme.scheme != Scheme::Mixed && !o.eps_file.empty()) {
+    throw InvalidArgumentError("--eps is used only by --scheme mixed");
+  }
+  check_scheme_options(o.request.scheme);
+}
+
+// The help's lines, each longer than `width` broken at spaces, continued with its own indent.
+std::vector<std::string> wrapped(const std::string& text, size_t width) {
+  std::vector<std::string> out;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const std::string indent(
+        line.find_first_not_of(' ') == std::string::npos ? 0 : line.find_first_not_of(' '), ' ');
+    while (line.size() > width && line.rfind(' ', width) > indent.size()) {
+      const size_t cut = line.rfind(' ', width);
+      out.push_back(line.substr(0, line.find_last_not_of(' ', cut) + 1));
+      line = indent + "  " + line.substr(cut + 1);
+    }
+    out.push_back(line);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string usage() {
-  return R"(usage: ricci-flow INPUT -o OUTPUT.ply [options]
-
-Unified discrete surface Ricci flow (Zhang, Guo, Zeng, Luo, Yau, Gu): computes a metric of
-prescribed curvature conformal to the input mesh, and its layout: in the plane (UV), in the
-Poincare disk, or on the unit sphere.
-
-  INPUT                    mesh: .off .obj .ply .stl (one connected manifold triangle mesh)
-  -o, --output FILE.ply    result: per-vertex ricci_u, ricci_radius, ricci_curvature,
-                           ricci_target; layouts: layout_x/y/z per vertex (plane, sphere)
-                           and texture_u/v (plane), or per face corner texcoord (cut open)
-  --geometry G             auto (by target and topology), euclidean, hyperbolic,
-                           spherical                                               [auto]
-  --scheme S               tangential, thurston, inversive-distance, yamabe,
-                           virtual-radius, mixed                                   [yamabe]
-  --angle DEGREES          Thurston's intersection angle, 0..90                    [60]
-  --eps FILE               mixed scheme: +1, 0 or -1 per line, one line per vertex
-  --target T               the metric to reach                                      [auto]
-                             auto: by topology: closed genus 0 round sphere (S2), genus 1
-                               flat torus (E2), genus >= 2 hyperbolic (H2); genus 0 with
-                               boundary the unit disk or a circle domain (E2); genus >= 1
-                               with boundary H2 with geodesic boundary
-                             disk: boundary loops on circles, the outer one the unit circle
-                             free-boundary: u = 0 on the boundary, flat inside
-                             zero: Kbar = 0 at every vertex
-                             cones:FILE: lines "VERTEX ANGLE_DEGREES": cone angles inside,
-                               corner angles on the boundary (rectangles, polygons); flat
-                               and straight elsewhere
-                             FILE: Kbar per line, one line per vertex; 'nan' holds that
-                               vertex's u fixed
-  --center VERTEX          disk target: the vertex mapped to the centre of the disk
-  --axis VERTEX            disk target: the vertex mapped onto the positive real axis
-  --tolerance X            converged when max |K - Kbar| <= X                      [1e-10]
-  --max-iterations N       Newton iteration limit                                  [100]
-  --solver cholmod|ldlt    sparse Cholesky: CHOLMOD or Eigen's SimplicialLDLT      [cholmod]
-  --no-flips               keep the input triangulation (by default edges are flipped
-                           to keep it (power) Delaunay, which real meshes need)
-  --report FILE.json       convergence history, timings and errors of the result
-  --picture FILE.png       picture of the planar layout (euclidean disks)
-  --ascii                  write ASCII PLY instead of binary
-  --quiet                  no progress or summary output
-  -h, --help               this text
-  --version                version
-)";
+  std::ostringstream s;
+  s << "usage: ricci-flow INPUT -o OUTPUT.ply [options]\n\n"
+       "Unified discrete surface Ricci flow (Zhang, Guo, Zeng, Luo, Yau, Gu): computes a metric "
+       "of\n"
+       "prescribed curvature conformal to the input mesh, and its layout: in the plane (UV), in\n"
+       "the Poincare disk, or on the unit sphere.\n\n"
+       "  INPUT                    mesh: .off .obj .ply .stl (polygons are split into triangles\n"
+       "                           as fans from their first corner)\n";
+  const Options defaults;
+  for (const Flag& f : flags()) {
+    std::string head;
+    for (const std::string& n : f.names) head += (head.empty() ? "" : ", ") + n;
+    if (!f.value.empty()) head += " " + f.value;
+    std::string help = f.help;
+    if (f.shown_default) {
+      help.insert(std::min(help.find('\n'), help.size()), "  [" + f.shown_default(defaults) + "]");
+    }
+    bool first = true;
+    for (const std::string& line : wrapped(help, 66)) {
+      std::string text = "  " + (first ? head : "");
+      text.resize(std::max<size_t>(text.size(), 27), ' ');
+      if (text.size() > 27) text += "\n" + std::string(27, ' ');
+      s << text << line << "\n";
+      first = false;
+    }
+  }
+  return s.str();
 }
 
 Options parse_options(int argc, const char* const* argv) {
   Options o;
-  auto value = [&](int& i, const std::string& flag) -> std::string {
-    if (i + 1 >= argc) throw InvalidArgumentError(flag + " needs a value");
-    return argv[++i];
-  };
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "-h" || a == "--help") {
-      o.help = true;
-    } else if (a == "--version") {
-      o.version = true;
-    } else if (a == "-o" || a == "--output") {
-      o.output = value(i, a);
-    } else if (a == "--geometry") {
-      o.geometry = value(i, a);
-    } else if (a == "--scheme") {
-      o.scheme = value(i, a);
-    } else if (a == "--angle") {
-      o.angle_degrees = parse_double(a, value(i, a));
-    } else if (a == "--eps") {
-      o.eps_file = value(i, a);
-    } else if (a == "--target") {
-      o.target = value(i, a);
-    } else if (a == "--center") {
-      o.center_vertex = parse_int(a, value(i, a));
-    } else if (a == "--axis") {
-      o.axis_vertex = parse_int(a, value(i, a));
-    } else if (a == "--tolerance") {
-      o.tolerance = parse_double(a, value(i, a));
-      if (!(o.tolerance > 0)) throw InvalidArgumentError("--tolerance must be positive");
-    } else if (a == "--max-iterations") {
-      o.max_iterations = parse_int(a, value(i, a));
-    } else if (a == "--solver") {
-      o.solver = value(i, a);
-    } else if (a == "--report") {
-      o.report = value(i, a);
-    } else if (a == "--picture") {
-      o.picture = value(i, a);
-    } else if (a == "--no-flips") {
-      o.edge_flips = false;
-    } else if (a == "--ascii") {
-      o.ascii = true;
-    } else if (a == "--quiet") {
-      o.quiet = true;
+    if (const Flag* flag = find_flag(a)) {
+      std::string value;
+      if (!flag->value.empty()) {
+        if (i + 1 >= argc) throw InvalidArgumentError(a + " needs a value");
+        value = argv[++i];
+      }
+      flag->set(o, a, value);
     } else if (!a.empty() && a[0] == '-') {
       throw InvalidArgumentError("unknown option '" + a + "'; see ricci-flow --help");
     } else if (o.input.empty()) {
@@ -136,6 +287,7 @@ Options parse_options(int argc, const char* const* argv) {
   if (o.help || o.version) return o;
   if (o.input.empty()) throw InvalidArgumentError("no input mesh given; see ricci-flow --help");
   if (o.output.empty()) throw InvalidArgumentError("no output given: add -o OUTPUT.ply");
+  check_combination(o);
   return o;
 }
 
@@ -158,10 +310,6 @@ std::vector<double> read_numbers(const std::string& path) {
   }
   return values;
 }
-
-}  // namespace ricci::cli
-
-namespace ricci::cli {
 
 std::vector<std::pair<int, double>> read_cones(const std::string& path) {
   std::ifstream in(path);

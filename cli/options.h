@@ -1,38 +1,35 @@
-// Command line of ricci-flow: parsing and the per-vertex input files.
+// Command line of ricci-flow: one table of flags drives parsing, --help and the defaults shown
+// (taken from the core's option structs); every usage error is found before the mesh is read.
 #pragma once
 
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "ricci/uniformize.h"
 
 namespace ricci::cli {
 
 struct Options {
   std::string input;
   std::string output;
-  std::string geometry = "auto";  // auto, euclidean, hyperbolic, spherical
-  std::string scheme = "yamabe";
-  double angle_degrees = 60;    // Thurston's intersection angle
-  std::string eps_file;         // mixed scheme: +1/0/-1 per vertex
-  std::string target = "auto";  // auto, disk, zero, free-boundary, cones:FILE, or a file
-  int center_vertex = -1;       // disk target: vertex mapped to the centre
-  int axis_vertex = -1;         // disk target: vertex mapped onto the positive real axis
-  double tolerance = 1e-10;
-  int max_iterations = 100;
-  std::string solver = "cholmod";
-  bool edge_flips = true;
-  std::string report;   // JSON report path
-  std::string picture;  // PNG of the layout
+  UniformizationOptions request;  //!< geometry, preset, scheme, flow, centre and axis
+  std::string target = "auto";    //!< --target as given
+  std::string target_file;        //!< --target cones:FILE or FILE: read once the mesh is known
+  bool target_is_cones = false;
+  std::string eps_file;  //!< mixed scheme: +1/0/-1 per vertex
+  std::string report;    //!< JSON report path
+  std::string picture;   //!< PNG of the layout
   bool ascii = false;
   bool quiet = false;
   bool help = false;
   bool version = false;
 };
 
-//! Parses argv. \throws InvalidArgumentError with the usage problem.
+//! Parses argv. \throws InvalidArgumentError with the usage problem (the tool exits 2).
 Options parse_options(int argc, const char* const* argv);
 
+//! --help: generated from the flag table.
 std::string usage();
 
 //! One number per line; blank lines and lines starting with # are skipped; "nan" allowed.

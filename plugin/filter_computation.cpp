@@ -2,15 +2,12 @@
 
 #include <cmath>
 #include <optional>
-#include <sstream>
 
 #include "ricci/errors.h"
 
 namespace ricci::plugin {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::optional<Geometry> chosen_geometry(GeometryChoice choice) {
   switch (choice) {
@@ -104,12 +101,7 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
   o.flow.progress = progress;
   FilterComputation c;
   c.uniformization = uniformize(input.mesh, o);
-  const FlowResult& r = c.uniformization.result;
-  if (!r.converged) {
-    throw ConvergenceError("ricci flow (" + to_string(c.uniformization.geometry) + ", " +
-                               to_string(settings.scheme) + "): " + r.failure,
-                           r.iterations, r.residual);
-  }
+  c.uniformization.require_converged();
   c.texture = texture_coordinates(c.uniformization);
   return c;
 }
@@ -121,51 +113,6 @@ WrittenComponents written_components(const FilterSettings& settings, const Filte
   w.wedge_texcoord = settings.write_texture_coordinates && !c.texture.wedge.empty();
   w.layout_layer = settings.add_layout_layer && c.has_vertex_layout();
   return w;
-}
-
-std::vector<std::string> summary(const MeshInput& input, const FilterSettings& settings,
-                                 const FilterComputation& c) {
-  const CompactMesh& mesh = input.mesh;
-  const Uniformization& u = c.uniformization;
-  const FlowResult& r = u.result;
-  std::vector<std::string> lines;
-  std::ostringstream s;
-  s << "Ricci flow: " << mesh.topology_name() << ", " << mesh.num_vertices() << " vertices, "
-    << mesh.num_faces() << " faces; " << to_string(u.geometry) << " geometry, "
-    << to_string(settings.scheme) << " scheme, target " << to_string(u.preset);
-  lines.push_back(s.str());
-  s.str("");
-  s.precision(3);
-  s << "Converged in " << r.iterations << " Newton iterations with " << r.num_flips
-    << " edge flips: max |K - Kbar| = " << u.quality.max_curvature_error << ", mean "
-    << u.quality.mean_curvature_error << " (" << r.times.total << " s)";
-  lines.push_back(s.str());
-  if (u.preset == TargetPreset::UnitDisk) {
-    s.str("");
-    s << "Boundary loops on circles after " << u.boundary_iterations << " flows ("
-      << u.newton_iterations << " Newton iterations): circle error " << u.circle_error;
-    lines.push_back(s.str());
-  }
-  if (u.layout == LayoutKind::None) {
-    lines.push_back("No layout: a " + mesh.topology_name() + " in " + to_string(u.geometry) +
-                    " geometry has none here");
-    return lines;
-  }
-  const LayoutQuality& q = u.quality;
-  s.str("");
-  s << "Layout (" << to_string(u.layout) << "): " << q.flipped_faces
-    << " faces flipped; quasi-conformal ratio median " << q.quasi_conformal_median << ", 95% "
-    << q.quasi_conformal_p95 << ", max " << q.quasi_conformal_max << "; area ratio 5%.."
-    << "95% " << q.area_ratio_p5 << ".." << q.area_ratio_p95;
-  lines.push_back(s.str());
-  if (u.model && !u.model->cut.paths.empty()) {
-    s.str("");
-    s << "Cut into a disk along " << u.model->cut.paths.size() << " paths ("
-      << u.model->cut.num_generators << " generators): closure error " << u.model->closure_error
-      << ", surface group relation error " << u.relation_error;
-    lines.push_back(s.str());
-  }
-  return lines;
 }
 
 }  // namespace ricci::plugin

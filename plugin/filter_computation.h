@@ -69,10 +69,6 @@ MeshInput read_mesh_input(const MeshT& m, bool has_quality) {
 FilterComputation compute(const MeshInput& input, const FilterSettings& settings,
                           const std::function<bool(const FlowProgress&)>& progress = {});
 
-//! Lines for the log: topology, geometry, scheme, iterations, residual, layout quality, time.
-std::vector<std::string> summary(const MeshInput& input, const FilterSettings& settings,
-                                 const FilterComputation& c);
-
 //! Writes the results: custom attributes ricci_u, ricci_radius, ricci_curvature, ricci_target
 //! (float) and, with a per-vertex layout, ricci_layout (Point3); texture coordinates per vertex
 //! (plane) or per wedge (cut open); vertex quality = u with a color ramp. The caller enables the

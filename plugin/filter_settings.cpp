@@ -1,5 +1,6 @@
 #include "filter_settings.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <utility>
@@ -39,13 +40,18 @@ double number(const ParameterValues& values, const std::string& name) {
   return it == values.end() ? spec(name).default_value : it->second;
 }
 
+int index_of(Scheme scheme) {
+  return static_cast<int>(std::find(kSchemes.begin(), kSchemes.end(), scheme) - kSchemes.begin());
+}
+
 }  // namespace
 
 const std::vector<ParameterSpec>& parameter_specs() {
+  const FilterSettings d;
   static const std::vector<ParameterSpec> specs = {
       {"geometry",
        Kind::Enum,
-       0,
+       static_cast<double>(d.geometry),
        {"Auto by topology", "Euclidean (E2)", "Hyperbolic (H2)", "Spherical (S2)"},
        "Background geometry",
        "Geometry of the triangles of the result. Auto: the target's (for the Auto target: "
@@ -54,7 +60,7 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "targets the one Gauss-Bonnet admits)."},
       {"scheme",
        Kind::Enum,
-       3,
+       static_cast<double>(index_of(d.scheme)),
        {"Tangential circle packing", "Thurston circle packing", "Inversive distance circle packing",
         "Yamabe flow", "Virtual radius circle packing", "Mixed (eps per vertex)"},
        "Scheme",
@@ -63,21 +69,21 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "circle pattern (always-valid triangles, robust on scans)."},
       {"thurstonAngle",
        Kind::Float,
-       60,
+       d.thurston_angle_degrees,
        {},
        "Thurston intersection angle (degrees)",
        "Angle Phi in [0, 90] at which neighbouring circles intersect; eta = cos(Phi). Used by the "
        "Thurston scheme only."},
       {"mixedEps",
        Kind::Enum,
-       0,
+       static_cast<double>(d.mixed_eps),
        {"Selected vertices +1, others 0", "Sign of vertex quality (+1, 0, -1)"},
        "Mixed scheme: eps from",
        "Where the mixed scheme takes each vertex's eps: +1 circle packing, 0 Yamabe, -1 virtual "
        "radius."},
       {"target",
        Kind::Enum,
-       0,
+       static_cast<double>(d.target),
        {"Auto by topology (uniformization)", "Free boundary", "Zero curvature everywhere",
         "Per vertex from vertex quality", "Unit disk / circle domain"},
        "Target curvature",
@@ -89,56 +95,66 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "NaN holds that vertex's u fixed."},
       {"centerVertex",
        Kind::Int,
-       -1,
+       static_cast<double>(d.center_vertex),
        {},
        "Unit disk: center vertex",
        "Unit disk target (or Auto on a disk or circle domain): the index of the interior vertex "
        "mapped to the centre of the disk, by a Moebius map of the disk; -1: none."},
       {"axisVertex",
        Kind::Int,
-       -1,
+       static_cast<double>(d.axis_vertex),
        {},
        "Unit disk: axis vertex",
        "Unit disk target: the index of the vertex turned onto the positive real axis (u axis of "
        "the UVs); -1: none."},
-      {"tolerance", Kind::Float, 1e-10, {}, "Tolerance", "Converged when max |K - Kbar| <= this."},
-      {"maxIterations", Kind::Int, 100, {}, "Iteration limit", "Newton iterations at most."},
+      {"tolerance",
+       Kind::Float,
+       d.tolerance,
+       {},
+       "Tolerance",
+       "Converged when max |K - Kbar| <= this."},
+      {"maxIterations",
+       Kind::Int,
+       static_cast<double>(d.max_iterations),
+       {},
+       "Iteration limit",
+       "Newton iterations at most."},
       {"linearSolver",
        Kind::Enum,
-       0,
+       d.linear_solver == LinearSolverKind::Cholmod ? 0.0 : 1.0,
        {"CHOLMOD (supernodal Cholesky)", "Eigen SimplicialLDLT"},
        "Linear solver",
        "Sparse Cholesky used for the Newton steps."},
       {"maxStepHalvings",
        Kind::Int,
-       40,
+       static_cast<double>(d.max_step_halvings),
        {},
        "Step control: max halvings",
        "Line search: a Newton step is halved at most this many times to keep every triangle valid "
        "and reduce the curvature error."},
       {"edgeFlips",
        Kind::Bool,
-       1,
+       d.edge_flips ? 1.0 : 0.0,
        {},
        "Edge flips (keep the triangulation Delaunay)",
        "Flip edges during the flow so the triangulation stays (power) Delaunay for the current "
        "metric; real meshes need it. The result comes back per vertex of the input."},
       {"writeUV",
        Kind::Bool,
-       1,
+       d.write_texture_coordinates ? 1.0 : 0.0,
        {},
        "Write UV (texture coordinates)",
        "Store a planar layout as texture coordinates in [0,1]^2: per vertex for a disk or circle "
        "domain; per wedge (face corner) for surfaces cut open (torus, Poincare disk)."},
       {"writeQuality",
        Kind::Bool,
-       1,
+       d.write_quality ? 1.0 : 0.0,
        {},
        "Vertex quality = u, with color ramp",
        "Store the conformal factor u as vertex quality and color the mesh by it."},
       {"layoutLayer",
        Kind::Bool,
-       0,
+       d.add_layout_layer ? 1.0 : 0.0,
        {},
        "Add a layer with the layout",
        "Add a new mesh layer whose vertices are at the layout: the plane (z = 0) for disks and "

@@ -10,6 +10,7 @@
 #include "ricci/linear_solver.h"
 #include "ricci/ricci_flow.h"
 #include "ricci/scheme.h"
+#include "ricci/uniformize.h"
 
 namespace ricci::plugin {
 
@@ -18,20 +19,21 @@ enum class MixedEpsSource { Selection, QualitySign };
 //! In dialog order; new choices are appended so that saved scripts keep their meaning.
 enum class TargetChoice { Auto, FreeBoundary, Zero, VertexQuality, UnitDisk };
 
-//! Everything the filter needs to know, in core terms.
+//! Everything the filter needs to know, in core terms. The defaults are the core's (its option
+//! structs), and the dialog's defaults are these.
 struct FilterSettings {
   GeometryChoice geometry = GeometryChoice::Auto;
-  Scheme scheme = Scheme::Yamabe;
-  double thurston_angle_degrees = 60;
+  Scheme scheme = SchemeOptions{}.scheme;
+  double thurston_angle_degrees = SchemeOptions{}.intersection_angle * 180 / kPi;
   MixedEpsSource mixed_eps = MixedEpsSource::Selection;
   TargetChoice target = TargetChoice::Auto;
-  int center_vertex = -1;  //!< unit disk: mesh vertex index mapped to the centre, -1: none
-  int axis_vertex = -1;    //!< unit disk: mesh vertex index turned onto the positive real axis
-  double tolerance = 1e-10;
-  int max_iterations = 100;
-  LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
-  int max_step_halvings = 40;
-  bool edge_flips = true;
+  int center_vertex = UniformizationOptions{}.center_vertex;  //!< mesh vertex slot, -1: none
+  int axis_vertex = UniformizationOptions{}.axis_vertex;      //!< mesh vertex slot, -1: none
+  double tolerance = FlowOptions{}.tolerance;
+  int max_iterations = FlowOptions{}.max_iterations;
+  LinearSolverKind linear_solver = FlowOptions{}.linear_solver;
+  int max_step_halvings = FlowOptions{}.max_step_halvings;
+  bool edge_flips = FlowOptions{}.edge_flips;
   bool write_texture_coordinates = true;
   bool write_quality = true;
   bool add_layout_layer = false;

@@ -16,6 +16,7 @@
 
 #include "filter_computation.h"
 #include "filter_settings.h"
+#include "ricci/report.h"
 
 namespace ricci::plugin {
 
@@ -122,7 +123,7 @@ FilterComputation run_filter(Document& md, const ParameterValues& values, CallBa
     vcg::tri::UpdateBounding<Mesh>::Box(layer->cm);
     vcg::tri::UpdateNormal<Mesh>::PerVertexNormalizedPerFaceNormalized(layer->cm);
   }
-  log = summary(input, settings, c);
+  log = summary_lines(input.mesh, c.uniformization, RunContext{m.label().toStdString(), "", 0});
   return c;
 }
 

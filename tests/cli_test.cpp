@@ -13,11 +13,12 @@
 #include <Eigen/Core>
 
 #include "ply_reader.h"
+#include "ricci/geometry.h"
 #include "test_meshes.h"
 
-namespace {
+using ricci::kPi;
 
-constexpr double kPi = 3.14159265358979323846;
+namespace {
 
 struct CliRun {
   int exit_code = -1;
@@ -64,7 +65,7 @@ TEST(Cli, DiskResultFollowsThePlyContract) {
   const CliRun r = ricci_flow(cgal("nefertiti.off") + " -o " + out + " --report " + report +
                               " --picture " + png + " --target free-boundary");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("converged in"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Converged in"), std::string::npos) << r.out;
   const ricci::test::PlyData ply = read_ply(out);
   const std::vector<std::string> expected = {"x",
                                              "y",
@@ -261,15 +262,17 @@ void expect_error(const std::string& args, int code, const std::vector<std::stri
 TEST(Cli, BadInputGetsAClearError) {
   const std::string out = " -o " + temp("bad.ply");
   expect_error(cgal("no-such-mesh.off") + out, 1, {"cannot open", "no-such-mesh.off"});
+  // Usage errors (exit 2) are found before the mesh is read: a missing mesh does not hide them.
+  expect_error(cgal("no-such-mesh.off") + out + " --scheme ricci", 2, {"unknown scheme"});
   expect_error(cgal("nefertiti.off"), 2, {"-o OUTPUT.ply"});
-  expect_error(cgal("nefertiti.off") + out + " --scheme ricci", 1, {"unknown scheme 'ricci'"});
+  expect_error(cgal("nefertiti.off") + out + " --scheme ricci", 2, {"unknown scheme 'ricci'"});
   expect_error(cgal("nefertiti.off") + out + " --frobnicate", 2, {"unknown option '--frobnicate'"});
   expect_error(cgal("nefertiti.off") + out + " --tolerance abc", 2,
                {"--tolerance expects a finite number"});
-  expect_error(cgal("nefertiti.off") + out + " --scheme mixed", 1, {"needs --eps FILE"});
-  expect_error(cgal("nefertiti.off") + out + " --angle 120 --scheme thurston", 1,
+  expect_error(cgal("nefertiti.off") + out + " --scheme mixed", 2, {"needs --eps FILE"});
+  expect_error(cgal("nefertiti.off") + out + " --angle 120 --scheme thurston", 2,
                {"outside [0, 90]"});
-  expect_error(cgal("nefertiti.off") + out + " --solver umfpack", 1, {"unknown linear solver"});
+  expect_error(cgal("nefertiti.off") + out + " --solver umfpack", 2, {"unknown linear solver"});
   // Topology and geometry
   expect_error(cgal("pipe.off") + out + " --geometry spherical", 1,
                {"spherical geometry needs", "genus 1"});

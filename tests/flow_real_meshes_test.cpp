@@ -11,8 +11,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 struct Case {
   std::string mesh;
   int subdivisions;
@@ -37,11 +35,15 @@ TEST_P(RealMesh, ConvergesWithFlips) {
               2 * kPi * mesh.euler_characteristic(), 1e-8);
   std::string layout = "";
   if (c.geometry == Geometry::Euclidean && !mesh.is_closed()) {
-    const PlanarLayout l = layout_disk(result_triangulation(mesh, r), r.edge_lengths);
+    const Triangulation& t = result_triangulation(mesh, r);
+    const Layout l = lay_out(t, Geometry::Euclidean, r.edge_lengths);
     EXPECT_EQ(l.num_flipped_faces, 0);
     EXPECT_LE(l.max_relative_length_error, 1e-8);
-    layout =
-        ", layout flips " + std::to_string(count_flipped_faces(mesh, l.position)) + " input faces";
+    int flipped = 0;
+    for (const auto& face : corners_on(t, l, mesh)) {
+      flipped += !(orientation(Geometry::Euclidean, face) > 0);
+    }
+    layout = ", layout flips " + std::to_string(flipped) + " input faces";
   }
   std::printf("[ flips    ] %-18s %7d faces %-10s %-18s %2d iterations %6d flips %.2f s%s\n",
               c.mesh.c_str(), mesh.num_faces(), to_string(c.geometry).c_str(),

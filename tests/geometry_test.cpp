@@ -10,7 +10,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const Geometry kGeometries[] = {Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical};
 
 TEST(Geometry, RadiusConformalFactorRoundTrip) {

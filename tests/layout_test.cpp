@@ -1,5 +1,5 @@
-// Planar layout of flat disk metrics: it reproduces the metric, flips no triangle, and stays
-// accurate on real meshes with obtuse triangles.
+// Planar layout of flat metrics: it reproduces the metric, flips no triangle, and stays accurate
+// on real meshes with obtuse triangles; surfaces other than disks are cut open.
 #include "ricci/layout.h"
 
 #include <cmath>
@@ -15,14 +15,15 @@ namespace {
 
 TEST(Layout, FlatInputIsReproducedUpToARigidMotion) {
   const CompactMesh grid = test::square_grid(20);
-  const PlanarLayout layout = layout_disk(grid, grid.input_lengths());
+  const Layout layout = lay_out(grid, Geometry::Euclidean, grid.input_lengths());
+  const std::vector<Eigen::Vector3d> position = vertex_positions(grid, layout);
   EXPECT_EQ(layout.num_flipped_faces, 0);
   EXPECT_LE(layout.max_relative_length_error, 1e-11);
   // Distances between all vertex pairs (not only edges) match the input square.
   for (int i = 0; i < grid.num_vertices(); i += 37) {
     for (int j = 0; j < grid.num_vertices(); j += 41) {
       const double d_in = (grid.positions()[i] - grid.positions()[j]).norm();
-      const double d_out = (layout.position[i] - layout.position[j]).norm();
+      const double d_out = (position[i] - position[j]).norm();
       EXPECT_NEAR(d_in, d_out, 1e-12);
     }
   }
@@ -35,7 +36,7 @@ TEST(Layout, ConvergedMetricsOfRealDisksAreLaidOutExactly) {
     options.scheme = Scheme::Tangential;  // always valid triangles, also on scans
     const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options,
                                             TargetCurvature::free_boundary(mesh));
-    const PlanarLayout layout = layout_disk(mesh, r.edge_lengths);
+    const Layout layout = lay_out(mesh, Geometry::Euclidean, r.edge_lengths);
     EXPECT_EQ(layout.num_flipped_faces, 0) << name;
     EXPECT_LE(layout.max_relative_length_error, 1e-9) << name;
   }
@@ -52,14 +53,20 @@ TEST(Layout, TextureCoordinatesFillTheUnitSquareKeepingAspect) {
   EXPECT_NEAR(uv[2].y() - uv[0].y(), 0.25, 1e-15);  // aspect 4:1 kept
 }
 
-TEST(Layout, RefusesSurfacesThatAreNotDisks) {
+TEST(Layout, SurfacesThatAreNotDisksAreCutOpen) {
+  // A torus has no layout with one position per vertex: it is cut along two loops, and the
+  // layout's corners on the two sides of the cut differ by the deck transformations.
   const CompactMesh torus = test::torus(8, 5);
-  try {
-    layout_disk(torus, torus.input_lengths());
-    FAIL() << "expected InvalidArgumentError";
-  } catch (const InvalidArgumentError& e) {
-    EXPECT_NE(std::string(e.what()).find("closed genus-1 surface"), std::string::npos) << e.what();
-  }
+  const FlowResult r =
+      compute_ricci_flow(torus, Geometry::Euclidean, {}, TargetCurvature::zero(torus));
+  const Layout layout = lay_out(torus, Geometry::Euclidean, r.edge_lengths);
+  EXPECT_EQ(layout.cut.num_generators, 2);
+  EXPECT_FALSE(layout.cut.paths.empty());
+  EXPECT_EQ(layout.deck.size(), layout.cut.paths.size());
+  EXPECT_EQ(layout.num_flipped_faces, 0);
+  EXPECT_LE(layout.closure_error, 1e-9);
+  EXPECT_THROW(lay_out(torus, Geometry::Euclidean, std::vector<double>(3, 1.0)),
+               InvalidArgumentError);
 }
 
 }  // namespace

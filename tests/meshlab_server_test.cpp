@@ -11,11 +11,12 @@
 #include <Eigen/Dense>
 
 #include "ply_reader.h"
+#include "ricci/geometry.h"
 #include "test_meshes.h"
 
-namespace {
+using ricci::kPi;
 
-constexpr double kPi = 3.14159265358979323846;
+namespace {
 
 struct ServerRun {
   int exit_code = -1;

@@ -1,6 +1,6 @@
 // Layouts in the model spaces, checked with the models' own geometry (not the developer's):
 // angle sums and areas measured on the laid-out points, the cut's two sides glued by isometries.
-#include "ricci/model_layout.h"
+#include "ricci/layout.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,14 +14,13 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 using Complex = std::complex<double>;
 
 // The angle at corner c of face f, measured in the model at the laid-out points.
-double measured_angle(const ModelLayout& layout, int f, int c) {
-  const Eigen::Vector3d& a = layout.corner[f][c];
-  const Eigen::Vector3d& b = layout.corner[f][(c + 1) % 3];
-  const Eigen::Vector3d& d = layout.corner[f][(c + 2) % 3];
+double measured_angle(const Layout& layout, int f, int c) {
+  const Eigen::Vector3d& a = layout.corners[f][c];
+  const Eigen::Vector3d& b = layout.corners[f][(c + 1) % 3];
+  const Eigen::Vector3d& d = layout.corners[f][(c + 2) % 3];
   switch (layout.geometry) {
     case Geometry::Euclidean:
       return std::acos((b - a).normalized().dot((d - a).normalized()));
@@ -49,7 +48,7 @@ struct Measured {
   double area = 0;
 };
 
-Measured measure(const Triangulation& mesh, const ModelLayout& layout) {
+Measured measure(const Triangulation& mesh, const Layout& layout) {
   Measured m;
   m.angle_sum = Eigen::VectorXd::Zero(mesh.num_vertices());
   for (int f = 0; f < mesh.num_faces(); ++f) {
@@ -90,14 +89,14 @@ TEST(CutGraph, DisksAndSpheresNeedNoCutAndATorusTwoLoops) {
   EXPECT_EQ(cut_edges, marked);
 }
 
-TEST(ModelLayout, FlatTorusWedgesDifferByTheTwoPeriods) {
+TEST(Layout, FlatTorusWedgesDifferByTheTwoPeriods) {
   const CompactMesh torus = test::torus(24, 12);
   SchemeOptions scheme;
   FlowOptions options;
   const FlowResult r =
       compute_ricci_flow(torus, Geometry::Euclidean, scheme, TargetCurvature::zero(torus), options);
   const Triangulation t = result_triangulation(torus, r);
-  const ModelLayout layout = develop(t, Geometry::Euclidean, r.edge_lengths);
+  const Layout layout = lay_out(t, Geometry::Euclidean, r.edge_lengths);
   EXPECT_EQ(layout.num_flipped_faces, 0);
   EXPECT_LE(layout.closure_error, 1e-9);
   const Measured m = measure(t, layout);
@@ -114,17 +113,17 @@ TEST(ModelLayout, FlatTorusWedgesDifferByTheTwoPeriods) {
   EXPECT_LE(surface_group_relation_error(t, layout), 1e-9);  // the periods commute
 }
 
-TEST(ModelLayout, GenusTwoFundamentalDomainInThePoincareDisk) {
+TEST(Layout, GenusTwoFundamentalDomainInThePoincareDisk) {
   const CompactMesh eight = test::cgal_mesh("eight.off");
   SchemeOptions scheme;
   const FlowResult r =
       compute_ricci_flow(eight, Geometry::Hyperbolic, scheme, TargetCurvature::zero(eight));
   const Triangulation t = result_triangulation(eight, r);
-  const ModelLayout layout = develop(t, Geometry::Hyperbolic, r.edge_lengths);
+  const Layout layout = lay_out(t, Geometry::Hyperbolic, r.edge_lengths);
   EXPECT_EQ(layout.cut.num_generators, 4);
   EXPECT_EQ(layout.num_flipped_faces, 0);
   EXPECT_LE(layout.closure_error, 1e-8);
-  for (const auto& face : layout.corner) {
+  for (const auto& face : layout.corners) {
     for (const auto& p : face) EXPECT_LT(p.norm(), 1.0);
   }
   const Measured m = measure(t, layout);
@@ -141,7 +140,7 @@ TEST(ModelLayout, GenusTwoFundamentalDomainInThePoincareDisk) {
           if (t.face_vertex(face, c) == t.edge_vertices(e)[0]) ca = c;
           if (t.face_vertex(face, c) == t.edge_vertices(e)[1]) cb = c;
         }
-        EXPECT_NEAR(hyperbolic_distance(layout.corner[face][ca], layout.corner[face][cb]),
+        EXPECT_NEAR(hyperbolic_distance(layout.corners[face][ca], layout.corners[face][cb]),
                     r.edge_lengths[e], 1e-8);
       }
     }
@@ -153,18 +152,18 @@ TEST(ModelLayout, GenusTwoFundamentalDomainInThePoincareDisk) {
   // The surface group's relations: around every node of the cut the deck maps compose to the
   // identity; a deck map off by a small rotation breaks them.
   EXPECT_LE(surface_group_relation_error(t, layout), 1e-8);
-  ModelLayout broken = layout;
+  Layout broken = layout;
   broken.deck[0] = broken.deck[0] * DiskIsometry{Geometry::Hyperbolic, std::polar(1.0, 0.01), 0.0};
   EXPECT_GT(surface_group_relation_error(t, broken), 1e-3);
 }
 
-TEST(ModelLayout, RoundSphereOnTheUnitSphereCentred) {
+TEST(Layout, RoundSphereOnTheUnitSphereCentred) {
   const CompactMesh blob = test::ellipsoid(3, 1.0, 0.7, 0.5);
   SchemeOptions scheme;
   const FlowResult r =
       compute_ricci_flow(blob, Geometry::Spherical, scheme, TargetCurvature::zero(blob));
   const Triangulation t = result_triangulation(blob, r);
-  const ModelLayout layout = develop(t, Geometry::Spherical, r.edge_lengths);
+  const Layout layout = lay_out(t, Geometry::Spherical, r.edge_lengths);
   EXPECT_TRUE(layout.cut.paths.empty());
   EXPECT_EQ(layout.num_flipped_faces, 0);
   EXPECT_LE(layout.closure_error, 1e-9);

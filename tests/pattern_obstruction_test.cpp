@@ -11,7 +11,7 @@
 namespace ricci {
 namespace {
 
-constexpr double kDegree = 3.14159265358979323846 / 180;
+constexpr double kDegree = kPi / 180;
 
 CompactMesh tetrahedron() {
   return CompactMesh({{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}},

@@ -17,7 +17,6 @@
 namespace ricci {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const Scheme kSchemes[] = {Scheme::Tangential, Scheme::Thurston,      Scheme::InversiveDistance,
                            Scheme::Yamabe,     Scheme::VirtualRadius, Scheme::Mixed};
 

@@ -6,14 +6,13 @@
 
 #include <gtest/gtest.h>
 
-#include "ricci/errors.h"
 #include "metric.h"
+#include "ricci/errors.h"
 #include "test_meshes.h"
 
 namespace ricci {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const Geometry kGeometries[] = {Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical};
 
 double max_relative_length_error(const CompactMesh& mesh, const ConformalStructure& s) {

@@ -1,6 +1,8 @@
 // Targets that admit no solution are refused before any iteration, with the reason.
 #include "ricci/target.h"
 
+#include "ricci/presets.h"
+
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -10,8 +12,6 @@
 
 namespace ricci {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::string refusal(const CompactMesh& mesh, Geometry g, const TargetCurvature& t) {
   try {
@@ -29,10 +29,10 @@ TEST(Target, PresetsAndAutomaticGeometry) {
   for (int v = 0; v < disk.num_vertices(); ++v)
     EXPECT_EQ(fb.is_fixed(v), disk.is_boundary_vertex(v));
   EXPECT_EQ(TargetCurvature::free_boundary_or_zero(torus).num_fixed(), 0);
-  EXPECT_EQ(automatic_geometry(disk), Geometry::Euclidean);
-  EXPECT_EQ(automatic_geometry(torus), Geometry::Euclidean);
-  EXPECT_EQ(automatic_geometry(sphere), Geometry::Spherical);
-  EXPECT_EQ(automatic_geometry(test::cgal_mesh("eight.off")), Geometry::Hyperbolic);
+  EXPECT_EQ(automatic_preset(disk).second, Geometry::Euclidean);
+  EXPECT_EQ(automatic_preset(torus).second, Geometry::Euclidean);
+  EXPECT_EQ(automatic_preset(sphere).second, Geometry::Spherical);
+  EXPECT_EQ(automatic_preset(test::cgal_mesh("eight.off")).second, Geometry::Hyperbolic);
 }
 
 TEST(Target, AcceptsTheUniformizationTargets) {

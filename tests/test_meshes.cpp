@@ -4,13 +4,10 @@
 #include <cmath>
 #include <map>
 
+#include "ricci/geometry.h"
 #include "ricci/mesh_io.h"
 
 namespace ricci::test {
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
 
 CompactMesh bumpy_disk(int n) {
   // The square grid on [-1,1]^2 mapped onto the unit disk by the elliptical grid map.

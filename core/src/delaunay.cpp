@@ -9,8 +9,6 @@ namespace ricci {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 std::uint64_t pair_key(int a, int b) {
   const auto lo = static_cast<std::uint64_t>(std::min(a, b)),
              hi = static_cast<std::uint64_t>(std::max(a, b));

@@ -9,8 +9,6 @@ namespace ricci {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // s(x) of the paper: x (E2), sinh x (H2), sin x (S2).
 double s_of(Geometry g, double x) {
   switch (g) {
@@ -61,6 +59,14 @@ std::string to_string(Geometry g) {
       return "spherical";
   }
   return "unknown";
+}
+
+Geometry geometry_from_string(const std::string& name) {
+  for (Geometry g : {Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical}) {
+    if (to_string(g) == name) return g;
+  }
+  throw InvalidArgumentError("geometry: unknown geometry '" + name +
+                             "'; use euclidean, hyperbolic or spherical");
 }
 
 double background_curvature(Geometry g) {

@@ -1,128 +1,128 @@
 #include "ricci/layout.h"
 
+#include <algorithm>
 #include <cmath>
-#include <queue>
+#include <map>
+#include <string>
 
-#include <Eigen/SparseCore>
+#include <Eigen/Geometry>
 
+#include "layout_methods.h"
 #include "ricci/errors.h"
-#include "ricci/geometry.h"
 
 namespace ricci {
 
-namespace {
+namespace detail {
 
-constexpr double kPi = 3.14159265358979323846;
-
-// Direction angle of every halfedge, integrated over a breadth-first tree of faces.
-std::vector<double> halfedge_directions(const Triangulation& mesh,
-                                        const std::vector<double>& lengths) {
-  const int nf = mesh.num_faces();
-  std::vector<std::array<double, 3>> angle(nf);
-  for (int f = 0; f < nf; ++f) {
-    const std::array<double, 3> l = {lengths[mesh.face_edge(f, 0)], lengths[mesh.face_edge(f, 1)],
-                                     lengths[mesh.face_edge(f, 2)]};
-    const TriangleAngles t = corner_angles(Geometry::Euclidean, l);
-    if (!t.valid) {
-      throw InvalidArgumentError("layout: face " + std::to_string(f) +
-                                 " violates the triangle inequality; lay out a converged metric");
-    }
-    angle[f] = t.angle;
-  }
-  std::vector<double> direction(3 * nf, 0.0);
-  std::vector<char> placed(nf, 0);
-  std::queue<int> queue;
-  // Within a counter-clockwise face, halfedge c+1 turns left from halfedge c by the exterior
-  // angle at their shared corner c+2: pi - theta_(c+2).
-  auto fill_face = [&](int f, int c, double dir) {
-    direction[3 * f + c] = dir;
-    const int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-    direction[3 * f + c1] = dir + kPi - angle[f][c2];
-    direction[3 * f + c2] = direction[3 * f + c1] + kPi - angle[f][c];
-    placed[f] = 1;
-    queue.push(f);
-  };
-  fill_face(0, 0, 0.0);
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop();
-    for (int c = 0; c < 3; ++c) {
-      const int t = mesh.twin(3 * f + c);
-      if (t < 0 || placed[t / 3]) continue;
-      fill_face(t / 3, t % 3, direction[3 * f + c] + kPi);
-    }
-  }
-  return direction;
-}
-
-}  // namespace
-
-PlanarLayout layout_disk(const Triangulation& mesh, const std::vector<double>& lengths,
-                         LinearSolverKind solver_kind) {
-  if (!mesh.is_disk()) {
-    throw InvalidArgumentError("layout: the planar layout needs a disk, but the mesh is a " +
-                               mesh.topology_name() + "; cut it into a disk first");
-  }
+std::vector<std::array<double, 3>> face_angles(const Triangulation& mesh, Geometry geometry,
+                                               const std::vector<double>& lengths) {
   if (static_cast<int>(lengths.size()) != mesh.num_edges()) {
     throw InvalidArgumentError("layout: one length per edge is needed");
   }
-  const std::vector<double> direction = halfedge_directions(mesh, lengths);
+  std::vector<std::array<double, 3>> angles(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const TriangleAngles t =
+        corner_angles(geometry, {lengths[mesh.face_edge(f, 0)], lengths[mesh.face_edge(f, 1)],
+                                 lengths[mesh.face_edge(f, 2)]});
+    if (!t.valid) {
+      throw InvalidArgumentError("layout: face " + std::to_string(f) + " is not a valid " +
+                                 to_string(geometry) + " triangle; lay out a converged metric");
+    }
+    angles[f] = t.angle;
+  }
+  return angles;
+}
 
-  // Least squares: sum over halfedges |x_head - x_tail - l (cos, sin)|^2, vertex 0 pinned.
-  const int n = mesh.num_vertices();
-  std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n - 1, 2);
-  auto row = [](int v) { return v - 1; };  // vertex 0 is pinned at the origin
-  for (int h = 0; h < mesh.num_halfedges(); ++h) {
-    const int a = mesh.halfedge_tail(h), b = mesh.halfedge_head(h);
-    const double l = lengths[mesh.face_edge(h / 3, h % 3)];
-    const Eigen::Vector2d e(l * std::cos(direction[h]), l * std::sin(direction[h]));
-    if (a != 0) {
-      triplets.emplace_back(row(a), row(a), 1.0);
-      rhs.row(row(a)) -= e.transpose();
-    }
-    if (b != 0) {
-      triplets.emplace_back(row(b), row(b), 1.0);
-      rhs.row(row(b)) += e.transpose();
-    }
-    if (a != 0 && b != 0) {
-      triplets.emplace_back(row(a), row(b), -1.0);
-      triplets.emplace_back(row(b), row(a), -1.0);
-    }
+int corner_of(const Triangulation& mesh, int f, int v) {
+  for (int c = 0; c < 3; ++c) {
+    if (mesh.face_vertex(f, c) == v) return c;
   }
-  PlanarLayout layout;
-  layout.position.assign(n, Eigen::Vector2d::Zero());
-  if (n > 1) {
-    Eigen::SparseMatrix<double> laplacian(n - 1, n - 1);
-    laplacian.setFromTriplets(triplets.begin(), triplets.end());
-    LinearSolver solver(solver_kind);
-    solver.analyze(laplacian);
-    if (!solver.factorize(laplacian)) throw SolverError("layout: the graph Laplacian is singular");
-    const Eigen::MatrixXd x = solver.solve(rhs);
-    for (int v = 1; v < n; ++v) layout.position[v] = x.row(row(v)).transpose();
-  }
-  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-  for (const auto& p : layout.position) centroid += p;
-  centroid /= n;
-  for (auto& p : layout.position) p -= centroid;
+  return -1;
+}
 
-  layout.num_flipped_faces = count_flipped_faces(mesh, layout.position);
-  for (int e = 0; e < mesh.num_edges(); ++e) {
-    const auto [i, j] = mesh.edge_vertices(e);
-    const double err = std::abs((layout.position[i] - layout.position[j]).norm() / lengths[e] - 1);
-    layout.max_relative_length_error = std::max(layout.max_relative_length_error, err);
-  }
+}  // namespace detail
+
+Layout lay_out(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
+               LinearSolverKind solver) {
+  Layout layout = geometry == Geometry::Euclidean ? detail::plane_layout(mesh, lengths, solver)
+                                                  : detail::develop(mesh, geometry, lengths);
+  layout.relation_error = surface_group_relation_error(mesh, layout);
   return layout;
 }
 
-int count_flipped_faces(const Triangulation& mesh, const std::vector<Eigen::Vector2d>& position) {
-  int flipped = 0;
+double orientation(Geometry geometry, const std::array<Eigen::Vector3d, 3>& p) {
+  if (geometry == Geometry::Spherical) return p[0].dot(p[1].cross(p[2]));
+  const Eigen::Vector3d u = p[1] - p[0], v = p[2] - p[0];
+  return u.x() * v.y() - u.y() * v.x();
+}
+
+std::vector<Eigen::Vector3d> vertex_positions(const Triangulation& mesh, const Layout& layout) {
+  std::vector<Eigen::Vector3d> position(mesh.num_vertices(), Eigen::Vector3d::Zero());
+  std::vector<char> set(mesh.num_vertices(), 0);
   for (int f = 0; f < mesh.num_faces(); ++f) {
-    const Eigen::Vector2d a = position[mesh.face_vertex(f, 1)] - position[mesh.face_vertex(f, 0)];
-    const Eigen::Vector2d b = position[mesh.face_vertex(f, 2)] - position[mesh.face_vertex(f, 0)];
-    if (!(a.x() * b.y() - a.y() * b.x() > 0)) ++flipped;
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.face_vertex(f, c);
+      if (!set[v]) position[v] = layout.corners[f][c], set[v] = 1;
+    }
   }
-  return flipped;
+  return position;
+}
+
+std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid_out,
+                                                       const Layout& layout,
+                                                       const Triangulation& other) {
+  std::map<std::array<int, 3>, int> face_of;  // sorted vertices -> face of laid_out
+  std::vector<std::vector<Eigen::Vector3d>> wedges(laid_out.num_vertices());
+  for (int f = 0; f < laid_out.num_faces(); ++f) {
+    std::array<int, 3> key = laid_out.faces()[f];
+    std::sort(key.begin(), key.end());
+    face_of[key] = f;
+    for (int c = 0; c < 3; ++c) wedges[laid_out.face_vertex(f, c)].push_back(layout.corners[f][c]);
+  }
+  std::vector<std::array<Eigen::Vector3d, 3>> corners(other.num_faces());
+  for (int f = 0; f < other.num_faces(); ++f) {
+    std::array<int, 3> key = other.faces()[f];
+    std::sort(key.begin(), key.end());
+    const auto same = face_of.find(key);
+    for (int c = 0; c < 3; ++c) {
+      const int v = other.face_vertex(f, c);
+      if (same != face_of.end()) {
+        corners[f][c] = layout.corners[same->second][detail::corner_of(laid_out, same->second, v)];
+      } else if (c == 0) {
+        corners[f][c] = wedges[v].front();
+      } else {
+        const Eigen::Vector3d& anchor = corners[f][0];
+        corners[f][c] = *std::min_element(
+            wedges[v].begin(), wedges[v].end(), [&](const auto& x, const auto& y) {
+              return (x - anchor).squaredNorm() < (y - anchor).squaredNorm();
+            });
+      }
+    }
+  }
+  return corners;
+}
+
+std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points) {
+  if (points.empty()) return points;
+  // phi_a(x) = ((1 - |a|^2)(x - a) - |x - a|^2 a) / (1 - 2 a.x + |a|^2 |x|^2): the automorphism
+  // of the unit ball that moves a to 0, a Moebius map of the sphere.
+  const auto centroid = [&]() {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& x : points) c += x;
+    return Eigen::Vector3d(c / static_cast<double>(points.size()));
+  };
+  for (int it = 0; it < 200; ++it) {
+    const Eigen::Vector3d c = centroid();
+    if (c.norm() < 1e-13) break;
+    const Eigen::Vector3d a = c.norm() < 0.5 ? c : 0.5 * c.normalized();
+    for (auto& x : points) {
+      const double a2 = a.squaredNorm();
+      x = ((1 - a2) * (x - a) - (x - a).squaredNorm() * a) /
+          (1 - 2 * a.dot(x) + a2 * x.squaredNorm());
+      x.normalize();
+    }
+  }
+  return points;
 }
 
 std::vector<Eigen::Vector2d> normalized_texture_coordinates(

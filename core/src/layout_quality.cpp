@@ -6,6 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include "ricci/layout.h"
+
 namespace ricci {
 
 namespace {
@@ -77,10 +79,7 @@ LayoutQuality measure_layout(const CompactMesh& mesh, Geometry geometry, const F
     layout_area[f] = triangle_area(to);
     input_total += input_area[f];
     layout_total += layout_area[f];
-    const Eigen::Vector3d normal = (p[1] - p[0]).cross(p[2] - p[0]);
-    const double orientation =
-        geometry == Geometry::Spherical ? normal.dot(p[0] + p[1] + p[2]) : normal.z();
-    q.flipped_faces += !(orientation > 0);
+    q.flipped_faces += !(orientation(geometry, p) > 0);
   }
   std::vector<double> area_ratio(nf);
   for (int f = 0; f < nf; ++f) {

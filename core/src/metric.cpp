@@ -3,7 +3,6 @@
 namespace ricci {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 std::array<double, 3> face_lengths(const Triangulation& mesh, const MetricState& state, int f) {
   return {state.edges[mesh.face_edge(f, 0)].length, state.edges[mesh.face_edge(f, 1)].length,

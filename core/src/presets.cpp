@@ -9,7 +9,6 @@
 namespace ricci {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 // The boundary edge joining consecutive vertices a, b of a loop.
 int boundary_edge(const Triangulation& mesh, const std::vector<std::vector<int>>& edges_at, int a,
@@ -98,14 +97,24 @@ TargetPreset target_preset_from_string(const std::string& name) {
                              "'; choose auto, disk, free-boundary, zero or values");
 }
 
-std::pair<TargetPreset, Geometry> automatic_preset(const Triangulation& mesh) {
-  if (mesh.is_closed()) {
-    if (mesh.genus() == 0) return {TargetPreset::Zero, Geometry::Spherical};
-    if (mesh.genus() == 1) return {TargetPreset::Zero, Geometry::Euclidean};
-    return {TargetPreset::Zero, Geometry::Hyperbolic};
+Geometry preset_geometry(const Triangulation& mesh, TargetPreset preset) {
+  switch (preset) {
+    case TargetPreset::Automatic:
+      return automatic_preset(mesh).second;
+    case TargetPreset::Zero: {
+      const int chi = mesh.euler_characteristic();
+      if (chi < 0) return Geometry::Hyperbolic;
+      return mesh.is_closed() && chi > 0 ? Geometry::Spherical : Geometry::Euclidean;
+    }
+    default:  // UnitDisk, FreeBoundary; Values are decided by geometry_for_target
+      return Geometry::Euclidean;
   }
-  if (mesh.genus() == 0) return {TargetPreset::UnitDisk, Geometry::Euclidean};
-  return {TargetPreset::Zero, Geometry::Hyperbolic};
+}
+
+std::pair<TargetPreset, Geometry> automatic_preset(const Triangulation& mesh) {
+  const TargetPreset preset =
+      !mesh.is_closed() && mesh.genus() == 0 ? TargetPreset::UnitDisk : TargetPreset::Zero;
+  return {preset, preset_geometry(mesh, preset)};
 }
 
 Geometry geometry_for_target(const CompactMesh& mesh, const TargetCurvature& target) {

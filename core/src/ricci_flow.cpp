@@ -23,7 +23,7 @@ double initial_length_scale(const CompactMesh& mesh, Geometry geometry,
       for (int c = 0; c < 3; ++c) p += mesh.input_lengths()[mesh.face_edge(f, c)];
       max_perimeter = std::max(max_perimeter, p);
     }
-    scale = std::min(scale, 3.14159265358979323846 / max_perimeter);
+    scale = std::min(scale, kPi / max_perimeter);
   }
   return scale;
 }
@@ -54,8 +54,10 @@ FlowResult compute_ricci_flow(const CompactMesh& mesh, Geometry geometry,
   return result;
 }
 
-std::string flow_failure_message(Geometry geometry, Scheme scheme, const FlowResult& result) {
-  return "ricci flow (" + to_string(geometry) + ", " + to_string(scheme) + "): " + result.failure;
+std::string flow_failure_message(Geometry geometry, Scheme scheme, const FlowResult& result,
+                                 const std::string& subject) {
+  return "ricci flow (" + to_string(geometry) + ", " + to_string(scheme) + ")" +
+         (subject.empty() ? "" : " on " + subject) + ": " + result.failure;
 }
 
 }  // namespace ricci

@@ -10,8 +10,6 @@ namespace ricci {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 double median(std::vector<double> values) {
   const size_t mid = values.size() / 2;
   std::nth_element(values.begin(), values.begin() + static_cast<long>(mid), values.end());
@@ -78,20 +76,32 @@ Scheme scheme_from_string(const std::string& name) {
                              "virtual-radius or mixed");
 }
 
-Geometry geometry_from_string(const std::string& name) {
-  for (Geometry g : {Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical}) {
-    if (to_string(g) == name) return g;
-  }
-  throw InvalidArgumentError("geometry: unknown geometry '" + name +
-                             "'; use euclidean, hyperbolic or spherical");
-}
-
 bool reproduces_input_lengths(Scheme s) {
   return s != Scheme::Tangential && s != Scheme::Thurston;
 }
 
+void check_scheme_options(const SchemeOptions& options) {
+  if (options.scheme == Scheme::Thurston &&
+      !(options.intersection_angle >= 0 && options.intersection_angle <= kPi / 2 + 1e-12)) {
+    std::ostringstream s;
+    s << "thurston scheme: intersection angle " << options.intersection_angle * 180 / kPi
+      << " degrees is outside [0, 90]";
+    throw InvalidArgumentError(s.str());
+  }
+  if (!(options.virtual_radius_fraction > 0)) {
+    throw InvalidArgumentError("scheme options: virtual_radius_fraction must be positive");
+  }
+  for (size_t v = 0; v < options.eps.size(); ++v) {
+    if (options.eps[v] < -1 || options.eps[v] > 1) {
+      throw InvalidArgumentError("mixed scheme: eps of vertex " + std::to_string(v) + " is " +
+                                 std::to_string(options.eps[v]) + "; it must be +1, 0 or -1");
+    }
+  }
+}
+
 ConformalStructure initialize_scheme(const CompactMesh& mesh, Geometry geometry,
                                      const SchemeOptions& options, double length_scale) {
+  check_scheme_options(options);
   const int nv = mesh.num_vertices();
   if (!(length_scale > 0) || !std::isfinite(length_scale)) {
     throw InvalidArgumentError("initialize_scheme: length scale must be positive and finite");
@@ -122,12 +132,6 @@ ConformalStructure initialize_scheme(const CompactMesh& mesh, Geometry geometry,
                                    " values but the mesh has " + std::to_string(nv) +
                                    " vertices; give one of +1, 0, -1 per vertex");
       }
-      for (int v = 0; v < nv; ++v) {
-        if (options.eps[v] < -1 || options.eps[v] > 1) {
-          throw InvalidArgumentError("mixed scheme: eps of vertex " + std::to_string(v) + " is " +
-                                     std::to_string(options.eps[v]) + "; it must be +1, 0 or -1");
-        }
-      }
       cs.eps = options.eps;
       break;
     }
@@ -137,22 +141,12 @@ ConformalStructure initialize_scheme(const CompactMesh& mesh, Geometry geometry,
   const auto incident = incident_lengths(mesh, length);
   std::vector<double> radius(nv);
   const double cos_phi = std::cos(options.intersection_angle);
-  if (scheme == Scheme::Thurston &&
-      !(options.intersection_angle >= 0 && options.intersection_angle <= kPi / 2 + 1e-12)) {
-    std::ostringstream s;
-    s << "thurston scheme: intersection angle " << options.intersection_angle * 180 / kPi
-      << " degrees is outside [0, 90]";
-    throw InvalidArgumentError(s.str());
-  }
   if (scheme == Scheme::Tangential || scheme == Scheme::Thurston) {
     // l^2 = r_i^2 + r_j^2 + 2 r_i r_j cos(Phi): equal radii give l = r sqrt(2 + 2 cos Phi).
     const double factor = scheme == Scheme::Thurston ? 2 / std::sqrt(2 + 2 * cos_phi) : 1;
     radius = incircle_tangent_radii(mesh, length);
     for (double& r : radius) r *= factor;
   } else {
-    if (!(options.virtual_radius_fraction > 0)) {
-      throw InvalidArgumentError("scheme options: virtual_radius_fraction must be positive");
-    }
     for (int v = 0; v < nv; ++v) {
       if (cs.eps[v] == 1) {
         radius[v] = *std::min_element(incident[v].begin(), incident[v].end()) / 3;

@@ -163,7 +163,12 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
     throw ConvergenceError("spherical start: the punctured mesh did not flatten: " + r.failure,
                            r.iterations, r.residual);
   }
-  const PlanarLayout layout = layout_disk(result_triangulation(disk, r), r.edge_lengths);
+  const Triangulation& flattened = result_triangulation(disk, r);
+  std::vector<Eigen::Vector2d> plane;  // per vertex of the disk
+  for (const Eigen::Vector3d& x :
+       vertex_positions(flattened, lay_out(flattened, Geometry::Euclidean, r.edge_lengths))) {
+    plane.push_back(x.head<2>());
+  }
 
   // --- lift: S(x) = (2x, |x|^2 - 1) / (|x|^2 + 1), p at the pole; the similarity x -> s (x - t)
   // (the Moebius maps that fix the pole) is chosen so that the lifted vertices' centre of mass is
@@ -173,17 +178,17 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
     return Eigen::Vector3d(2 * x.x(), 2 * x.y(), s - 1) / (s + 1);
   };
   Eigen::Vector3d similarity(0, 0, 0);  // t_x, t_y, log s
-  for (const auto& x : layout.position) similarity.head<2>() += x;
-  similarity.head<2>() /= static_cast<double>(layout.position.size());
+  for (const auto& x : plane) similarity.head<2>() += x;
+  similarity.head<2>() /= static_cast<double>(plane.size());
   {
     double mean_square = 0;
-    for (const auto& x : layout.position) mean_square += (x - similarity.head<2>()).squaredNorm();
-    similarity[2] = 0.5 * std::log(static_cast<double>(layout.position.size()) / mean_square);
+    for (const auto& x : plane) mean_square += (x - similarity.head<2>()).squaredNorm();
+    similarity[2] = 0.5 * std::log(static_cast<double>(plane.size()) / mean_square);
   }
   const auto centroid = [&](const Eigen::Vector3d& q) -> Eigen::Vector3d {
     Eigen::Vector3d c(0, 0, 1);  // the pole
-    for (const auto& x : layout.position) c += lift(std::exp(q[2]) * (x - q.head<2>()));
-    return c / static_cast<double>(layout.position.size() + 1);
+    for (const auto& x : plane) c += lift(std::exp(q[2]) * (x - q.head<2>()));
+    return c / static_cast<double>(plane.size() + 1);
   };
   for (int it = 0; it < 30; ++it) {  // Newton with a finite-difference Jacobian, damped
     const Eigen::Vector3d c = centroid(similarity);
@@ -203,7 +208,7 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
   const double s = std::exp(similarity[2]);
   std::vector<Eigen::Vector3d> sphere(n, Eigen::Vector3d(0, 0, 1));
   for (int v = 0; v < disk.num_vertices(); ++v)
-    sphere[original[v]] = lift(s * (layout.position[v] - similarity.head<2>()));
+    sphere[original[v]] = lift(s * (plane[v] - similarity.head<2>()));
   if (std::all_of(structure.eps.begin(), structure.eps.end(), [](int e) { return e == 0; }))
     return fit_yamabe_to_chords(mesh, structure, sphere);
 
@@ -212,7 +217,7 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
   // E2's to first order for chords 2 sin(l / 2), hence tan(r / 2).
   Eigen::VectorXd u(n);
   for (int v = 0; v < disk.num_vertices(); ++v) {
-    const Eigen::Vector2d y = s * (layout.position[v] - similarity.head<2>());
+    const Eigen::Vector2d y = s * (plane[v] - similarity.head<2>());
     u[original[v]] = r.u[v] + std::log(s) - std::log1p(y.squaredNorm());
   }
   // u_p: the best fit of the lifted lengths of p's edges, by a scan refined by golden sections.

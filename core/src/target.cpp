@@ -1,6 +1,7 @@
 #include "ricci/target.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "ricci/errors.h"
@@ -8,7 +9,6 @@
 namespace ricci {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 double prescribed_sum(const TargetCurvature& target) {
   double sum = 0;
@@ -23,6 +23,14 @@ int TargetCurvature::num_fixed() const {
   int n = 0;
   for (char f : fixed) n += f != 0;
   return n;
+}
+
+Eigen::VectorXd TargetCurvature::values() const {
+  Eigen::VectorXd v = curvature;
+  for (int i = 0; i < v.size(); ++i) {
+    if (is_fixed(i)) v[i] = std::numeric_limits<double>::quiet_NaN();
+  }
+  return v;
 }
 
 TargetCurvature TargetCurvature::zero(const CompactMesh& mesh) {
@@ -139,13 +147,6 @@ double gauss_bonnet_area(const CompactMesh& mesh, Geometry geometry,
                          const TargetCurvature& target) {
   if (geometry == Geometry::Euclidean || target.num_fixed() > 0) return 0;
   return std::abs(2 * kPi * mesh.euler_characteristic() - prescribed_sum(target));
-}
-
-Geometry automatic_geometry(const CompactMesh& mesh) {
-  if (!mesh.is_closed()) return Geometry::Euclidean;
-  if (mesh.genus() == 0) return Geometry::Spherical;
-  if (mesh.genus() == 1) return Geometry::Euclidean;
-  return Geometry::Hyperbolic;
 }
 
 }  // namespace ricci

@@ -63,15 +63,8 @@ std::map<std::string, QVariant> FilterRicciFlowPlugin::applyFilter(
     for (const std::string& line : log_lines) log(line);
     // The numbers a script checks, returned by pymeshlab's apply_filter as a dict (pymeshlab
     // passes numbers only; geometry and layout kind are in the log).
-    const ricci::Uniformization& u = c.uniformization;
     std::map<std::string, QVariant> out;
-    out["iterations"] = u.result.iterations;
-    out["edge_flips"] = u.result.num_flips;
-    out["max_curvature_error"] = u.quality.max_curvature_error;
-    out["flipped_faces"] = u.quality.flipped_faces;
-    out["quasi_conformal_median"] = u.quality.quasi_conformal_median;
-    out["closure_error"] = u.model ? u.model->closure_error : 0.0;
-    out["circle_error"] = u.circle_error;
+    for (const auto& [name, value] : ricci::result_numbers(c.uniformization)) out[name] = value;
     return out;
   } catch (const ricci::Error& e) {
     throw MLException(QString("Ricci flow failed, the mesh is unchanged: ") + e.what());

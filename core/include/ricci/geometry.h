@@ -13,10 +13,14 @@
 
 namespace ricci {
 
+inline constexpr double kPi = 3.14159265358979323846;
+
 enum class Geometry { Euclidean, Hyperbolic, Spherical };
 
 //! "euclidean", "hyperbolic", "spherical".
 std::string to_string(Geometry g);
+//! Inverse of to_string. \throws InvalidArgumentError for an unknown name.
+Geometry geometry_from_string(const std::string& name);
 
 //! Curvature kappa of the background: 0 (E2), -1 (H2), +1 (S2).
 double background_curvature(Geometry g);

@@ -1,36 +1,97 @@
-// Layout of a flat (E2) metric of a disk into the plane.
+// Layout of a metric of constant curvature in its model space: the plane (E2), the Poincare disk
+// (H2), the unit sphere (S2).
 //
-// Edge directions are integrated across the faces by the corner angles (errors add along a
-// path, they do not multiply), then positions are the sparse least-squares fit to every face's
-// edge vectors (DESIGN.md, "Layout, measured").
+// A surface that is not a disk (or a sphere) is first cut open into one (cut_graph.h), so a vertex
+// on the cut has one position per fan of faces on each side of it: per face corner ("wedge")
+// positions, glued across the cut by the deck transformations.
+//   E2, every topology: edge directions integrated across the faces by the corner angles (errors
+//     add along a path, they do not multiply), then positions are the sparse least-squares fit to
+//     every face's edge vectors, with separate unknowns on the two sides of a cut (the method
+//     DESIGN.md measured as stable).
+//   H2, S2: developed triangle by triangle, breadth-first from the face deepest inside the cut
+//     disk, each from the two corners it shares with a placed face.
 #pragma once
 
+#include <array>
+#include <complex>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "ricci/cut_graph.h"
+#include "ricci/geometry.h"
 #include "ricci/linear_solver.h"
 #include "ricci/triangulation.h"
 
 namespace ricci {
 
-struct PlanarLayout {
-  std::vector<Eigen::Vector2d> position;  //!< per vertex, in the units of the metric
-  int num_flipped_faces = 0;              //!< laid-out faces with non-positive signed area
-  double max_relative_length_error = 0;   //!< max | |x_j - x_i| / l_ij - 1 | over edges
+//! An orientation-preserving isometry of the model: E2: z -> a z + b with |a| = 1; H2: the
+//! Moebius map z -> (a z + b) / (conj(b) z + conj(a)) with |a|^2 - |b|^2 = 1 (of the disk).
+struct DiskIsometry {
+  Geometry geometry = Geometry::Euclidean;
+  std::complex<double> a = 1, b = 0;
+
+  std::complex<double> operator()(std::complex<double> z) const;
+  DiskIsometry operator*(const DiskIsometry& other) const;  //!< (this o other)
+  DiskIsometry inverse() const;
+  //! The isometry that maps p0 to q0 and the direction of p1 from p0 to that of q1 from q0.
+  static DiskIsometry mapping(Geometry g, std::complex<double> p0, std::complex<double> p1,
+                              std::complex<double> q0, std::complex<double> q1);
+  //! H2: z -> (z - p) / (1 - conj(p) z), which moves p to 0. \pre |p| < 1
+  static DiskIsometry moving_to_origin(std::complex<double> p);
 };
 
-//! Lays out a disk with the given flat edge lengths, centred at the vertices' centroid, with
-//! the first edge of face 0 along +x.
-//! \pre the lengths are a valid E2 metric, flat (angle sum 2 pi) at interior vertices.
-//! \throws InvalidArgumentError when the mesh is not a disk or lengths are invalid.
-PlanarLayout layout_disk(const Triangulation& mesh, const std::vector<double>& lengths,
-                         LinearSolverKind solver = LinearSolverKind::Cholmod);
+struct Layout {
+  Geometry geometry = Geometry::Euclidean;
+  //! Per face, per corner: E2 and H2 (Poincare disk) in x and y with z = 0; S2 unit vectors.
+  std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  CutGraph cut;  //!< empty for a disk or a sphere
+  //! E2 and H2, one per cut path: maps the path's positions on its right side (the face of the
+  //! halfedge against the walk) to those on its left side.
+  std::vector<DiskIsometry> deck;
+  //! Largest distance (in the model's coordinates) between two positions of a vertex that should
+  //! agree: across uncut edges, and across cut edges after the deck transformation.
+  double closure_error = 0;
+  //! surface_group_relation_error of the layout.
+  double relation_error = 0;
+  //! E2: max | |x_head - x_tail| / l - 1 | over the faces' edges.
+  double max_relative_length_error = 0;
+  int num_flipped_faces = 0;  //!< faces with non-positive orientation in the model
+};
 
-//! Faces of `mesh` whose corners at `position` have non-positive signed area. With a
-//! triangulation other than the one laid out (the input's, after flips), this counts the input
-//! triangles the layout turns over.
-int count_flipped_faces(const Triangulation& mesh, const std::vector<Eigen::Vector2d>& position);
+//! Lays out `lengths`, a metric of the geometry with angle sum 2 pi at interior vertices (a
+//! converged flow's), by the method for its geometry (see the top of this file).
+//! \throws InvalidArgumentError for lengths that are not a valid metric of the geometry.
+Layout lay_out(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
+               LinearSolverKind solver = LinearSolverKind::Cholmod);
+
+//! Per vertex: the position of the vertex in the first face (in face order) that holds it.
+std::vector<Eigen::Vector3d> vertex_positions(const Triangulation& mesh, const Layout& layout);
+
+//! The layout's corner positions for the faces of `other`, a triangulation of the same vertices
+//! (the input, when the flow flipped edges): a face the layout has keeps its corners; for any
+//! other face, its first vertex takes a position from a laid-out face and the others the wedge
+//! position nearest to it.
+std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid_out,
+                                                       const Layout& layout,
+                                                       const Triangulation& other);
+
+//! The surface group's relations, measured: walking once around an interior vertex where cut
+//! paths meet, the deck transformations of the paths crossed compose to the identity (Poincare's
+//! polygon theorem: these vertex cycles generate the relations, for a single-vertex cut
+//! [a1, b1] ... [ag, bg] = 1). Returns the largest distance of such a product from the identity:
+//! max(|a -/+ 1|, |b| / extent) with extent the layout's largest coordinate in E2, 1 in H2;
+//! 0 for S2 and for cuts without such vertices.
+double surface_group_relation_error(const Triangulation& mesh, const Layout& layout);
+
+//! S2: the Moebius transformation of the sphere that moves the points' centre of mass to the
+//! origin (iterated ball automorphisms); returns the moved points. \pre unit vectors.
+std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points);
+
+//! Orientation of a laid-out triangle: positive when counter-clockwise in the plane or the disk,
+//! or counter-clockwise seen from outside the sphere.
+double orientation(Geometry geometry, const std::array<Eigen::Vector3d, 3>& corners);
 
 //! The positions scaled and shifted into [0, 1]^2 with the aspect ratio kept: texture
 //! coordinates.

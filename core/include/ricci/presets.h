@@ -25,10 +25,16 @@ std::string to_string(TargetPreset p);
 //! Inverse of to_string. \throws InvalidArgumentError naming the choices.
 TargetPreset target_preset_from_string(const std::string& name);
 
-//! The uniformization theorem's choice: closed genus 0 -> S2, Zero (round sphere); closed genus 1
-//! -> E2, Zero (flat torus); closed genus >= 2 -> H2, Zero; genus 0 with boundary -> E2,
-//! UnitDisk (the unit disk, or a circle domain for several boundary loops); genus >= 1 with
-//! boundary -> H2, Zero (geodesic boundaries).
+//! The geometry of a preset on the mesh's topology, the one rule every choice goes through:
+//! UnitDisk and FreeBoundary are flat (E2). Zero: on a closed surface the sign of the Euler
+//! characteristic (Gauss-Bonnet, 2 pi chi = kappa A): S2 for genus 0, E2 for genus 1, H2 for
+//! genus >= 2; with boundary (geodesic boundary) H2 when chi < 0, else E2. Automatic: that of
+//! automatic_preset. Values: Gauss-Bonnet decides (geometry_for_target).
+Geometry preset_geometry(const Triangulation& mesh, TargetPreset preset);
+
+//! The uniformization theorem's choice: genus 0 with boundary -> UnitDisk (the unit disk, or a
+//! circle domain for several boundary loops); every other surface -> Zero (round sphere, flat
+//! torus, hyperbolic metric with geodesic boundary); each in its preset_geometry.
 std::pair<TargetPreset, Geometry> automatic_preset(const Triangulation& mesh);
 
 //! The geometry Gauss-Bonnet admits for explicit targets: E2 when some u is fixed or

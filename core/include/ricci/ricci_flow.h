@@ -140,7 +140,9 @@ FlowResult compute_ricci_flow(const CompactMesh& mesh, Geometry geometry,
                               const SchemeOptions& scheme, const TargetCurvature& target,
                               const FlowOptions& options = {});
 
-//! "ricci flow (GEOMETRY, SCHEME): FAILURE": the one message of a flow that did not converge.
-std::string flow_failure_message(Geometry geometry, Scheme scheme, const FlowResult& result);
+//! "ricci flow (GEOMETRY, SCHEME) on SUBJECT: FAILURE" (without " on SUBJECT" when it is empty):
+//! the one message of a flow that did not converge.
+std::string flow_failure_message(Geometry geometry, Scheme scheme, const FlowResult& result,
+                                 const std::string& subject = "");
 
 }  // namespace ricci

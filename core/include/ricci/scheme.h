@@ -25,7 +25,6 @@ enum class Scheme {
 std::string to_string(Scheme s);
 //! Inverse of to_string. \throws InvalidArgumentError for an unknown name.
 Scheme scheme_from_string(const std::string& name);
-Geometry geometry_from_string(const std::string& name);
 
 //! True for the schemes whose initial metric reproduces the input lengths.
 bool reproduces_input_lengths(Scheme s);
@@ -33,7 +32,7 @@ bool reproduces_input_lengths(Scheme s);
 struct SchemeOptions {
   Scheme scheme = Scheme::Yamabe;
   //! Thurston's intersection angle Phi in radians, in [0, pi/2].
-  double intersection_angle = 1.0471975511965976;  // pi / 3
+  double intersection_angle = kPi / 3;
   //! Mixed scheme: eps per vertex, each +1, 0 or -1.
   std::vector<int> eps;
   //! Virtual radius (eps = -1) and eps = 0 vertices of the mixed scheme: initial radius as a
@@ -51,6 +50,10 @@ struct ConformalStructure {
   Eigen::VectorXd u0;       //!< initial conformal factor per vertex
   double length_scale = 1;  //!< input lengths were multiplied by this (H2, S2)
 };
+
+//! Checks the options that need no mesh: Thurston's angle in [0, pi/2], a positive virtual
+//! radius fraction, eps values in {+1, 0, -1}. \throws InvalidArgumentError naming the value.
+void check_scheme_options(const SchemeOptions& options);
 
 //! Builds eps, eta and u0 for the scheme from the mesh's input lengths times length_scale.
 //! Inversive distance: r = min incident length / 3; Yamabe: u = 0 (E2) or r = the median incident

@@ -19,6 +19,8 @@ struct TargetCurvature {
 
   bool is_fixed(int v) const { return fixed[v] != 0; }
   int num_fixed() const;
+  //! Kbar per vertex with NaN where u is fixed: the inverse of from_values.
+  Eigen::VectorXd values() const;
 
   //! Kbar = 0 at every vertex (closed surfaces: flat torus, hyperbolic metric, round sphere).
   static TargetCurvature zero(const CompactMesh& mesh);
@@ -40,9 +42,5 @@ void check_target(const CompactMesh& mesh, Geometry geometry, const TargetCurvat
 //! The area Gauss-Bonnet asks of the result: |2 pi chi - sum Kbar| in H2 and S2 when every
 //! vertex has a curvature target, 0 when the area is not determined (E2, or fixed vertices).
 double gauss_bonnet_area(const CompactMesh& mesh, Geometry geometry, const TargetCurvature& target);
-
-//! The geometry suited to the topology: S2 for closed genus 0, H2 for closed genus >= 2,
-//! E2 otherwise (torus, and every surface with boundary).
-Geometry automatic_geometry(const CompactMesh& mesh);
 
 }  // namespace ricci

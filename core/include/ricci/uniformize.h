@@ -1,10 +1,17 @@
 // Uniformization: a target preset, the flow, and the layout of the result in its model space,
-// measured. The one pipeline behind `ricci-flow` and the MeshLab filter.
+// measured. The one pipeline behind `ricci-flow` and the MeshLab filter:
 //
-//   disk (E2)              least-squares planar layout (layout.h); with the disk preset on the
-//                          unit circle, optionally Moebius-normalized (center and axis vertex)
-//   circle domain (E2)     genus 0 with several boundary loops, disk preset: developed across a
-//                          cut (deck transformations ~ identity), outer loop the unit circle
+//   resolve_request     preset and geometry (presets.h: one rule by topology), checked
+//   the flow            one solve; the disk preset repeats it until every boundary loop is a
+//                       circle (circle_domain.h)
+//   the layout          layout.h, then per-vertex positions where the layout has them; the
+//                       unit disk normalized (centre and axis vertex), the sphere centred
+//   the quality         layout_quality.h, against the input mesh
+//
+//   disk (E2)              one position per vertex in the plane; with the disk preset on the unit
+//                          circle, optionally Moebius-normalized (center and axis vertex)
+//   circle domain (E2)     genus 0 with several boundary loops, disk preset: the cut closes up
+//                          (deck transformations ~ identity), outer loop the unit circle
 //   cut open (E2, H2)      torus, higher genus, other targets: per-corner (wedge) positions in
 //                          the plane or the Poincare disk, deck transformations, closure error
 //   sphere (S2)            genus 0: vertices on the unit sphere, centre of mass at the origin
@@ -13,6 +20,7 @@
 #include <array>
 #include <complex>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -21,7 +29,6 @@
 #include "ricci/compact_mesh.h"
 #include "ricci/layout.h"
 #include "ricci/layout_quality.h"
-#include "ricci/model_layout.h"
 #include "ricci/presets.h"
 #include "ricci/ricci_flow.h"
 
@@ -39,7 +46,7 @@ std::string to_string(LayoutKind k);
 
 struct UniformizationOptions {
   TargetPreset preset = TargetPreset::Automatic;
-  //! The geometry; empty: the preset's (automatic_preset), or for Values the one Gauss-Bonnet
+  //! The geometry; empty: the preset's (preset_geometry), or for Values the one Gauss-Bonnet
   //! admits (geometry_for_target).
   std::optional<Geometry> geometry;
   //! Values: Kbar per vertex, NaN where u stays fixed.
@@ -55,28 +62,44 @@ struct UniformizationOptions {
   int max_boundary_iterations = 200;
 };
 
+//! Sums over the flows of one uniformization (the disk preset runs several).
+struct FlowTotals {
+  int flows = 0;
+  int newton_iterations = 0;
+  int edge_flips = 0;
+  int symbolic_analyses = 0;
+  int numeric_factorizations = 0;
+  FlowTimes times;
+  void add(const FlowResult& r);
+};
+
 struct Uniformization {
   TargetPreset preset = TargetPreset::Automatic;  //!< the one used (never Automatic)
   Geometry geometry = Geometry::Euclidean;
+  Scheme scheme = Scheme::Yamabe;
+  double tolerance = 0;          //!< the flow's, on max |K - Kbar|
   ConformalStructure structure;  //!< the initial structure
-  FlowResult result;
-  int boundary_iterations = 0;  //!< disk preset: flows run while fitting the boundary
-  int newton_iterations = 0;    //!< over all those flows
-  double boundary_change = 0;   //!< disk preset: last change of the boundary curvature
-  double circle_error = 0;      //!< disk preset: max | |z - c| - r | / r over boundary loops
+  FlowResult result;             //!< the last flow
+  FlowTotals totals;
+  double boundary_change = 0;  //!< disk preset: last change of the boundary curvature
+  double circle_error = 0;     //!< disk preset: max | |z - c| - r | / r over boundary loops
 
-  LayoutKind layout = LayoutKind::None;
+  LayoutKind layout_kind = LayoutKind::None;
+  //! The layout of the flow's final triangulation (empty when the flow did not converge).
+  Layout layout;
   //! Plane and Sphere: position per vertex (Plane: z = 0).
   std::vector<Eigen::Vector3d> position;
   //! Every layout: positions per face and corner of the input mesh.
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
-  std::optional<ModelLayout> model;      //!< the developed layout (all but E2 disks)
-  double max_relative_length_error = 0;  //!< E2 disks: of the least-squares layout
-  double relation_error = 0;             //!< surface_group_relation_error
   //! Flat torus (E2, closed genus 1): two translations spanning the period lattice, from the deck
   //! transformations; |Im(conj(w0) w1)| is the torus's area.
   std::vector<std::complex<double>> periods;
   LayoutQuality quality;
+
+  bool converged() const { return result.converged; }
+  //! \throws ConvergenceError with flow_failure_message (naming `subject`, e.g. the input file,
+  //!   when not empty) when the flow did not converge.
+  void require_converged(const std::string& subject = "") const;
 };
 
 //! The preset (never Automatic) and geometry a request resolves to, checked.
@@ -87,9 +110,9 @@ std::pair<TargetPreset, Geometry> resolve_request(const CompactMesh& mesh,
 //! The kind of layout uniformize() gives for a resolved request, when the flow converges.
 LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geometry geometry);
 
-//! Runs the preset's flow and lays out the result.
-//! \throws InvalidTargetError, InvalidArgumentError for requests that admit no solution (named),
-//!   ConvergenceError when the flow does not converge.
+//! Runs the preset's flow and lays out its result. Never throws for non-convergence: the result
+//! says why (require_converged() turns that into a ConvergenceError).
+//! \throws InvalidTargetError, InvalidArgumentError for requests that admit no solution (named).
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& options);
 
 //! Texture coordinates in [0, 1]^2 of a layout: per vertex for Plane (scaled with the aspect ratio
@@ -100,13 +123,5 @@ struct TextureCoordinates {
   std::vector<std::array<Eigen::Vector2d, 3>> wedge;
 };
 TextureCoordinates texture_coordinates(const Uniformization& u);
-
-//! The points scaled and moved so that the circle fitted to the `boundary` points is the unit
-//! circle; then, with center >= 0, the Moebius map of the unit disk taking point `center` to 0,
-//! and with axis >= 0 the rotation taking point `axis` onto the positive real axis.
-//! \throws InvalidArgumentError when center lies on the circle or axis at the centre.
-std::vector<Eigen::Vector3d> normalize_to_unit_disk(std::vector<Eigen::Vector3d> points,
-                                                    const std::vector<int>& boundary, int center,
-                                                    int axis);
 
 }  // namespace ricci

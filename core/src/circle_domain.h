@@ -1,0 +1,40 @@
+// The unit disk and circle domain targets: the boundary curvature that puts every boundary loop
+// on a circle is a fixed point of flow -> circle_boundary_target (presets.h), found by repeated
+// flows; the layout is then moved onto the unit disk (not installed API).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/ricci_flow.h"
+#include "ricci/uniformize.h"
+
+namespace ricci::detail {
+
+//! Runs the solver's flow until the boundary curvature of `target` changes by at most
+//! options.boundary_tolerance: Anderson-accelerated, falling back to the plain iteration (and a
+//! cold start) where the accelerated target cannot be reached. Fills u.result, u.totals and
+//! u.boundary_change; the result is marked unconverged when the iteration limit is hit.
+void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
+                             TargetCurvature target, const UniformizationOptions& options,
+                             Uniformization& u);
+
+//! The circle through the points (algebraic least squares): centre and radius.
+std::pair<Eigen::Vector2d, double> fit_circle(const std::vector<Eigen::Vector3d>& points,
+                                              const std::vector<int>& which);
+
+//! max | |z - c| - r | / r over the mesh's boundary loops, each against its fitted circle.
+double circle_error(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh);
+
+//! The points scaled and moved so that the circle fitted to the `boundary` points is the unit
+//! circle; then, with center >= 0, the Moebius map of the unit disk taking point `center` to 0,
+//! and with axis >= 0 the rotation taking point `axis` onto the positive real axis.
+//! \throws InvalidArgumentError when center lies on the circle or axis at the centre.
+std::vector<Eigen::Vector3d> normalize_to_unit_disk(std::vector<Eigen::Vector3d> points,
+                                                    const std::vector<int>& boundary, int center,
+                                                    int axis);
+
+}  // namespace ricci::detail

@@ -1,0 +1,123 @@
+// Development of a metric into its model, triangle by triangle (H2 and S2 layouts).
+#include <cmath>
+#include <queue>
+
+#include <Eigen/Geometry>
+
+#include "layout_methods.h"
+
+namespace ricci::detail {
+
+namespace {
+
+using Complex = std::complex<double>;
+
+Complex to_complex(const Eigen::Vector3d& p) {
+  return {p.x(), p.y()};
+}
+Eigen::Vector3d from_complex(Complex z) {
+  return {z.real(), z.imag(), 0.0};
+}
+
+// C such that (A, B, C) is counter-clockwise, |AC| = l_ac and the angle at A is alpha.
+Eigen::Vector3d place_third(Geometry g, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                            double l_ac, double alpha) {
+  switch (g) {
+    case Geometry::Euclidean: {
+      const Complex dir = std::polar(1.0, std::arg(to_complex(b) - to_complex(a)) + alpha);
+      return from_complex(to_complex(a) + l_ac * dir);
+    }
+    case Geometry::Hyperbolic: {
+      const DiskIsometry m = DiskIsometry::moving_to_origin(to_complex(a));
+      const Complex c = std::polar(std::tanh(l_ac / 2), std::arg(m(to_complex(b))) + alpha);
+      return from_complex(m.inverse()(c));
+    }
+    case Geometry::Spherical: {
+      const Eigen::Vector3d t = (b - a.dot(b) * a).normalized();
+      const Eigen::Vector3d turned = std::cos(alpha) * t + std::sin(alpha) * a.cross(t);
+      return (std::cos(l_ac) * a + std::sin(l_ac) * turned).normalized();
+    }
+  }
+  return a;
+}
+
+// The face deepest inside the cut disk: farthest, in faces, from every cut and boundary edge.
+int deepest_face(const Triangulation& mesh, const std::vector<char>& cut) {
+  const int nf = mesh.num_faces();
+  std::vector<int> depth(nf, -1);
+  std::queue<int> queue;
+  for (int f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int e = mesh.face_edge(f, c);
+      if (mesh.is_boundary_edge(e) || cut[e]) {
+        depth[f] = 0;
+        queue.push(f);
+        break;
+      }
+    }
+  }
+  if (queue.empty()) return 0;
+  int last = queue.front();
+  while (!queue.empty()) {
+    const int f = queue.front();
+    queue.pop();
+    last = f;
+    for (int c = 0; c < 3; ++c) {
+      const int t = mesh.twin(3 * f + c);
+      if (t < 0 || cut[mesh.face_edge(f, c)] || depth[t / 3] >= 0) continue;
+      depth[t / 3] = depth[f] + 1;
+      queue.push(t / 3);
+    }
+  }
+  return last;
+}
+
+}  // namespace
+
+Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths) {
+  const int nf = mesh.num_faces();
+  const std::vector<std::array<double, 3>> angles = face_angles(mesh, geometry, lengths);
+  Layout layout;
+  layout.geometry = geometry;
+  layout.cut = cut_to_disk(mesh);
+  layout.corners.assign(nf, {});
+  if (nf == 0) return layout;
+  const int seed = deepest_face(mesh, layout.cut.cut);
+
+  // --- the seed face, then breadth-first across uncut edges
+  const auto edge_length_at = [&](int f, int corner) { return lengths[mesh.face_edge(f, corner)]; };
+  auto& p = layout.corners;
+  if (geometry == Geometry::Spherical) {
+    p[seed][0] = Eigen::Vector3d(0, 0, 1);
+    const double l = edge_length_at(seed, 2);
+    p[seed][1] = Eigen::Vector3d(std::sin(l), 0, std::cos(l));
+  } else {
+    const double l = edge_length_at(seed, 2);
+    p[seed][0] = Eigen::Vector3d::Zero();
+    p[seed][1] = Eigen::Vector3d(geometry == Geometry::Hyperbolic ? std::tanh(l / 2) : l, 0, 0);
+  }
+  p[seed][2] =
+      place_third(geometry, p[seed][0], p[seed][1], edge_length_at(seed, 1), angles[seed][0]);
+  std::vector<char> placed(nf, 0);
+  placed[seed] = 1;
+  std::queue<int> queue;
+  queue.push(seed);
+  while (!queue.empty()) {
+    const int f = queue.front();
+    queue.pop();
+    for (int c = 0; c < 3; ++c) {
+      const int t = mesh.twin(3 * f + c);
+      if (t < 0 || layout.cut.cut[mesh.face_edge(f, c)] || placed[t / 3]) continue;
+      const int g = t / 3, ct = t % 3, c1 = (ct + 1) % 3, c2 = (ct + 2) % 3;
+      p[g][c1] = p[f][(c + 2) % 3];
+      p[g][c2] = p[f][(c + 1) % 3];
+      p[g][ct] = place_third(geometry, p[g][c1], p[g][c2], edge_length_at(g, c2), angles[g][c1]);
+      placed[g] = 1;
+      queue.push(g);
+    }
+  }
+  glue_along_cut(mesh, layout);
+  return layout;
+}
+
+}  // namespace ricci::detail

@@ -1,0 +1,30 @@
+// The two layout methods behind lay_out() and what they share (not installed API).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "ricci/layout.h"
+
+namespace ricci::detail {
+
+//! Corner angles of every face, checked. \throws InvalidArgumentError naming the first face that
+//! is not a valid triangle of the geometry.
+std::vector<std::array<double, 3>> face_angles(const Triangulation& mesh, Geometry geometry,
+                                               const std::vector<double>& lengths);
+
+//! Corner of face f that holds vertex v, or -1.
+int corner_of(const Triangulation& mesh, int f, int v);
+
+//! E2, every topology: least squares over the edge vectors with one unknown per wedge.
+Layout plane_layout(const Triangulation& mesh, const std::vector<double>& lengths,
+                    LinearSolverKind solver);
+
+//! Any geometry: triangle by triangle from the face deepest inside the cut disk.
+Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths);
+
+//! Fills the deck transformations (E2, H2), the closure error and the flipped-face count of a
+//! layout whose corners and cut are set.
+void glue_along_cut(const Triangulation& mesh, Layout& layout);
+
+}  // namespace ricci::detail

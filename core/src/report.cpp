@@ -1,0 +1,207 @@
+#include "ricci/report.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "metric.h"
+
+namespace ricci {
+
+namespace {
+
+std::string quoted(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      q += '\\';
+      q += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      q += ' ';
+    } else {
+      q += c;
+    }
+  }
+  return q + "\"";
+}
+
+std::string number(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream s;
+  s.precision(std::numeric_limits<double>::max_digits10);
+  s << x;
+  return s.str();
+}
+
+std::string array(const std::vector<double>& xs) {
+  std::string a = "[";
+  for (size_t i = 0; i < xs.size(); ++i) a += (i ? ", " : "") + number(xs[i]);
+  return a + "]";
+}
+
+std::string complex_pair(std::complex<double> z) {
+  return "[" + number(z.real()) + ", " + number(z.imag()) + "]";
+}
+
+std::string layout_json(const Uniformization& u) {
+  if (u.layout_kind == LayoutKind::None) return "null";
+  const LayoutQuality& q = u.quality;
+  const Layout& m = u.layout;
+  std::ostringstream j;
+  j << "{\"kind\": " << quoted(to_string(u.layout_kind))
+    << ", \"flipped_faces\": " << q.flipped_faces
+    << ", \"quasi_conformal\": {\"median\": " << number(q.quasi_conformal_median)
+    << ", \"p95\": " << number(q.quasi_conformal_p95)
+    << ", \"max\": " << number(q.quasi_conformal_max) << "}"
+    << ", \"area_ratio\": {\"p5\": " << number(q.area_ratio_p5)
+    << ", \"median\": " << number(q.area_ratio_median) << ", \"p95\": " << number(q.area_ratio_p95)
+    << "}";
+  if (u.preset == TargetPreset::UnitDisk) j << ", \"circle_error\": " << number(u.circle_error);
+  if (u.geometry == Geometry::Euclidean) {
+    j << ", \"max_relative_length_error\": " << number(m.max_relative_length_error);
+  }
+  j << ", \"flipped_faces_of_flow_triangulation\": " << m.num_flipped_faces
+    << ", \"closure_error\": " << number(m.closure_error)
+    << ", \"relation_error\": " << number(m.relation_error)
+    << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators;
+  if (!u.periods.empty()) {
+    j << ", \"periods\": [" << complex_pair(u.periods[0]) << ", " << complex_pair(u.periods[1])
+      << "]";
+  }
+  // E2: z -> a z + b; H2: z -> (a z + b) / (conj(b) z + conj(a)); a and b as [re, im].
+  j << ", \"deck_transformations\": [";
+  for (size_t k = 0; k < m.deck.size(); ++k) {
+    j << (k ? ", " : "") << "{\"a\": " << complex_pair(m.deck[k].a)
+      << ", \"b\": " << complex_pair(m.deck[k].b) << "}";
+  }
+  j << "]}";
+  return j.str();
+}
+
+}  // namespace
+
+double initial_length_error(const CompactMesh& mesh, const ConformalStructure& structure) {
+  const MetricState state = evaluate_metric(mesh, structure, structure.u0);
+  double err = 0;
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const double want = structure.length_scale * mesh.input_lengths()[e];
+    const double got = state.edges[e].valid ? state.edges[e].length : INFINITY;
+    err = std::max(err, std::abs(got / want - 1));
+  }
+  return err;
+}
+
+double gauss_bonnet_error(const CompactMesh& mesh, Geometry geometry, const FlowResult& result) {
+  return result.curvature.sum() + background_curvature(geometry) * result.area -
+         2 * kPi * mesh.euler_characteristic();
+}
+
+std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& u) {
+  return {{"iterations", u.totals.newton_iterations},
+          {"edge_flips", u.totals.edge_flips},
+          {"max_curvature_error", u.quality.max_curvature_error},
+          {"flipped_faces", u.quality.flipped_faces},
+          {"quasi_conformal_median", u.quality.quasi_conformal_median},
+          {"closure_error", u.layout.closure_error},
+          {"circle_error", u.circle_error},
+          {"flows", u.totals.flows}};
+}
+
+std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformization& u,
+                                       const RunContext& context) {
+  std::vector<std::string> lines;
+  std::ostringstream s;
+  s << "Ricci flow" << (context.input.empty() ? "" : " on " + context.input) << ": "
+    << mesh.topology_name() << ", " << mesh.num_vertices() << " vertices, " << mesh.num_faces()
+    << " faces; " << to_string(u.geometry) << " geometry, " << to_string(u.scheme)
+    << " scheme, target " << to_string(u.preset);
+  lines.push_back(s.str());
+  const auto line = [&](auto&&... parts) {
+    std::ostringstream l;
+    l.precision(3);
+    (l << ... << parts);
+    lines.push_back(l.str());
+  };
+  const FlowTotals& t = u.totals;
+  if (!u.converged()) {
+    line("Not converged after ", t.newton_iterations, " Newton iterations: ", u.result.failure);
+    return lines;
+  }
+  line("Converged in ", t.newton_iterations, " Newton iterations with ", t.edge_flips,
+       " edge flips: max |K - Kbar| = ", u.quality.max_curvature_error, ", mean ",
+       u.quality.mean_curvature_error, " (", t.times.total, " s)");
+  if (u.preset == TargetPreset::UnitDisk) {
+    line("Boundary loops on circles after ", t.flows, " flows: circle error ", u.circle_error);
+  }
+  if (u.layout_kind == LayoutKind::None) {
+    line("No layout: a ", mesh.topology_name(), " in ", to_string(u.geometry),
+         " geometry has none here");
+    return lines;
+  }
+  const LayoutQuality& q = u.quality;
+  line("Layout (", to_string(u.layout_kind), "): ", q.flipped_faces,
+       " of the input's faces flipped; quasi-conformal ratio median ", q.quasi_conformal_median,
+       ", 95% ", q.quasi_conformal_p95, ", max ", q.quasi_conformal_max, "; area ratio 5%..95% ",
+       q.area_ratio_p5, "..", q.area_ratio_p95);
+  const Layout& m = u.layout;
+  if (!m.cut.paths.empty()) {
+    line("Cut into a disk along ", m.cut.paths.size(), " paths (", m.cut.num_generators,
+         " generators): closure error ", m.closure_error, ", relation error ", m.relation_error);
+  }
+  if (!u.periods.empty()) {
+    line("Flat torus: periods (", u.periods[0].real(), ", ", u.periods[0].imag(), ") and (",
+         u.periods[1].real(), ", ", u.periods[1].imag(), ")");
+  }
+  return lines;
+}
+
+std::string json_report(const CompactMesh& mesh, const Uniformization& u,
+                        const RunContext& context) {
+  const FlowResult& result = u.result;
+  const FlowTotals& totals = u.totals;
+  const FlowTimes& t = totals.times;
+  const LayoutQuality& q = u.quality;
+  std::ostringstream j;
+  j << "{\n";
+  j << "  \"input\": " << quoted(context.input) << ",\n";
+  j << "  \"mesh\": {\"vertices\": " << mesh.num_vertices() << ", \"faces\": " << mesh.num_faces()
+    << ", \"edges\": " << mesh.num_edges()
+    << ", \"euler_characteristic\": " << mesh.euler_characteristic()
+    << ", \"genus\": " << mesh.genus() << ", \"boundary_loops\": " << mesh.num_boundary_loops()
+    << ", \"topology\": " << quoted(mesh.topology_name()) << "},\n";
+  j << "  \"geometry\": " << quoted(to_string(u.geometry)) << ",\n";
+  j << "  \"scheme\": " << quoted(to_string(u.scheme)) << ",\n";
+  j << "  \"target\": " << quoted(context.target) << ",\n";
+  j << "  \"preset\": " << quoted(to_string(u.preset)) << ",\n";
+  j << "  \"tolerance\": " << number(u.tolerance) << ",\n";
+  j << "  \"length_scale\": " << number(u.structure.length_scale) << ",\n";
+  j << "  \"converged\": " << (result.converged ? "true" : "false") << ",\n";
+  j << "  \"failure\": " << (result.converged ? "null" : quoted(result.failure)) << ",\n";
+  j << "  \"residual\": " << number(result.residual) << ",\n";
+  j << "  \"flows\": " << totals.flows << ",\n";
+  j << "  \"iterations\": " << totals.newton_iterations << ",\n";
+  j << "  \"edge_flips\": " << totals.edge_flips << ",\n";
+  j << "  \"symbolic_analyses\": " << totals.symbolic_analyses << ",\n";
+  j << "  \"numeric_factorizations\": " << totals.numeric_factorizations << ",\n";
+  j << "  \"last_flow\": {\"iterations\": " << result.iterations
+    << ", \"residual_history\": " << array(result.residual_history)
+    << ", \"step_history\": " << array(result.step_history)
+    << ", \"edge_flips\": " << result.num_flips
+    << ", \"connectivity_changes\": " << result.connectivity_changes << "},\n";
+  j << "  \"seconds\": {\"read\": " << number(context.read_seconds)
+    << ", \"setup\": " << number(t.setup) << ", \"assembly\": " << number(t.assembly)
+    << ", \"analysis\": " << number(t.analysis)
+    << ", \"factorization\": " << number(t.factorization) << ", \"solve\": " << number(t.solve)
+    << ", \"line_search\": " << number(t.line_search) << ", \"flips\": " << number(t.flips)
+    << ", \"flows\": " << number(t.total) << "},\n";
+  j << "  \"errors\": {\"max_abs_curvature_error\": " << number(q.max_curvature_error)
+    << ", \"mean_abs_curvature_error\": " << number(q.mean_curvature_error)
+    << ", \"gauss_bonnet_error\": " << number(gauss_bonnet_error(mesh, u.geometry, result))
+    << ", \"initial_length_error\": " << number(initial_length_error(mesh, u.structure)) << "},\n";
+  j << "  \"area\": " << number(result.area) << ",\n";
+  j << "  \"layout\": " << layout_json(u) << "\n";
+  j << "}\n";
+  return j.str();
+}
+
+}  // namespace ricci
