@@ -21,8 +21,8 @@ void BM_UnitDiskMap(benchmark::State& state) {
   }
   if (!last.result.converged) state.SkipWithError(last.result.failure.c_str());
   state.counters["faces"] = mesh.num_faces();
-  state.counters["flows"] = last.boundary_iterations;
-  state.counters["newton_iterations"] = last.newton_iterations;
+  state.counters["flows"] = last.totals.flows;
+  state.counters["newton_iterations"] = last.totals.newton_iterations;
   state.counters["circle_error"] = last.circle_error;
   state.counters["flipped_faces"] = last.quality.flipped_faces;
   state.counters["quasi_conformal_median"] = last.quality.quasi_conformal_median;

@@ -73,7 +73,7 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
 //! (float) and, with a per-vertex layout, ricci_layout (Point3); texture coordinates per vertex
 //! (plane) or per wedge (cut open); vertex quality = u with a color ramp. The caller enables the
 //! optional components first (quality, color, vertex or wedge texture coordinates) as
-//! texture_components() and the settings ask.
+//! written_components() and the settings ask.
 template <class MeshT>
 void write_results(MeshT& m, const MeshInput& input, const FilterSettings& settings,
                    const FilterComputation& c) {

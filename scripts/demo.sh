@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The demo: set up, build, and flatten a bundled face scan (a disk) into the plane with the
-# default scheme (Yamabe flow, free boundary). Writes the result mesh, a picture of the layout
+# defaults (Yamabe flow, the auto target: a disk goes onto the unit disk). Writes the result
+# mesh, a picture of the layout
 # and a JSON report into out/demo/.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)

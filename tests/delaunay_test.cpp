@@ -46,7 +46,7 @@ TEST(Delaunay, FlipsOfThePackingSchemesKeepTheMetric) {
     options.scheme = Scheme::InversiveDistance;
     ConformalStructure s =
         initialize_scheme(mesh, g, options, g == Geometry::Euclidean ? 1.0 : 0.02);
-    Triangulation t = mesh;
+    IntrinsicTriangulation t(mesh);
     MetricState state = evaluate_metric(t, s, s.u0);
     ASSERT_TRUE(state.valid());
     const Eigen::VectorXd k_before = curvature(t, state);
@@ -75,7 +75,7 @@ TEST(Delaunay, FlipsOfThePackingSchemesKeepTheMetric) {
 
 TEST(Delaunay, FlipTwiceRestoresTheTriangulation) {
   const CompactMesh mesh = test::torus(10, 6);
-  Triangulation t = mesh;
+  IntrinsicTriangulation t(mesh);
   for (int e = 0; e < t.num_edges(); e += 7) {
     const auto before = t.edge_vertices(e);
     const auto opposite = t.opposite_vertices(e);
@@ -88,7 +88,7 @@ TEST(Delaunay, FlipTwiceRestoresTheTriangulation) {
   }
   expect_valid_triangulation(t);
   const CompactMesh disk = test::bumpy_disk(4);
-  Triangulation d = disk;
+  IntrinsicTriangulation d(disk);
   for (int e = 0; e < d.num_edges(); ++e) {
     if (d.is_boundary_edge(e)) {
       EXPECT_FALSE(d.flip(e));
@@ -107,7 +107,7 @@ TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInput) {
     ASSERT_GT(r.num_flips, 100) << name;
     // Replay the flips on the input's lambda-lengths (u = 0: lambda = input length) with
     // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
-    Triangulation t = mesh;
+    IntrinsicTriangulation t(mesh);
     std::vector<double> lambda = mesh.input_lengths();
     for (int e : r.flip_sequence) {
       const int h = t.edge_halfedge(e), tw = t.twin(h);

@@ -3,6 +3,7 @@
 #include "ricci/mesh_io.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -78,7 +79,8 @@ TEST(MeshIo, OffWithCommentsColorsAndPolygons) {
 
 TEST(MeshIo, PlyAsciiWithExtraPropertiesAndElements) {
   const std::string ply =
-      "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 4\nproperty float x\n"
+      "ply\nformat ascii 1.0\ncomment made by hand\nmade by hand, no comment keyword\n"
+      "element vertex 4\nproperty float x\n"
       "property float y\nproperty float z\nproperty uchar red\nproperty float confidence\n"
       "element face 1\nproperty list uchar int vertex_indices\nproperty uchar flags\n"
       "element material 1\nproperty float shine\nend_header\n"
@@ -135,8 +137,10 @@ TEST(MeshIo, StlAsciiAndBinaryMergeCorners) {
     ascii += "    endloop\n  endfacet\n";
   }
   ascii += "endsolid tet\n";
+  std::string upper = ascii;  // some exporters write the keywords in capitals
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   for (const auto& [name, bytes] :
-       {std::pair{"tet_ascii.stl", ascii}, {"tet_binary.stl", binary}}) {
+       {std::pair{"tet_ascii.stl", ascii}, {"tet_upper.stl", upper}, {"tet_binary.stl", binary}}) {
     const MeshFile file = read_mesh_file(write_file(name, bytes));
     EXPECT_EQ(file.merged_corners, 8) << name;
     expect_tetrahedron(read_mesh(write_file(name, bytes)));

@@ -72,7 +72,7 @@ TEST(CutGraph, DisksAndSpheresNeedNoCutAndATorusTwoLoops) {
   EXPECT_TRUE(cut_to_disk(test::bumpy_disk(8)).paths.empty());
   EXPECT_TRUE(cut_to_disk(test::ellipsoid(2)).paths.empty());
   const CompactMesh torus = test::torus(12, 8);
-  const CutGraph cut = cut_to_disk(torus, 17);
+  const CutGraph cut = cut_to_disk(torus);
   EXPECT_EQ(cut.num_generators, 2);
   // A pruned cut graph of a torus is two loops at a vertex (2 paths) or a theta graph (3).
   EXPECT_GE(cut.paths.size(), 2u);

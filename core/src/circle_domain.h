@@ -16,11 +16,11 @@ namespace ricci::detail {
 
 //! Runs the solver's flow until the boundary curvature of `target` changes by at most
 //! options.boundary_tolerance: Anderson-accelerated, falling back to the plain iteration (and a
-//! cold start) where the accelerated target cannot be reached. Fills u.result, u.totals and
-//! u.boundary_change; the result is marked unconverged when the iteration limit is hit.
+//! cold start) where the accelerated target cannot be reached. Fills run.result, run.totals and
+//! run.boundary_change; the result is marked unconverged when the iteration limit is hit.
 void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
                              TargetCurvature target, const UniformizationOptions& options,
-                             Uniformization& u);
+                             Uniformization& run);
 
 //! The circle through the points (algebraic least squares): centre and radius.
 std::pair<Eigen::Vector2d, double> fit_circle(const std::vector<Eigen::Vector3d>& points,

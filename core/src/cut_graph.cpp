@@ -5,18 +5,15 @@
 
 namespace ricci {
 
-CutGraph cut_to_disk(const Triangulation& mesh, int seed_face) {
-  const int ne = mesh.num_edges(), nv = mesh.num_vertices(), nf = mesh.num_faces();
-  CutGraph g;
-  g.cut.assign(ne, 0);
-  g.num_generators = 2 * mesh.genus() + std::max(0, mesh.num_boundary_loops() - 1);
-  if (nf == 0) return g;
+namespace {
 
-  // --- the dual spanning tree; every interior edge outside it is cut
-  std::vector<char> reached(nf, 0), in_tree(ne, 0);
+// Every interior edge outside a breadth-first spanning tree of the dual graph, from face 0.
+std::vector<char> dual_tree_complement(const Triangulation& mesh) {
+  const int ne = mesh.num_edges(), nf = mesh.num_faces();
+  std::vector<char> reached(nf, 0), in_tree(ne, 0), cut(ne, 0);
   std::queue<int> queue;
-  queue.push(seed_face);
-  reached[seed_face] = 1;
+  queue.push(0);
+  reached[0] = 1;
   while (!queue.empty()) {
     const int f = queue.front();
     queue.pop();
@@ -28,13 +25,18 @@ CutGraph cut_to_disk(const Triangulation& mesh, int seed_face) {
       queue.push(t / 3);
     }
   }
-  for (int e = 0; e < ne; ++e) g.cut[e] = !mesh.is_boundary_edge(e) && !in_tree[e];
+  for (int e = 0; e < ne; ++e) cut[e] = !mesh.is_boundary_edge(e) && !in_tree[e];
+  return cut;
+}
 
-  // --- prune: cut or boundary edges per vertex; a cut edge at a vertex of degree 1 is glued back
+// Glues back every cut edge with an end where no other cut or boundary edge meets, until none is
+// left. Returns each vertex's number of cut and boundary edges.
+std::vector<int> prune(const Triangulation& mesh, std::vector<char>& cut) {
+  const int ne = mesh.num_edges(), nv = mesh.num_vertices();
   std::vector<std::vector<int>> incident(nv);
   std::vector<int> degree(nv, 0);
   for (int e = 0; e < ne; ++e) {
-    if (!g.cut[e] && !mesh.is_boundary_edge(e)) continue;
+    if (!cut[e] && !mesh.is_boundary_edge(e)) continue;
     for (int v : mesh.edge_vertices(e)) {
       incident[v].push_back(e);
       ++degree[v];
@@ -49,23 +51,30 @@ CutGraph cut_to_disk(const Triangulation& mesh, int seed_face) {
     leaves.pop_back();
     if (degree[v] != 1) continue;
     for (int e : incident[v]) {
-      if (!g.cut[e]) continue;
-      g.cut[e] = 0;
+      if (!cut[e]) continue;
+      cut[e] = 0;
       for (int w : mesh.edge_vertices(e)) {
         if (--degree[w] == 1) leaves.push_back(w);
       }
       break;
     }
   }
+  return degree;
+}
 
-  // --- paths between nodes (degree != 2 in the cut-and-boundary graph, or on the boundary)
+// The cut edges as paths between nodes (degree != 2 in the cut-and-boundary graph, or on the
+// boundary), and loops through no node.
+std::vector<CutPath> split_into_paths(const Triangulation& mesh, const std::vector<char>& cut,
+                                      const std::vector<int>& degree) {
+  const int ne = mesh.num_edges(), nv = mesh.num_vertices();
   std::vector<std::vector<int>> cut_at(nv);
   for (int e = 0; e < ne; ++e) {
-    if (!g.cut[e]) continue;
+    if (!cut[e]) continue;
     for (int v : mesh.edge_vertices(e)) cut_at[v].push_back(e);
   }
   const auto is_node = [&](int v) { return degree[v] != 2 || mesh.is_boundary_vertex(v); };
   std::vector<char> used(ne, 0);
+  std::vector<CutPath> paths;
   const auto walk = [&](int start, int first_edge) {
     CutPath path;
     path.vertices.push_back(start);
@@ -84,7 +93,7 @@ CutGraph cut_to_disk(const Triangulation& mesh, int seed_face) {
       if (next < 0) break;  // a closed loop without a node, back at start
       e = next;
     }
-    g.paths.push_back(std::move(path));
+    paths.push_back(std::move(path));
   };
   for (int v = 0; v < nv; ++v) {
     if (!is_node(v)) continue;
@@ -93,8 +102,21 @@ CutGraph cut_to_disk(const Triangulation& mesh, int seed_face) {
     }
   }
   for (int e = 0; e < ne; ++e) {  // loops through no node
-    if (g.cut[e] && !used[e]) walk(mesh.edge_vertices(e)[0], e);
+    if (cut[e] && !used[e]) walk(mesh.edge_vertices(e)[0], e);
   }
+  return paths;
+}
+
+}  // namespace
+
+CutGraph cut_to_disk(const Triangulation& mesh) {
+  CutGraph g;
+  g.num_generators = 2 * mesh.genus() + std::max(0, mesh.num_boundary_loops() - 1);
+  g.cut.assign(mesh.num_edges(), 0);
+  if (mesh.num_faces() == 0) return g;
+  g.cut = dual_tree_complement(mesh);
+  const std::vector<int> degree = prune(mesh, g.cut);
+  g.paths = split_into_paths(mesh, g.cut, degree);
   return g;
 }
 

@@ -43,7 +43,7 @@ bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, dou
   return off_diagonal <= tolerance * scale;
 }
 
-FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure,
+FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
                          const Eigen::VectorXd& u, MetricState& state, int max_flips) {
   FlipReport report;
   // Only the edges that are not Delaunay now start the queue (usually few after the first

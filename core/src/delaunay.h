@@ -36,7 +36,7 @@ struct FlipReport {
 //! Flips non-Delaunay edges until none is left (or max_flips is reached), updating the flipped
 //! edges' eta in `structure` and the lengths and angles in `state`.
 //! \pre state == evaluate_metric(mesh, structure, u) and state.valid()
-FlipReport make_delaunay(Triangulation& mesh, ConformalStructure& structure,
+FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
                          const Eigen::VectorXd& u, MetricState& state, int max_flips);
 
 }  // namespace ricci

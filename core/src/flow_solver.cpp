@@ -30,8 +30,8 @@ struct RicciFlowSolver::State {
   const FlowOptions options;
 
   // Kept from one solve to the next.
-  Triangulation triangulation;   // the input's, then as flipped
-  ConformalStructure structure;  // eta changes with flips
+  IntrinsicTriangulation triangulation;  // the input's, then as flipped
+  ConformalStructure structure;          // eta changes with flips
   Eigen::VectorXd u;
   std::vector<int> flip_sequence;
   std::vector<int> free_index;  // of the pattern the step solver holds
@@ -203,7 +203,7 @@ RicciFlowSolver::~RicciFlowSolver() = default;
 
 void RicciFlowSolver::restart() {
   State& s = *state_;
-  s.triangulation = s.mesh;
+  s.triangulation = IntrinsicTriangulation(s.mesh);
   s.structure = s.input_structure;
   s.u = s.input_structure.u0;
   s.flip_sequence.clear();

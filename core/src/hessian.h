@@ -27,9 +27,7 @@ class HessianAssembler {
   //! H restricted to the free vertices (both triangles stored). \pre state.valid()
   const SparseMatrix& assemble(const MetricState& state);
 
-  const SparseMatrix& matrix() const { return matrix_; }
   int num_free() const { return static_cast<int>(matrix_.rows()); }
-  const std::vector<int>& free_index() const { return free_index_; }
 
  private:
   const Triangulation& mesh_;

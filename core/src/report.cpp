@@ -43,12 +43,12 @@ std::string complex_pair(std::complex<double> z) {
   return "[" + number(z.real()) + ", " + number(z.imag()) + "]";
 }
 
-std::string layout_json(const Uniformization& u) {
-  if (u.layout_kind == LayoutKind::None) return "null";
-  const LayoutQuality& q = u.quality;
-  const Layout& m = u.layout;
+std::string layout_json(const Uniformization& run) {
+  if (run.layout_kind == LayoutKind::None) return "null";
+  const LayoutQuality& q = run.quality;
+  const Layout& m = run.layout;
   std::ostringstream j;
-  j << "{\"kind\": " << quoted(to_string(u.layout_kind))
+  j << "{\"kind\": " << quoted(to_string(run.layout_kind))
     << ", \"flipped_faces\": " << q.flipped_faces
     << ", \"quasi_conformal\": {\"median\": " << number(q.quasi_conformal_median)
     << ", \"p95\": " << number(q.quasi_conformal_p95)
@@ -56,16 +56,16 @@ std::string layout_json(const Uniformization& u) {
     << ", \"area_ratio\": {\"p5\": " << number(q.area_ratio_p5)
     << ", \"median\": " << number(q.area_ratio_median) << ", \"p95\": " << number(q.area_ratio_p95)
     << "}";
-  if (u.preset == TargetPreset::UnitDisk) j << ", \"circle_error\": " << number(u.circle_error);
-  if (u.geometry == Geometry::Euclidean) {
+  if (run.preset == TargetPreset::UnitDisk) j << ", \"circle_error\": " << number(run.circle_error);
+  if (run.geometry == Geometry::Euclidean) {
     j << ", \"max_relative_length_error\": " << number(m.max_relative_length_error);
   }
   j << ", \"flipped_faces_of_flow_triangulation\": " << m.num_flipped_faces
     << ", \"closure_error\": " << number(m.closure_error)
     << ", \"relation_error\": " << number(m.relation_error)
     << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators;
-  if (!u.periods.empty()) {
-    j << ", \"periods\": [" << complex_pair(u.periods[0]) << ", " << complex_pair(u.periods[1])
+  if (!run.periods.empty()) {
+    j << ", \"periods\": [" << complex_pair(run.periods[0]) << ", " << complex_pair(run.periods[1])
       << "]";
   }
   // E2: z -> a z + b; H2: z -> (a z + b) / (conj(b) z + conj(a)); a and b as [re, im].
@@ -96,25 +96,25 @@ double gauss_bonnet_error(const CompactMesh& mesh, Geometry geometry, const Flow
          2 * kPi * mesh.euler_characteristic();
 }
 
-std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& u) {
-  return {{"iterations", u.totals.newton_iterations},
-          {"edge_flips", u.totals.edge_flips},
-          {"max_curvature_error", u.quality.max_curvature_error},
-          {"flipped_faces", u.quality.flipped_faces},
-          {"quasi_conformal_median", u.quality.quasi_conformal_median},
-          {"closure_error", u.layout.closure_error},
-          {"circle_error", u.circle_error},
-          {"flows", u.totals.flows}};
+std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& run) {
+  return {{"iterations", run.totals.newton_iterations},
+          {"edge_flips", run.totals.edge_flips},
+          {"max_curvature_error", run.quality.max_curvature_error},
+          {"flipped_faces", run.quality.flipped_faces},
+          {"quasi_conformal_median", run.quality.quasi_conformal_median},
+          {"closure_error", run.layout.closure_error},
+          {"circle_error", run.circle_error},
+          {"flows", run.totals.flows}};
 }
 
-std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformization& u,
+std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformization& run,
                                        const RunContext& context) {
   std::vector<std::string> lines;
   std::ostringstream s;
   s << "Ricci flow" << (context.input.empty() ? "" : " on " + context.input) << ": "
     << mesh.topology_name() << ", " << mesh.num_vertices() << " vertices, " << mesh.num_faces()
-    << " faces; " << to_string(u.geometry) << " geometry, " << to_string(u.scheme)
-    << " scheme, target " << to_string(u.preset);
+    << " faces; " << to_string(run.geometry) << " geometry, " << to_string(run.scheme)
+    << " scheme, target " << to_string(run.preset);
   lines.push_back(s.str());
   const auto line = [&](auto&&... parts) {
     std::ostringstream l;
@@ -122,45 +122,45 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     (l << ... << parts);
     lines.push_back(l.str());
   };
-  const FlowTotals& t = u.totals;
-  if (!u.converged()) {
-    line("Not converged after ", t.newton_iterations, " Newton iterations: ", u.result.failure);
+  const FlowTotals& t = run.totals;
+  if (!run.converged()) {
+    line("Not converged after ", t.newton_iterations, " Newton iterations: ", run.result.failure);
     return lines;
   }
   line("Converged in ", t.newton_iterations, " Newton iterations with ", t.edge_flips,
-       " edge flips: max |K - Kbar| = ", u.quality.max_curvature_error, ", mean ",
-       u.quality.mean_curvature_error, " (", t.times.total, " s)");
-  if (u.preset == TargetPreset::UnitDisk) {
-    line("Boundary loops on circles after ", t.flows, " flows: circle error ", u.circle_error);
+       " edge flips: max |K - Kbar| = ", run.quality.max_curvature_error, ", mean ",
+       run.quality.mean_curvature_error, " (", t.times.total, " s)");
+  if (run.preset == TargetPreset::UnitDisk) {
+    line("Boundary loops on circles after ", t.flows, " flows: circle error ", run.circle_error);
   }
-  if (u.layout_kind == LayoutKind::None) {
-    line("No layout: a ", mesh.topology_name(), " in ", to_string(u.geometry),
+  if (run.layout_kind == LayoutKind::None) {
+    line("No layout: a ", mesh.topology_name(), " in ", to_string(run.geometry),
          " geometry has none here");
     return lines;
   }
-  const LayoutQuality& q = u.quality;
-  line("Layout (", to_string(u.layout_kind), "): ", q.flipped_faces,
+  const LayoutQuality& q = run.quality;
+  line("Layout (", to_string(run.layout_kind), "): ", q.flipped_faces,
        " of the input's faces flipped; quasi-conformal ratio median ", q.quasi_conformal_median,
        ", 95% ", q.quasi_conformal_p95, ", max ", q.quasi_conformal_max, "; area ratio 5%..95% ",
        q.area_ratio_p5, "..", q.area_ratio_p95);
-  const Layout& m = u.layout;
+  const Layout& m = run.layout;
   if (!m.cut.paths.empty()) {
     line("Cut into a disk along ", m.cut.paths.size(), " paths (", m.cut.num_generators,
          " generators): closure error ", m.closure_error, ", relation error ", m.relation_error);
   }
-  if (!u.periods.empty()) {
-    line("Flat torus: periods (", u.periods[0].real(), ", ", u.periods[0].imag(), ") and (",
-         u.periods[1].real(), ", ", u.periods[1].imag(), ")");
+  if (!run.periods.empty()) {
+    line("Flat torus: periods (", run.periods[0].real(), ", ", run.periods[0].imag(), ") and (",
+         run.periods[1].real(), ", ", run.periods[1].imag(), ")");
   }
   return lines;
 }
 
-std::string json_report(const CompactMesh& mesh, const Uniformization& u,
+std::string json_report(const CompactMesh& mesh, const Uniformization& run,
                         const RunContext& context) {
-  const FlowResult& result = u.result;
-  const FlowTotals& totals = u.totals;
+  const FlowResult& result = run.result;
+  const FlowTotals& totals = run.totals;
   const FlowTimes& t = totals.times;
-  const LayoutQuality& q = u.quality;
+  const LayoutQuality& q = run.quality;
   std::ostringstream j;
   j << "{\n";
   j << "  \"input\": " << quoted(context.input) << ",\n";
@@ -169,12 +169,12 @@ std::string json_report(const CompactMesh& mesh, const Uniformization& u,
     << ", \"euler_characteristic\": " << mesh.euler_characteristic()
     << ", \"genus\": " << mesh.genus() << ", \"boundary_loops\": " << mesh.num_boundary_loops()
     << ", \"topology\": " << quoted(mesh.topology_name()) << "},\n";
-  j << "  \"geometry\": " << quoted(to_string(u.geometry)) << ",\n";
-  j << "  \"scheme\": " << quoted(to_string(u.scheme)) << ",\n";
+  j << "  \"geometry\": " << quoted(to_string(run.geometry)) << ",\n";
+  j << "  \"scheme\": " << quoted(to_string(run.scheme)) << ",\n";
   j << "  \"target\": " << quoted(context.target) << ",\n";
-  j << "  \"preset\": " << quoted(to_string(u.preset)) << ",\n";
-  j << "  \"tolerance\": " << number(u.tolerance) << ",\n";
-  j << "  \"length_scale\": " << number(u.structure.length_scale) << ",\n";
+  j << "  \"preset\": " << quoted(to_string(run.preset)) << ",\n";
+  j << "  \"tolerance\": " << number(run.tolerance) << ",\n";
+  j << "  \"length_scale\": " << number(run.structure.length_scale) << ",\n";
   j << "  \"converged\": " << (result.converged ? "true" : "false") << ",\n";
   j << "  \"failure\": " << (result.converged ? "null" : quoted(result.failure)) << ",\n";
   j << "  \"residual\": " << number(result.residual) << ",\n";
@@ -196,10 +196,11 @@ std::string json_report(const CompactMesh& mesh, const Uniformization& u,
     << ", \"flows\": " << number(t.total) << "},\n";
   j << "  \"errors\": {\"max_abs_curvature_error\": " << number(q.max_curvature_error)
     << ", \"mean_abs_curvature_error\": " << number(q.mean_curvature_error)
-    << ", \"gauss_bonnet_error\": " << number(gauss_bonnet_error(mesh, u.geometry, result))
-    << ", \"initial_length_error\": " << number(initial_length_error(mesh, u.structure)) << "},\n";
+    << ", \"gauss_bonnet_error\": " << number(gauss_bonnet_error(mesh, run.geometry, result))
+    << ", \"initial_length_error\": " << number(initial_length_error(mesh, run.structure))
+    << "},\n";
   j << "  \"area\": " << number(result.area) << ",\n";
-  j << "  \"layout\": " << layout_json(u) << "\n";
+  j << "  \"layout\": " << layout_json(run) << "\n";
   j << "}\n";
   return j.str();
 }

@@ -16,6 +16,12 @@ namespace ricci {
 
 namespace {
 
+// S(x) = (2x, |x|^2 - 1) / (|x|^2 + 1): the plane onto the unit sphere, infinity at the pole.
+Eigen::Vector3d inverse_stereographic(const Eigen::Vector2d& x) {
+  const double s = x.squaredNorm();
+  return Eigen::Vector3d(2 * x.x(), 2 * x.y(), s - 1) / (s + 1);
+}
+
 // Replaces the interior values of u by the solution of the graph Laplace equation with u's
 // boundary values.
 void harmonic_extension(const Triangulation& mesh, Eigen::VectorXd& u) {
@@ -78,12 +84,16 @@ Eigen::VectorXd fit_yamabe_to_chords(const Triangulation& mesh, const ConformalS
   return solver.solve(rhs);
 }
 
-// The lift from the puncture p (see stereographic_start). \throws when the punctured flow fails.
-Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStructure& structure,
-                                   int p) {
-  const int n = mesh.num_vertices();
+// The mesh punctured at vertex p (a disk), in its own vertex numbering.
+struct Punctured {
+  CompactMesh disk;
+  std::vector<int> original;    // per disk vertex, the mesh's vertex
+  std::vector<int> index;       // per mesh vertex, the disk's (-1 for p)
+  std::vector<int> kept_faces;  // per disk face, the mesh's face
+};
 
-  // --- the punctured mesh (a disk) in its own vertex numbering
+Punctured puncture(const CompactMesh& mesh, int p) {
+  const int n = mesh.num_vertices();
   std::vector<int> index(n, -1), original;
   std::vector<Eigen::Vector3d> positions;
   for (int v = 0; v < n; ++v) {
@@ -100,17 +110,23 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
     faces.push_back({index[v[0]], index[v[1]], index[v[2]]});
     kept_faces.push_back(f);
   }
-  const CompactMesh disk(std::move(positions), std::move(faces));
+  return {CompactMesh(std::move(positions), std::move(faces)), std::move(original),
+          std::move(index), std::move(kept_faces)};
+}
 
-  // --- flatten it in E2 with the same radii, and with the same eta where the scheme takes eta
-  // from the input lengths (then the flat metric starts at the input lengths; S2's eta would give
-  // the chords, and thin triangles would fail). A prescribed eta (tangential, Thurston) is kept:
-  // inversive distances are invariant under the Moebius maps, so the stereographic image of the
-  // round-sphere pattern is a flat pattern of the punctured mesh with that eta.
-  // With p sent to infinity by an inversion centred at p, a vertex at distance L_pa from p is
-  // scaled by 1 / L_pa^2: its u is fixed at u0_a - 2 log L_pa on the link, which makes the star
-  // triangles (p, a, b) half-strips in the Yamabe case; the interior's shift is the harmonic
-  // extension of the link's, so the first metric changes smoothly towards the boundary.
+// The E2 structure of the punctured mesh with the same radii, and with the same eta where the
+// scheme takes eta from the input lengths (then the flat metric starts at the input lengths; S2's
+// eta would give the chords, and thin triangles would fail). A prescribed eta (tangential,
+// Thurston) is kept: inversive distances are invariant under the Moebius maps, so the
+// stereographic image of the round-sphere pattern is a flat pattern of the punctured mesh with
+// that eta. With p sent to infinity by an inversion centred at p, a vertex at distance L_pa from
+// p is scaled by 1 / L_pa^2: its u is fixed at u0_a - 2 log L_pa on the link, which makes the
+// star triangles (p, a, b) half-strips in the Yamabe case; the interior's shift is the harmonic
+// extension of the link's, so the first metric changes smoothly towards the boundary.
+ConformalStructure flat_structure(const CompactMesh& mesh, const ConformalStructure& structure,
+                                  const Punctured& punctured, int p) {
+  const int n = mesh.num_vertices();
+  const CompactMesh& disk = punctured.disk;
   const double scale = structure.length_scale;
   Eigen::VectorXd radius_u(n);  // E2's u for S2's initial radii
   for (int v = 0; v < n; ++v)
@@ -126,11 +142,11 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
   ConformalStructure flat;
   flat.geometry = Geometry::Euclidean;
   flat.eps.resize(disk.num_vertices());
-  for (int v = 0; v < disk.num_vertices(); ++v) flat.eps[v] = structure.eps[original[v]];
+  for (int v = 0; v < disk.num_vertices(); ++v) flat.eps[v] = structure.eps[punctured.original[v]];
   flat.eta.assign(disk.num_edges(), 0);
-  for (size_t k = 0; k < kept_faces.size(); ++k) {
+  for (size_t k = 0; k < punctured.kept_faces.size(); ++k) {
     for (int c = 0; c < 3; ++c) {
-      const int e = mesh.face_edge(kept_faces[k], c);
+      const int e = mesh.face_edge(punctured.kept_faces[k], c);
       const auto [i, j] = mesh.edge_vertices(e);
       flat.eta[disk.face_edge(static_cast<int>(k), c)] =
           from_input ? conformal_structure_from_length(
@@ -145,7 +161,7 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
   for (int e = 0; e < mesh.num_edges(); ++e) {
     const auto [i, j] = mesh.edge_vertices(e);
     if (i != p && j != p) continue;
-    const int a = index[i == p ? j : i];
+    const int a = punctured.index[i == p ? j : i];
     shift[a] = -2 * std::log(mesh.input_lengths()[e]);
     mean_shift += shift[a];
     ++links;
@@ -155,72 +171,48 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
   }
   harmonic_extension(disk, shift);
   flat.u0.resize(disk.num_vertices());
-  for (int v = 0; v < disk.num_vertices(); ++v) flat.u0[v] = radius_u[original[v]] + shift[v];
-  const TargetCurvature target = TargetCurvature::free_boundary(disk);
-  RicciFlowSolver solver(disk, flat);
-  const FlowResult r = solver.solve(target);
-  if (!r.converged) {
-    throw ConvergenceError("spherical start: the punctured mesh did not flatten: " + r.failure,
-                           r.iterations, r.residual);
-  }
-  const Triangulation& flattened = result_triangulation(disk, r);
-  std::vector<Eigen::Vector2d> plane;  // per vertex of the disk
-  for (const Eigen::Vector3d& x :
-       vertex_positions(flattened, lay_out(flattened, Geometry::Euclidean, r.edge_lengths))) {
-    plane.push_back(x.head<2>());
-  }
+  for (int v = 0; v < disk.num_vertices(); ++v)
+    flat.u0[v] = radius_u[punctured.original[v]] + shift[v];
+  return flat;
+}
 
-  // --- lift: S(x) = (2x, |x|^2 - 1) / (|x|^2 + 1), p at the pole; the similarity x -> s (x - t)
-  // (the Moebius maps that fix the pole) is chosen so that the lifted vertices' centre of mass is
-  // the origin, which spreads them evenly over the sphere.
-  const auto lift = [](const Eigen::Vector2d& x) -> Eigen::Vector3d {
-    const double s = x.squaredNorm();
-    return Eigen::Vector3d(2 * x.x(), 2 * x.y(), s - 1) / (s + 1);
-  };
-  Eigen::Vector3d similarity(0, 0, 0);  // t_x, t_y, log s
-  for (const auto& x : plane) similarity.head<2>() += x;
-  similarity.head<2>() /= static_cast<double>(plane.size());
-  {
-    double mean_square = 0;
-    for (const auto& x : plane) mean_square += (x - similarity.head<2>()).squaredNorm();
-    similarity[2] = 0.5 * std::log(static_cast<double>(plane.size()) / mean_square);
-  }
-  const auto centroid = [&](const Eigen::Vector3d& q) -> Eigen::Vector3d {
+// The similarity x -> s (x - t) (the Moebius maps that fix the pole) under which the lifted points
+// and the pole have their centre of mass at the origin, which spreads them evenly over the sphere;
+// as (t_x, t_y, log s).
+Eigen::Vector3d centring_similarity(const std::vector<Eigen::Vector2d>& plane) {
+  const double count = static_cast<double>(plane.size());
+  Eigen::Vector3d q(0, 0, 0);
+  for (const auto& x : plane) q.head<2>() += x;
+  q.head<2>() /= count;
+  double mean_square = 0;
+  for (const auto& x : plane) mean_square += (x - q.head<2>()).squaredNorm();
+  q[2] = 0.5 * std::log(count / mean_square);
+  const auto centroid = [&](const Eigen::Vector3d& r) -> Eigen::Vector3d {
     Eigen::Vector3d c(0, 0, 1);  // the pole
-    for (const auto& x : plane) c += lift(std::exp(q[2]) * (x - q.head<2>()));
-    return c / static_cast<double>(plane.size() + 1);
+    for (const auto& x : plane) c += inverse_stereographic(std::exp(r[2]) * (x - r.head<2>()));
+    return c / (count + 1);
   };
   for (int it = 0; it < 30; ++it) {  // Newton with a finite-difference Jacobian, damped
-    const Eigen::Vector3d c = centroid(similarity);
+    const Eigen::Vector3d c = centroid(q);
     if (c.norm() < 1e-6) break;
     Eigen::Matrix3d jacobian;
     for (int k = 0; k < 3; ++k) {
       Eigen::Vector3d dq = Eigen::Vector3d::Zero();
-      dq[k] = 1e-6 * (k == 2 ? 1.0 : std::exp(-similarity[2]));
-      jacobian.col(k) = (centroid(similarity + dq) - c) / dq[k];
+      dq[k] = 1e-6 * (k == 2 ? 1.0 : std::exp(-q[2]));
+      jacobian.col(k) = (centroid(q + dq) - c) / dq[k];
     }
     Eigen::Vector3d step = jacobian.fullPivLu().solve(-c);
     if (!step.allFinite()) break;
     double alpha = 1;
-    while (alpha > 1e-4 && !(centroid(similarity + alpha * step).norm() < c.norm())) alpha /= 2;
-    similarity += alpha * step;
+    while (alpha > 1e-4 && !(centroid(q + alpha * step).norm() < c.norm())) alpha /= 2;
+    q += alpha * step;
   }
-  const double s = std::exp(similarity[2]);
-  std::vector<Eigen::Vector3d> sphere(n, Eigen::Vector3d(0, 0, 1));
-  for (int v = 0; v < disk.num_vertices(); ++v)
-    sphere[original[v]] = lift(s * (plane[v] - similarity.head<2>()));
-  if (std::all_of(structure.eps.begin(), structure.eps.end(), [](int e) { return e == 0; }))
-    return fit_yamabe_to_chords(mesh, structure, sphere);
+  return q;
+}
 
-  // --- u on the sphere: S scales lengths at y by 2 / (1 + |y|^2), and the similarity by s, so a
-  // small circle at x becomes e^u s / (1 + |y|^2) on the sphere, where the length laws agree with
-  // E2's to first order for chords 2 sin(l / 2), hence tan(r / 2).
-  Eigen::VectorXd u(n);
-  for (int v = 0; v < disk.num_vertices(); ++v) {
-    const Eigen::Vector2d y = s * (plane[v] - similarity.head<2>());
-    u[original[v]] = r.u[v] + std::log(s) - std::log1p(y.squaredNorm());
-  }
-  // u_p: the best fit of the lifted lengths of p's edges, by a scan refined by golden sections.
+// u_p: the best fit of the lifted lengths of p's edges, by a scan refined by golden sections.
+double fit_puncture(const CompactMesh& mesh, const ConformalStructure& structure,
+                    const std::vector<Eigen::Vector3d>& sphere, const Eigen::VectorXd& u, int p) {
   std::vector<int> star;
   for (int e = 0; e < mesh.num_edges(); ++e) {
     const auto [i, j] = mesh.edge_vertices(e);
@@ -252,7 +244,44 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
       lo = a;
     }
   }
-  u[p] = 0.5 * (lo + hi);
+  return 0.5 * (lo + hi);
+}
+
+// The lift from the puncture p (see stereographic_start). \throws when the punctured flow fails.
+Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStructure& structure,
+                                   int p) {
+  const Punctured punctured = puncture(mesh, p);
+  const CompactMesh& disk = punctured.disk;
+  RicciFlowSolver solver(disk, flat_structure(mesh, structure, punctured, p));
+  const FlowResult r = solver.solve(TargetCurvature::free_boundary(disk));
+  if (!r.converged) {
+    throw ConvergenceError("spherical start: the punctured mesh did not flatten: " + r.failure,
+                           r.iterations, r.residual);
+  }
+  const Triangulation& flattened = result_triangulation(disk, r);
+  std::vector<Eigen::Vector2d> plane;  // per vertex of the disk
+  for (const Eigen::Vector3d& x :
+       vertex_positions(flattened, lay_out(flattened, Geometry::Euclidean, r.edge_lengths))) {
+    plane.push_back(x.head<2>());
+  }
+  // Lifted with p at the pole, after the similarity that centres the lift.
+  const Eigen::Vector3d q = centring_similarity(plane);
+  const double s = std::exp(q[2]);
+  std::vector<Eigen::Vector3d> sphere(mesh.num_vertices(), Eigen::Vector3d(0, 0, 1));
+  for (int v = 0; v < disk.num_vertices(); ++v)
+    sphere[punctured.original[v]] = inverse_stereographic(s * (plane[v] - q.head<2>()));
+  if (std::all_of(structure.eps.begin(), structure.eps.end(), [](int e) { return e == 0; }))
+    return fit_yamabe_to_chords(mesh, structure, sphere);
+
+  // u on the sphere: the projection scales lengths at y by 2 / (1 + |y|^2), and the similarity by
+  // s, so a small circle at x becomes e^u s / (1 + |y|^2) on the sphere, where the length laws
+  // agree with E2's to first order for chords 2 sin(l / 2), hence tan(r / 2).
+  Eigen::VectorXd u(mesh.num_vertices());
+  for (int v = 0; v < disk.num_vertices(); ++v) {
+    const Eigen::Vector2d y = s * (plane[v] - q.head<2>());
+    u[punctured.original[v]] = r.u[v] + std::log(s) - std::log1p(y.squaredNorm());
+  }
+  u[p] = fit_puncture(mesh, structure, sphere, u, p);
   return u;
 }
 

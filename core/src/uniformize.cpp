@@ -88,31 +88,31 @@ std::vector<std::complex<double>> torus_periods(const Layout& layout) {
 // The layout of a converged flow, its per-vertex positions where it has them, and the corners of
 // the input's faces.
 void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int outer_loop,
-                    Uniformization& u) {
-  const Triangulation& flowed = result_triangulation(mesh, u.result);
-  u.layout_kind = planned_layout(mesh, u.preset, u.geometry);
-  u.layout = lay_out(flowed, u.geometry, u.result.edge_lengths, o.flow.linear_solver);
-  if (u.layout_kind == LayoutKind::Plane || u.layout_kind == LayoutKind::Sphere) {
-    u.position = vertex_positions(flowed, u.layout);
+                    Uniformization& run) {
+  const Triangulation& flowed = result_triangulation(mesh, run.result);
+  run.layout_kind = planned_layout(mesh, run.preset, run.geometry);
+  run.layout = lay_out(flowed, run.geometry, run.result.edge_lengths, o.flow.linear_solver);
+  if (run.layout_kind == LayoutKind::Plane || run.layout_kind == LayoutKind::Sphere) {
+    run.position = vertex_positions(flowed, run.layout);
   }
-  if (u.layout_kind == LayoutKind::Sphere && mesh.is_closed()) {
-    u.position = center_on_sphere(std::move(u.position));
+  if (run.layout_kind == LayoutKind::Sphere && mesh.is_closed()) {
+    run.position = center_on_sphere(std::move(run.position));
   }
-  if (u.preset == TargetPreset::UnitDisk) {
-    u.position = detail::normalize_to_unit_disk(
-        std::move(u.position), mesh.boundary_loops()[outer_loop], o.center_vertex, o.axis_vertex);
-    u.circle_error = detail::circle_error(u.position, mesh);
+  if (run.preset == TargetPreset::UnitDisk) {
+    run.position = detail::normalize_to_unit_disk(
+        std::move(run.position), mesh.boundary_loops()[outer_loop], o.center_vertex, o.axis_vertex);
+    run.circle_error = detail::circle_error(run.position, mesh);
   }
-  if (u.geometry == Geometry::Euclidean && mesh.is_closed() && mesh.genus() == 1) {
-    u.periods = torus_periods(u.layout);
+  if (run.geometry == Geometry::Euclidean && mesh.is_closed() && mesh.genus() == 1) {
+    run.periods = torus_periods(run.layout);
   }
-  if (u.position.empty()) {
-    if (u.layout_kind != LayoutKind::None) u.corners = corners_on(flowed, u.layout, mesh);
+  if (run.position.empty()) {
+    if (run.layout_kind != LayoutKind::None) run.corners = corners_on(flowed, run.layout, mesh);
     return;
   }
-  u.corners.resize(mesh.num_faces());
+  run.corners.resize(mesh.num_faces());
   for (int f = 0; f < mesh.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) u.corners[f][c] = u.position[mesh.face_vertex(f, c)];
+    for (int c = 0; c < 3; ++c) run.corners[f][c] = run.position[mesh.face_vertex(f, c)];
   }
 }
 
@@ -156,24 +156,25 @@ std::string to_string(LayoutKind k) {
   return "?";
 }
 
-TextureCoordinates texture_coordinates(const Uniformization& u) {
+TextureCoordinates texture_coordinates(const Uniformization& run) {
   TextureCoordinates t;
-  if (u.layout_kind == LayoutKind::Plane) {
+  if (run.layout_kind == LayoutKind::Plane) {
     std::vector<Eigen::Vector2d> planar;
-    for (const auto& p : u.position) planar.emplace_back(p.x(), p.y());
+    for (const auto& p : run.position) planar.emplace_back(p.x(), p.y());
     t.vertex = normalized_texture_coordinates(planar);
-  } else if (u.layout_kind == LayoutKind::PlaneCut || u.layout_kind == LayoutKind::PoincareDisk) {
+  } else if (run.layout_kind == LayoutKind::PlaneCut ||
+             run.layout_kind == LayoutKind::PoincareDisk) {
     std::vector<Eigen::Vector2d> flat;
-    for (const auto& face : u.corners) {
+    for (const auto& face : run.corners) {
       for (const auto& p : face) flat.push_back(p.head<2>());
     }
-    if (u.layout_kind == LayoutKind::PlaneCut) {
+    if (run.layout_kind == LayoutKind::PlaneCut) {
       flat = normalized_texture_coordinates(flat);
     } else {
       for (auto& p : flat) p = (p + Eigen::Vector2d::Ones()) / 2;
     }
-    t.wedge.resize(u.corners.size());
-    for (size_t f = 0; f < u.corners.size(); ++f) {
+    t.wedge.resize(run.corners.size());
+    for (size_t f = 0; f < run.corners.size(); ++f) {
       for (int c = 0; c < 3; ++c) t.wedge[f][c] = flat[3 * f + c];
     }
   }
@@ -212,25 +213,25 @@ LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geomet
 }
 
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& o) {
-  Uniformization u;
-  std::tie(u.preset, u.geometry) = resolve_request(mesh, o);
-  u.scheme = o.scheme.scheme;
-  u.tolerance = o.flow.tolerance;
+  Uniformization run;
+  std::tie(run.preset, run.geometry) = resolve_request(mesh, o);
+  run.scheme = o.scheme.scheme;
+  run.tolerance = o.flow.tolerance;
   const int outer =
-      u.preset == TargetPreset::UnitDisk ? outer_boundary_loop(mesh, mesh.input_lengths()) : -1;
-  const TargetCurvature target = initial_target(mesh, u.preset, o, outer);
-  u.structure = prepare_flow(mesh, u.geometry, o.scheme, target);
-  RicciFlowSolver solver(mesh, u.structure, o.flow);
-  if (u.preset == TargetPreset::UnitDisk) {
-    detail::fit_boundary_to_circles(solver, mesh, outer, target, o, u);
+      run.preset == TargetPreset::UnitDisk ? outer_boundary_loop(mesh, mesh.input_lengths()) : -1;
+  const TargetCurvature target = initial_target(mesh, run.preset, o, outer);
+  run.structure = prepare_flow(mesh, run.geometry, o.scheme, target);
+  RicciFlowSolver solver(mesh, run.structure, o.flow);
+  if (run.preset == TargetPreset::UnitDisk) {
+    detail::fit_boundary_to_circles(solver, mesh, outer, target, o, run);
   } else {
-    const std::optional<Eigen::VectorXd> start = flow_start(mesh, u.structure, target, o.flow);
-    u.result = solver.solve(target, start ? &*start : nullptr);
-    u.totals.add(u.result);
+    const std::optional<Eigen::VectorXd> start = flow_start(mesh, run.structure, target, o.flow);
+    run.result = solver.solve(target, start ? &*start : nullptr);
+    run.totals.add(run.result);
   }
-  if (u.result.converged) lay_out_result(mesh, o, outer, u);
-  u.quality = measure_layout(mesh, u.geometry, u.result, u.corners);
-  return u;
+  if (run.result.converged) lay_out_result(mesh, o, outer, run);
+  run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
+  return run;
 }
 
 }  // namespace ricci

@@ -1,6 +1,8 @@
-// A cut graph that opens a surface into a disk (tree-cotree, Eppstein; Erickson and Whittlesey),
-// pruned of the branches that cut nothing, and split into the paths that the cut's two sides are
-// glued along.
+// A cut graph that opens a surface into a disk: the edges dual to no edge of a spanning tree of
+// the dual graph, pruned of the branches that cut nothing (the cut graphs of Erickson and
+// Whittlesey; no primal tree is built, so the result is a graph of 2g + b - 1 independent cycles,
+// not a system of loops at one vertex), split into the paths that the cut's two sides are glued
+// along.
 #pragma once
 
 #include <vector>
@@ -22,11 +24,11 @@ struct CutGraph {
   int num_generators = 0;      //!< 2 genus + (boundary loops - 1): the homology the cut kills
 };
 
-//! The cut: edges outside a breadth-first spanning tree of the dual graph (from `seed_face`,
-//! across interior edges), then pruned: a cut edge with an end where no other cut or boundary edge
-//! meets is glued back, until none is left. What remains cuts the surface into a disk: nothing
-//! for a disk or a sphere, 2g loops for a closed genus-g surface, and on surfaces with several
+//! The cut: interior edges outside a breadth-first spanning tree of the dual graph (from face 0),
+//! then pruned: a cut edge with an end where no other cut or boundary edge meets is glued back,
+//! until none is left. What remains cuts the surface into a disk: nothing for a disk or a sphere,
+//! a graph with 2g independent cycles for a closed genus-g surface, and on surfaces with several
 //! boundaries also paths joining the boundary loops.
-CutGraph cut_to_disk(const Triangulation& mesh, int seed_face = 0);
+CutGraph cut_to_disk(const Triangulation& mesh);
 
 }  // namespace ricci

@@ -1,4 +1,7 @@
-// The three background geometries E2, H2, S2: the only place where they differ.
+// The three background geometries E2, H2, S2: the length law, the cosine law and their
+// derivatives, written once here for all three. (The models they are laid out in, and the
+// targets and normalizations that depend on the geometry, live in layout.h, presets.h and
+// ricci_flow.h.)
 //
 // Edge length law (paper, Section 3, eqn. unified_circle_packing_edge_lengths), written with
 // m = 2 eta e^(ui+uj) + eps_i e^(2ui) + eps_j e^(2uj) in a form free of cancellation:

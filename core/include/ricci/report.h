@@ -21,17 +21,17 @@ struct RunContext {
 
 //! The run in a few lines: mesh and settings, convergence, the unit disk's circles, the layout's
 //! quality, the cut, the torus's periods.
-std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformization& u,
+std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformization& run,
                                        const RunContext& context);
 
 //! The JSON report: input, settings, convergence history of the last flow, counts and times
 //! summed over every flow, errors, and the layout (quality, cut, deck transformations).
-std::string json_report(const CompactMesh& mesh, const Uniformization& u,
+std::string json_report(const CompactMesh& mesh, const Uniformization& run,
                         const RunContext& context);
 
 //! The headline numbers by name, in a fixed order: iterations, edge_flips, max_curvature_error,
 //! flipped_faces, quasi_conformal_median, closure_error, circle_error, flows.
-std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& u);
+std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& run);
 
 //! max |l(u0) / (s l_input) - 1| over edges: how exactly the initial metric reproduces the input.
 double initial_length_error(const CompactMesh& mesh, const ConformalStructure& structure);

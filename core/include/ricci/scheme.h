@@ -56,10 +56,11 @@ struct ConformalStructure {
 void check_scheme_options(const SchemeOptions& options);
 
 //! Builds eps, eta and u0 for the scheme from the mesh's input lengths times length_scale.
-//! Inversive distance: r = min incident length / 3; Yamabe: u = 0 (E2) or r = the median incident
-//! length (H2, S2); virtual radius: r = virtual_radius_fraction x median incident length;
-//! tangential and Thurston: radii fitted to the input lengths (their eta is prescribed, so the
-//! input metric is not reproduced). eta then solves the length law exactly.
+//! Yamabe: u0 = 0 in every geometry. Inversive distance (and eps = +1 vertices of the mixed
+//! scheme): r = min incident length / 3; virtual radius (and eps = 0, -1 vertices of the mixed
+//! scheme): r = virtual_radius_fraction x median incident length; tangential and Thurston: radii
+//! fitted to the input lengths (their eta is prescribed, so the input metric is not reproduced).
+//! Where eta is not prescribed it then solves the length law for the scaled input lengths.
 //! \pre length_scale > 0, and in S2 every scaled triangle has perimeter below 2 pi.
 //! \throws InvalidArgumentError for a bad angle or eps array.
 ConformalStructure initialize_scheme(const CompactMesh& mesh, Geometry geometry,

@@ -56,12 +56,13 @@ class Triangulation {
   //! The two vertices opposite interior edge e (in its first and second face).
   std::array<int, 2> opposite_vertices(int e) const;
 
+ protected:
   //! Replaces interior edge e, the diagonal of the quadrilateral of its two faces, by the other
   //! diagonal. Returns false (and changes nothing) for a boundary edge or when both opposite
   //! vertices coincide. \pre the caller has checked that the new diagonal is not an edge yet.
+  //! (Public in IntrinsicTriangulation only: a CompactMesh's input lengths belong to its edges.)
   bool flip(int e);
 
- protected:
   Triangulation() = default;
   //! Builds edges, twins and boundary loops from faces_ and checks the connectivity.
   //! \throws InvalidMeshError for non-manifold edges or vertices, inconsistently oriented
@@ -84,6 +85,14 @@ class Triangulation {
   std::vector<int> twin_;
   std::vector<char> boundary_vertex_;
   std::vector<std::vector<int>> boundary_loops_;
+};
+
+//! A triangulation of the same vertices whose edges can be flipped: the flow's, which starts as a
+//! copy of the input's connectivity.
+class IntrinsicTriangulation : public Triangulation {
+ public:
+  explicit IntrinsicTriangulation(const Triangulation& t) : Triangulation(t) {}
+  using Triangulation::flip;
 };
 
 }  // namespace ricci

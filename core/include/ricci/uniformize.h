@@ -122,6 +122,6 @@ struct TextureCoordinates {
   std::vector<Eigen::Vector2d> vertex;
   std::vector<std::array<Eigen::Vector2d, 3>> wedge;
 };
-TextureCoordinates texture_coordinates(const Uniformization& u);
+TextureCoordinates texture_coordinates(const Uniformization& run);
 
 }  // namespace ricci

@@ -108,7 +108,7 @@ std::string lowercase_extension(const std::string& path) {
 std::string sniff_format(std::string_view bytes) {
   const auto starts = [&](std::string_view s) { return bytes.substr(0, s.size()) == s; };
   if (starts("ply")) return "ply";
-  if (starts("solid")) return "stl";
+  if (starts("solid") || starts("SOLID")) return "stl";
   if (bytes.substr(0, bytes.find('\n')).find("OFF") != std::string_view::npos) return "off";
   if (io::is_binary_stl(bytes)) return "stl";
   return "obj";

@@ -90,34 +90,30 @@ class PlyBody {
   size_t pos_ = 0;
 };
 
-}  // namespace
-
-MeshFile read_ply(const std::string& path, std::string_view bytes) {
-  const size_t end_header = bytes.find("end_header");
-  if (bytes.substr(0, 3) != "ply" || end_header == std::string_view::npos) {
-    throw IoError("read_mesh: '" + path + "' has no PLY header ('ply' ... 'end_header')");
-  }
-  size_t body_start = bytes.find('\n', end_header);
-  body_start = body_start == std::string_view::npos ? bytes.size() : body_start + 1;
-  LineReader header(path, bytes.substr(0, end_header));
+struct Header {
   Encoding encoding = Encoding::Ascii;
   std::vector<Element> elements;
+};
+
+Header parse_header(const std::string& path, std::string_view text) {
+  LineReader header(path, text);
+  Header h;
   std::vector<std::string_view> f;
   while (header.next(f)) {
     if (f.empty() || f[0] == "ply" || f[0] == "comment" || f[0] == "obj_info") continue;
     if (f[0] == "format" && f.size() >= 2) {
       if (f[1] == "ascii") {
-        encoding = Encoding::Ascii;
+        h.encoding = Encoding::Ascii;
       } else if (f[1] == "binary_little_endian") {
-        encoding = Encoding::LittleEndian;
+        h.encoding = Encoding::LittleEndian;
       } else if (f[1] == "binary_big_endian") {
-        encoding = Encoding::BigEndian;
+        h.encoding = Encoding::BigEndian;
       } else {
         header.fail("unknown PLY format '" + std::string(f[1]) + "'");
       }
     } else if (f[0] == "element" && f.size() == 3) {
-      elements.push_back({std::string(f[1]), header.integer(f[2]), {}});
-    } else if (f[0] == "property" && !elements.empty()) {
+      h.elements.push_back({std::string(f[1]), header.integer(f[2]), {}});
+    } else if (f[0] == "property" && !h.elements.empty()) {
       Property p;
       if (f.size() == 5 && f[1] == "list") {
         p = {std::string(f[4]), std::string(f[3]), std::string(f[2])};
@@ -129,12 +125,25 @@ MeshFile read_ply(const std::string& path, std::string_view bytes) {
       if (type_size(p.type) == 0 || (!p.count_type.empty() && type_size(p.count_type) == 0)) {
         header.fail("unknown PLY type in '" + std::string(f.back()) + "'");
       }
-      elements.back().properties.push_back(p);
-    } else {
-      header.fail("unexpected PLY header line '" + std::string(f[0]) + " ...'");
+      h.elements.back().properties.push_back(p);
     }
+    // Any other line (free text some exporters write without 'comment') describes no data.
   }
+  return h;
+}
 
+}  // namespace
+
+MeshFile read_ply(const std::string& path, std::string_view bytes) {
+  const size_t end_header = bytes.find("end_header");
+  if (bytes.substr(0, 3) != "ply" || end_header == std::string_view::npos) {
+    throw IoError("read_mesh: '" + path + "' has no PLY header ('ply' ... 'end_header')");
+  }
+  size_t body_start = bytes.find('\n', end_header);
+  body_start = body_start == std::string_view::npos ? bytes.size() : body_start + 1;
+  const Header header = parse_header(path, bytes.substr(0, end_header));
+  const std::vector<Element>& elements = header.elements;
+  const Encoding encoding = header.encoding;
   MeshFile mesh;
   PlyBody body(path, bytes.substr(body_start), encoding);
   std::vector<int> corners;

@@ -1,4 +1,5 @@
 // OFF, OBJ and STL.
+#include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
@@ -73,6 +74,12 @@ std::uint32_t little_endian_uint32(const char* p) {
   std::uint32_t x = 0;
   for (int k = 3; k >= 0; --k) x = (x << 8) | static_cast<unsigned char>(p[k]);
   return x;
+}
+
+std::string lowercase(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
 }
 
 }  // namespace
@@ -162,11 +169,12 @@ MeshFile read_stl(const std::string& path, std::string_view bytes) {
   bool solid = false;
   while (reader.next(f)) {
     if (f.empty()) continue;
-    if (f[0] == "solid") solid = true;
-    if (f[0] == "vertex") {
+    const std::string keyword = lowercase(f[0]);  // some exporters write SOLID, VERTEX, ...
+    if (keyword == "solid") solid = true;
+    if (keyword == "vertex") {
       if (f.size() < 4) reader.fail("a vertex needs three coordinates");
       corners.push_back(merger.add(reader.number(f[1]), reader.number(f[2]), reader.number(f[3])));
-    } else if (f[0] == "endloop" || f[0] == "endfacet") {
+    } else if (keyword == "endloop" || keyword == "endfacet") {
       if (!corners.empty()) add_polygon(mesh, corners);
       corners.clear();
     }
