@@ -10,8 +10,10 @@
 #include "options.h"
 #include "picture.h"
 #include "result_ply.h"
+#include "ricci/atlas.h"
 #include "ricci/errors.h"
 #include "ricci/mesh_io.h"
+#include "ricci/repair.h"
 #include "ricci/report.h"
 #include "ricci/uniformize.h"
 
@@ -20,21 +22,16 @@ namespace {
 using namespace ricci;
 
 // --target cones:FILE or FILE: the per-vertex target, read once the mesh is known.
-void read_target_file(const cli::Options& o, const CompactMesh& mesh, UniformizationOptions& r) {
+void read_target_file(const cli::Options& o, UniformizationOptions& r) {
   if (o.target_file.empty()) return;
   if (o.target_is_cones) {
-    std::vector<Cone> cones;
     for (const auto& [vertex, degrees] : cli::read_cones(o.target_file)) {
-      cones.push_back({vertex, degrees * kPi / 180});
+      r.cones.push_back({vertex, degrees * kPi / 180});
     }
-    r.values = cone_target(mesh, cones).values();
     return;
   }
   const std::vector<double> values = cli::read_numbers(o.target_file);
-  r.values =
-      TargetCurvature::from_values(
-          mesh, Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<long>(values.size())))
-          .values();
+  r.values = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<long>(values.size()));
 }
 
 std::vector<int> read_eps(const std::string& path, int num_vertices) {
@@ -65,45 +62,46 @@ void write_text(const std::string& path, const std::string& text) {
 int run(const cli::Options& o) {
   const bool show_progress = !o.quiet && isatty(fileno(stderr));
   const auto read_start = std::chrono::steady_clock::now();
-  const CompactMesh mesh = read_mesh(o.input);
+  const MeshFile file = read_mesh_file(o.input);
+  RepairedMesh repaired = [&] {
+    try {
+      return repair_mesh(file.positions, file.triangles, {o.strict});
+    } catch (const InvalidMeshError& e) {
+      throw InvalidMeshError(o.input + ": " + e.what());
+    }
+  }();
   RunContext context{o.input, o.target, 0};
   context.read_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
 
   UniformizationOptions request = o.request;
-  read_target_file(o, mesh, request);
-  if (!o.eps_file.empty()) request.scheme.eps = read_eps(o.eps_file, mesh.num_vertices());
+  read_target_file(o, request);
+  if (!o.eps_file.empty()) {
+    request.scheme.eps = read_eps(o.eps_file, repaired.num_input_vertices);
+  }
   if (show_progress) {
     request.flow.progress = [](const FlowProgress& p) {
       std::fprintf(stderr, "\riteration %3d   max |K - Kbar| = %.3e ", p.iteration, p.residual);
       return true;
     };
   }
-  const auto [preset, geometry] = resolve_request(mesh, request);
-  const LayoutKind planned = planned_layout(mesh, preset, geometry);
-  if (!o.picture.empty() && planned != LayoutKind::Plane) {
-    throw InvalidArgumentError(
-        "--picture needs a layout in the plane (a disk, or a circle domain with --target disk); "
-        "this run is " +
-        to_string(geometry) + " on a " + mesh.topology_name() + ", laid out as " +
-        to_string(planned));
-  }
-  const Uniformization result = uniformize(mesh, request);
-  if (show_progress) std::fprintf(stderr, "\n");
-  if (!o.report.empty()) write_text(o.report, json_report(mesh, result, context));
-  result.require_converged(o.input);
-
-  cli::ResultLayout written;
-  written.position = result.position;
-  TextureCoordinates uv = texture_coordinates(result);
-  written.texture = std::move(uv.vertex);
-  written.wedge_texture = std::move(uv.wedge);
-  cli::write_result_ply(o.output, mesh, result.result, written, o.ascii);
-  if (!o.picture.empty()) cli::write_layout_png(o.picture, mesh, written.texture, result.result.u);
-  if (!o.quiet) {
-    for (const std::string& line : summary_lines(mesh, result, context)) {
-      std::printf("%s\n", line.c_str());
+  if (!o.picture.empty()) {
+    for (const LayoutKind kind : planned_layouts(repaired, request)) {
+      if (kind == LayoutKind::Plane) continue;
+      throw InvalidArgumentError(
+          "--picture needs a layout in the plane (a disk, or a circle domain with --target "
+          "disk); this run is laid out as " +
+          to_string(kind));
     }
+  }
+  const MeshUniformization run = uniformize_mesh(std::move(repaired), request);
+  if (show_progress) std::fprintf(stderr, "\n");
+  if (!o.report.empty()) write_text(o.report, json_report(run, context));
+  run.require_converged(o.input);
+  cli::write_result_ply(o.output, run, o.ascii);
+  if (!o.picture.empty()) cli::write_layout_png(o.picture, run.faces, run.texture.vertex, run.u);
+  if (!o.quiet) {
+    for (const std::string& line : summary_lines(run, context)) std::printf("%s\n", line.c_str());
     for (const std::string& path : {o.output, o.picture, o.report}) {
       if (!path.empty()) std::printf("wrote %s\n", path.c_str());
     }

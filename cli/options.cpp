@@ -161,6 +161,13 @@ const std::vector<Flag>& flags() {
        "which real meshes need)",
        nullptr,
        [](O& o, const std::string&, const std::string&) { o.request.flow.edge_flips = false; }},
+      {{"--strict"},
+       "",
+       "refuse a mesh that needs repairs (by default duplicate, degenerate and misoriented faces, "
+       "non-manifold edges and vertices are repaired in ways that keep the surface, and reported; "
+       "each connected component is mapped on its own)",
+       nullptr,
+       [](O& o, const std::string&, const std::string&) { o.strict = true; }},
       {{"--report"},
        "FILE.json",
        "convergence history, timings and errors of the result",
@@ -243,7 +250,8 @@ std::string usage() {
        "prescribed curvature conformal to the input mesh, and its layout: in the plane (UV), in\n"
        "the Poincare disk, or on the unit sphere.\n\n"
        "  INPUT                    mesh: .off .obj .ply .stl (polygons are split into triangles\n"
-       "                           as fans from their first corner)\n";
+       "                           as fans from their first corner); several components and\n"
+       "                           dirty meshes are fine (see --strict)\n";
   const Options defaults;
   for (const Flag& f : flags()) {
     std::string head;

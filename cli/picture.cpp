@@ -139,7 +139,7 @@ void write_png(const std::string& path, const Image& img) {
 
 }  // namespace
 
-void write_layout_png(const std::string& path, const CompactMesh& mesh,
+void write_layout_png(const std::string& path, const std::vector<std::array<int, 3>>& faces,
                       const std::vector<Eigen::Vector2d>& uv, const Eigen::VectorXd& value,
                       int size) {
   Image img(size);
@@ -149,20 +149,24 @@ void write_layout_png(const std::string& path, const CompactMesh& mesh,
                            size - margin - t.y() * (size - 2 * margin));
   };
   // White where the value is 0 (for u: lengths as in the input), blue below, red above.
-  const double extent = std::max(value.cwiseAbs().maxCoeff(), 1e-300);
-  for (int f = 0; f < mesh.num_faces(); ++f) {
+  double extent = 1e-300;
+  for (const auto& t : faces) {
+    for (int v : t) extent = std::max(extent, std::abs(value[v]));
+  }
+  for (const auto& t : faces) {
     std::array<Eigen::Vector2d, 3> p;
     double mean = 0;
     for (int c = 0; c < 3; ++c) {
-      p[c] = to_pixel(uv[mesh.face_vertex(f, c)]);
-      mean += value[mesh.face_vertex(f, c)] / 3;
+      p[c] = to_pixel(uv[t[c]]);
+      mean += value[t[c]] / 3;
     }
     fill_triangle(img, p, ramp(0.5 + 0.5 * mean / extent));
   }
-  if (mesh.num_faces() <= 20000) {
-    for (int e = 0; e < mesh.num_edges(); ++e) {
-      const auto [i, j] = mesh.edge_vertices(e);
-      draw_line(img, to_pixel(uv[i]), to_pixel(uv[j]), Rgb{60, 60, 60});
+  if (faces.size() <= 20000) {  // edges of every face (inner ones twice)
+    for (const auto& t : faces) {
+      for (int c = 0; c < 3; ++c) {
+        draw_line(img, to_pixel(uv[t[c]]), to_pixel(uv[t[(c + 1) % 3]]), Rgb{60, 60, 60});
+      }
     }
   }
   write_png(path, img);

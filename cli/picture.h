@@ -1,12 +1,11 @@
 // A PNG picture of a planar layout: faces coloured by the conformal factor, edges on top.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
-
-#include "ricci/compact_mesh.h"
 
 namespace ricci::cli {
 
@@ -14,7 +13,7 @@ namespace ricci::cli {
 //! of the per-vertex value: white at 0, blue below, red above, saturated at the largest |value|;
 //! edges are drawn when there are few enough.
 //! \throws IoError when the file cannot be written.
-void write_layout_png(const std::string& path, const CompactMesh& mesh,
+void write_layout_png(const std::string& path, const std::vector<std::array<int, 3>>& faces,
                       const std::vector<Eigen::Vector2d>& uv, const Eigen::VectorXd& value,
                       int size = 800);
 

@@ -5,7 +5,6 @@
 #include <limits>
 
 #include "ricci/errors.h"
-#include "ricci/layout.h"
 
 namespace ricci::cli {
 
@@ -43,15 +42,16 @@ class PlyOut {
 
 }  // namespace
 
-void write_result_ply(const std::string& path, const CompactMesh& mesh, const FlowResult& result,
-                      const ResultLayout& layout, bool ascii) {
+void write_result_ply(const std::string& path, const MeshUniformization& run, bool ascii) {
   std::ofstream out(path, std::ios::binary);
   if (!out) throw IoError("cannot write '" + path + "' (missing folder or no permission)");
-  const bool has_layout = !layout.position.empty();
-  const bool has_texture = !layout.texture.empty();
+  const std::vector<Eigen::Vector3d>& positions = run.mesh.positions;
+  const bool has_layout = !run.position.empty();
+  const bool has_texture = !run.texture.vertex.empty();
+  const bool has_wedges = !run.texture.wedge.empty();
   out << "ply\nformat " << (ascii ? "ascii" : "binary_little_endian") << " 1.0\n";
   out << "comment ricci-flow result: unified discrete surface Ricci flow\n";
-  out << "element vertex " << mesh.num_vertices() << "\n";
+  out << "element vertex " << positions.size() << "\n";
   for (const char* p :
        {"x", "y", "z", "ricci_u", "ricci_radius", "ricci_curvature", "ricci_target"}) {
     out << "property double " << p << "\n";
@@ -59,33 +59,33 @@ void write_result_ply(const std::string& path, const CompactMesh& mesh, const Fl
   if (has_layout)
     out << "property double layout_x\nproperty double layout_y\nproperty double layout_z\n";
   if (has_texture) out << "property float texture_u\nproperty float texture_v\n";
-  out << "element face " << mesh.num_faces() << "\n";
+  out << "element face " << run.faces.size() << "\n";
   out << "property list uchar int vertex_indices\n";
-  const bool has_wedges = !layout.wedge_texture.empty();
   if (has_wedges) out << "property list uchar float texcoord\n";
   out << "end_header\n";
   PlyOut ply(out, ascii);
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const Eigen::Vector3d& p = mesh.positions()[v];
-    for (double x : {p.x(), p.y(), p.z(), result.u[v], result.radius[v], result.curvature[v],
-                     result.target[v]}) {
+  for (size_t v = 0; v < positions.size(); ++v) {
+    const Eigen::Vector3d& p = positions[v];
+    const long i = static_cast<long>(v);
+    for (double x :
+         {p.x(), p.y(), p.z(), run.u[i], run.radius[i], run.curvature[i], run.target[i]}) {
       ply.put(x);
     }
     if (has_layout) {
-      for (int c = 0; c < 3; ++c) ply.put(layout.position[v][c]);
+      for (int c = 0; c < 3; ++c) ply.put(run.position[v][c]);
     }
     if (has_texture) {
-      ply.put(static_cast<float>(layout.texture[v].x()));
-      ply.put(static_cast<float>(layout.texture[v].y()));
+      ply.put(static_cast<float>(run.texture.vertex[v].x()));
+      ply.put(static_cast<float>(run.texture.vertex[v].y()));
     }
     ply.end_row();
   }
-  for (int f = 0; f < mesh.num_faces(); ++f) {
+  for (size_t f = 0; f < run.faces.size(); ++f) {
     ply.put(std::uint8_t{3});
-    for (int v : mesh.faces()[f]) ply.put(static_cast<std::int32_t>(v));
+    for (int v : run.faces[f]) ply.put(static_cast<std::int32_t>(v));
     if (has_wedges) {
       ply.put(std::uint8_t{6});
-      for (const Eigen::Vector2d& uv : layout.wedge_texture[f]) {
+      for (const Eigen::Vector2d& uv : run.texture.wedge[f]) {
         ply.put(static_cast<float>(uv.x()));
         ply.put(static_cast<float>(uv.y()));
       }

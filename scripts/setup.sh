@@ -138,3 +138,6 @@ if [ ! -f "$venv/.complete-$pymeshlab_version" ]; then
   "$venv/bin/pip" install -q "pymeshlab==$pymeshlab_version" "pytest==$pytest_version"
   touch "$venv/.complete-$pymeshlab_version"
 fi
+
+# --- real meshes as users bring them (meshes/real-meshes.tsv: their packages and licences)
+bash "$here/scripts/real_meshes.sh"

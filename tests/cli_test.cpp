@@ -281,7 +281,8 @@ TEST(Cli, BadInputGetsAClearError) {
   expect_error(cgal("sphere.off") + out + " --target free-boundary", 1, {"needs a boundary"});
   expect_error(cgal("sphere.off") + out + " --picture " + temp("x.png"), 1,
                {"--picture needs a layout in the plane"});
-  expect_error(cgal("blobby_3cc.off") + out, 1, {"3 connected components", "blobby_3cc.off"});
+  expect_error(cgal("blobby_3cc.off") + out + " --strict", 1,
+               {"3 connected components", "blobby_3cc.off"});
   expect_error(cgal("nefertiti.off") + out + " --target zero", 1, {"Gauss-Bonnet fails"});
   // Targets from a file
   write_file(temp("short.txt"), "0\n0\n");
@@ -295,21 +296,23 @@ TEST(Cli, BadInputGetsAClearError) {
   write_file(temp("word.txt"), "0\nzero\n");
   expect_error(cgal("nefertiti.off") + out + " --target " + temp("word.txt"), 1,
                {"word.txt:2", "'zero' is not a number"});
-  // Broken meshes written as OFF files
+  // Broken meshes written as OFF files, refused with --strict (repaired by default: below)
   write_file(temp("nonmanifold.off"),
              "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n3 0 1 2\n3 0 2 3\n3 2 0 4\n");
-  expect_error(temp("nonmanifold.off") + out, 1, {"non-manifold edges", "edge (0, 2)"});
+  expect_error(temp("nonmanifold.off") + out + " --strict", 1,
+               {"non-manifold edges", "edge (0, 2)"});
   write_file(temp("bowtie.off"),
              "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n");
-  expect_error(temp("bowtie.off") + out, 1, {"non-manifold vertices", "vertex 0"});
+  expect_error(temp("bowtie.off") + out + " --strict", 1, {"non-manifold vertices", "vertex 0"});
   write_file(temp("degenerate.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n3 0 1 2\n3 0 1 3\n");
-  expect_error(temp("degenerate.off") + out, 1, {"degenerate faces", "face 0"});
+  expect_error(temp("degenerate.off") + out + " --strict", 1, {"degenerate faces", "face 0"});
   write_file(temp("duplicate.off"),
              "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 1 2 0\n");
-  expect_error(temp("duplicate.off") + out, 1, {"duplicate faces"});
+  expect_error(temp("duplicate.off") + out + " --strict", 1, {"duplicate faces"});
   write_file(temp("unreferenced.off"),
              "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n9 9 9\n3 0 1 2\n3 0 2 3\n");
-  expect_error(temp("unreferenced.off") + out, 1, {"unreferenced vertices", "vertex 4"});
+  expect_error(temp("unreferenced.off") + out + " --strict", 1,
+               {"unreferenced vertices", "vertex 4"});
   write_file(temp("nan.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\nnan 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
   expect_error(temp("nan.off") + out, 1, {"NaN or infinite", "vertex 2"});
   // A flow that cannot converge on this triangulation
@@ -317,6 +320,48 @@ TEST(Cli, BadInputGetsAClearError) {
                {"stalled at iteration", "degenerat"});
   expect_error(cgal("nefertiti.off") + out + " --max-iterations 1", 1,
                {"no convergence in 1 iterations"});
+}
+
+TEST(Cli, DirtyMeshesAreRepairedAndReported) {
+  // The defects --strict refuses (above) are repaired by default, keeping the surface, and said.
+  struct Case {
+    std::string name, off, repaired;
+    int vertices, faces;  // of the result
+  };
+  for (const Case& c : {
+           Case{"nonmanifold",
+                "5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n3 0 1 2\n3 0 2 3\n3 2 0 4\n",
+                "1 non-manifold edges cut open", 7, 3},
+           Case{"bowtie", "5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n",
+                "1 non-manifold vertices split", 6, 2},
+           Case{"degenerate", "4 2 0\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n3 0 1 2\n3 0 1 3\n",
+                "1 zero-area faces removed", 4, 1},
+           Case{"duplicate", "4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 1 2 0\n",
+                "1 duplicate faces dropped (first: face 2)", 4, 2},
+           Case{"unreferenced", "5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n9 9 9\n3 0 1 2\n3 0 2 3\n",
+                "1 unreferenced vertices kept without a result (first: vertex 4)", 5, 2},
+           Case{"misoriented", "4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 3 2\n",
+                "1 faces reoriented", 4, 2},
+       }) {
+    write_file(temp(c.name + ".off"), "OFF\n" + c.off);
+    const std::string out = temp(c.name + "-repaired.ply");
+    const CliRun r = ricci_flow(temp(c.name + ".off") + " -o " + out);
+    ASSERT_EQ(r.exit_code, 0) << c.name << ": " << r.err;
+    EXPECT_NE(r.out.find("Repaired: " + c.repaired), std::string::npos) << c.name << r.out;
+    const ricci::test::PlyData ply = read_ply(out);
+    EXPECT_EQ(ply.vertex.at("x").size(), static_cast<size_t>(c.vertices)) << c.name;
+    EXPECT_EQ(ply.faces.size(), static_cast<size_t>(c.faces)) << c.name;
+    // The input's vertices keep their place; every face is laid out counter-clockwise.
+    EXPECT_EQ(ply.vertex.at("x")[1], 1.0) << c.name;
+    for (const auto& f : ply.faces) {
+      const auto uv = [&](int k) {
+        return std::array<double, 2>{ply.vertex.at("texture_u")[f[k]],
+                                     ply.vertex.at("texture_v")[f[k]]};
+      };
+      const auto a = uv(0), b = uv(1), d = uv(2);
+      EXPECT_GT((b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]), 0) << c.name;
+    }
+  }
 }
 
 TEST(Cli, FailedRunWritesNoMesh) {

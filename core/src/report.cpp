@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "metric.h"
+#include "ricci/atlas.h"
 
 namespace ricci {
 
@@ -107,6 +108,46 @@ std::vector<std::pair<std::string, double>> result_numbers(const Uniformization&
           {"flows", run.totals.flows}};
 }
 
+std::vector<std::string> summary_lines(const MeshUniformization& run, const RunContext& context) {
+  std::vector<std::string> lines;
+  for (const std::string& line : run.mesh.report.lines()) lines.push_back("Repaired: " + line);
+  const size_t n = run.components.size();
+  if (n > 1) {
+    lines.push_back(std::to_string(n) + " connected components, each mapped by its own topology");
+  }
+  for (size_t k = 0; k < n; ++k) {
+    RunContext c = context;
+    if (n > 1)
+      c.input += (c.input.empty() ? "" : ", ") + std::string("component ") + std::to_string(k);
+    for (const std::string& line :
+         summary_lines(run.mesh.components[k].mesh, run.components[k], c)) {
+      lines.push_back(line);
+    }
+  }
+  return lines;
+}
+
+std::vector<std::pair<std::string, double>> result_numbers(const MeshUniformization& run) {
+  if (run.components.size() == 1) return result_numbers(run.components[0]);
+  std::vector<std::pair<std::string, double>> total;
+  for (const Uniformization& c : run.components) {
+    const auto numbers = result_numbers(c);
+    if (total.empty()) {
+      total = numbers;
+      continue;
+    }
+    for (size_t i = 0; i < numbers.size(); ++i) {
+      const std::string& name = numbers[i].first;
+      const bool sum = name == "iterations" || name == "edge_flips" || name == "flipped_faces" ||
+                       name == "flows";
+      total[i].second =
+          sum ? total[i].second + numbers[i].second : std::max(total[i].second, numbers[i].second);
+    }
+  }
+  total.emplace_back("components", static_cast<double>(run.components.size()));
+  return total;
+}
+
 std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformization& run,
                                        const RunContext& context) {
   std::vector<std::string> lines;
@@ -155,8 +196,11 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
   return lines;
 }
 
-std::string json_report(const CompactMesh& mesh, const Uniformization& run,
-                        const RunContext& context) {
+namespace {
+
+// The keys of one component's report, one per line, without the braces.
+std::string component_json_body(const CompactMesh& mesh, const Uniformization& run,
+                                const RunContext& context) {
   const FlowResult& result = run.result;
   const FlowTotals& totals = run.totals;
   const FlowTimes& t = totals.times;
@@ -200,8 +244,57 @@ std::string json_report(const CompactMesh& mesh, const Uniformization& run,
     << ", \"initial_length_error\": " << number(initial_length_error(mesh, run.structure))
     << "},\n";
   j << "  \"area\": " << number(result.area) << ",\n";
-  j << "  \"layout\": " << layout_json(run) << "\n";
-  j << "}\n";
+  j << "  \"layout\": " << layout_json(run);
+  return j.str();
+}
+
+std::string repairs_json(const RepairReport& report) {
+  std::string a = "[";
+  for (size_t k = 0; k < report.entries.size(); ++k) {
+    const RepairReport::Entry& e = report.entries[k];
+    std::string first;
+    for (size_t i = 0; i < e.first.size(); ++i)
+      first += (i ? ", " : "") + std::to_string(e.first[i]);
+    a += (k ? ", " : "") + std::string("{\"what\": ") + quoted(e.what) +
+         ", \"element\": " + quoted(e.element) + ", \"count\": " + std::to_string(e.count) +
+         ", \"first\": [" + first + "]}";
+  }
+  return a + "]";
+}
+
+std::string indented(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    out += c;
+    if (c == '\n') out += "  ";
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string json_report(const CompactMesh& mesh, const Uniformization& run,
+                        const RunContext& context) {
+  return "{\n" + component_json_body(mesh, run, context) + "\n}\n";
+}
+
+std::string json_report(const MeshUniformization& run, const RunContext& context) {
+  const RepairedMesh& m = run.mesh;
+  if (run.components.size() == 1) {
+    return "{\n" + component_json_body(m.components[0].mesh, run.components[0], context) +
+           ",\n  \"repairs\": " + repairs_json(m.report) + "\n}\n";
+  }
+  std::ostringstream j;
+  j << "{\n";
+  j << "  \"input\": " << quoted(context.input) << ",\n";
+  j << "  \"converged\": " << (run.converged() ? "true" : "false") << ",\n";
+  j << "  \"repairs\": " << repairs_json(m.report) << ",\n";
+  j << "  \"components\": [";
+  for (size_t k = 0; k < run.components.size(); ++k) {
+    j << (k ? ", " : "") << "{\n  "
+      << indented(component_json_body(m.components[k].mesh, run.components[k], context)) << "\n  }";
+  }
+  j << "]\n}\n";
   return j.str();
 }
 

@@ -56,6 +56,15 @@ void check_request(const CompactMesh& mesh, TargetPreset preset, Geometry geomet
   }
 }
 
+// Cones as the Values preset's per-vertex curvature.
+UniformizationOptions with_cone_values(const CompactMesh& mesh, UniformizationOptions o) {
+  if (o.cones.empty()) return o;
+  o.preset = TargetPreset::Values;
+  o.values = cone_target(mesh, o.cones).values();
+  o.cones.clear();
+  return o;
+}
+
 // The preset's target before any flow (the disk preset's is refitted by the flows).
 TargetCurvature initial_target(const CompactMesh& mesh, TargetPreset preset,
                                const UniformizationOptions& o, int outer_loop) {
@@ -182,7 +191,8 @@ TextureCoordinates texture_coordinates(const Uniformization& run) {
 }
 
 std::pair<TargetPreset, Geometry> resolve_request(const CompactMesh& mesh,
-                                                  const UniformizationOptions& o) {
+                                                  const UniformizationOptions& request) {
+  const UniformizationOptions o = with_cone_values(mesh, request);
   TargetPreset preset = o.preset;
   Geometry geometry;
   if (preset == TargetPreset::Automatic) {
@@ -212,7 +222,8 @@ LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geomet
   return LayoutKind::None;
 }
 
-Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& o) {
+Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+  const UniformizationOptions o = with_cone_values(mesh, request);
   Uniformization run;
   std::tie(run.preset, run.geometry) = resolve_request(mesh, o);
   run.scheme = o.scheme.scheme;

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "ricci/atlas.h"
 #include "ricci/compact_mesh.h"
 #include "ricci/uniformize.h"
 
@@ -32,6 +33,12 @@ std::string json_report(const CompactMesh& mesh, const Uniformization& run,
 //! The headline numbers by name, in a fixed order: iterations, edge_flips, max_curvature_error,
 //! flipped_faces, quasi_conformal_median, closure_error, circle_error, flows.
 std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& run);
+
+//! The same for a whole mesh: its repairs, then each component's (the numbers: sums of counts,
+//! the largest errors, and the number of components).
+std::vector<std::string> summary_lines(const MeshUniformization& run, const RunContext& context);
+std::string json_report(const MeshUniformization& run, const RunContext& context);
+std::vector<std::pair<std::string, double>> result_numbers(const MeshUniformization& run);
 
 //! max |l(u0) / (s l_input) - 1| over edges: how exactly the initial metric reproduces the input.
 double initial_length_error(const CompactMesh& mesh, const ConformalStructure& structure);

@@ -51,6 +51,9 @@ struct UniformizationOptions {
   std::optional<Geometry> geometry;
   //! Values: Kbar per vertex, NaN where u stays fixed.
   Eigen::VectorXd values;
+  //! Values given as cones instead (cone_target: flat and straight elsewhere); not empty: the
+  //! preset is Values and `values` is ignored.
+  std::vector<Cone> cones;
   SchemeOptions scheme;
   FlowOptions flow;
   //! Disk preset: the vertex mapped to the centre of the unit disk, and the one mapped onto the

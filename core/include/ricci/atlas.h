@@ -1,0 +1,48 @@
+// A whole mesh as users bring it: repaired (repair.h), each connected component uniformized by its
+// own topology (uniformize.h), and the results gathered per vertex of the repaired mesh, with the
+// planar charts packed without overlap into [0, 1]^2 (a texture atlas).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/repair.h"
+#include "ricci/uniformize.h"
+
+namespace ricci {
+
+struct MeshUniformization {
+  RepairedMesh mesh;
+  std::vector<Uniformization> components;  //!< one per mesh.components
+  //! Per vertex of the repaired mesh; NaN where a vertex is in no face.
+  Eigen::VectorXd u, radius, curvature, target;
+  //! Per vertex where its component's layout has one position per vertex (plane, sphere), NaN
+  //! elsewhere; empty when no component has one.
+  std::vector<Eigen::Vector3d> position;
+  //! The repaired mesh's faces, component after component, and the input face each lies in.
+  std::vector<std::array<int, 3>> faces;
+  std::vector<int> input_face;
+  //! Per vertex when every component is laid out in the plane with one position per vertex, else
+  //! per face corner (faces of sphere components at 0); the charts packed into [0, 1]^2. Empty
+  //! when no component has a planar layout.
+  TextureCoordinates texture;
+
+  bool converged() const;
+  //! \throws ConvergenceError naming the first component that did not converge.
+  void require_converged(const std::string& subject = "") const;
+};
+
+//! The layout each component will get (planned_layout of its resolved request).
+//! \throws InvalidTargetError, InvalidArgumentError as resolve_request does.
+std::vector<LayoutKind> planned_layouts(const RepairedMesh& mesh,
+                                        const UniformizationOptions& options);
+
+//! Uniformizes every component of the repaired mesh with the options (per-vertex values and the
+//! centre and axis vertex are given in the input's vertex numbering).
+//! \throws InvalidTargetError, InvalidArgumentError as uniformize() does, naming the component.
+MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOptions& options);
+
+}  // namespace ricci

@@ -1,0 +1,287 @@
+#include "ricci/atlas.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "ricci/errors.h"
+
+namespace ricci {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Where an input vertex is: its component and the component's vertex, or {-1, -1}.
+std::vector<std::pair<int, int>> locate_inputs(const RepairedMesh& m) {
+  std::vector<std::pair<int, int>> where(m.positions.size(), {-1, -1});
+  for (size_t k = 0; k < m.components.size(); ++k) {
+    const MeshComponent& c = m.components[k];
+    for (size_t i = 0; i < c.vertex.size(); ++i) {
+      where[c.vertex[i]] = {static_cast<int>(k), static_cast<int>(i)};
+    }
+  }
+  for (size_t v = 0; v < m.positions.size(); ++v) {
+    if (where[v].first < 0 && m.represented_by[v] >= 0) where[v] = where[m.represented_by[v]];
+  }
+  return where;
+}
+
+// A vertex option (centre, axis) given in the input's numbering, for component k.
+int component_vertex(int input_vertex, const std::vector<std::pair<int, int>>& where, int k,
+                     const char* what) {
+  if (input_vertex < 0) return -1;
+  if (input_vertex >= static_cast<int>(where.size()) || where[input_vertex].first < 0) {
+    throw InvalidArgumentError(std::string("the ") + what + " vertex " +
+                               std::to_string(input_vertex) + " is in no face of the mesh");
+  }
+  return where[input_vertex].first == k ? where[input_vertex].second : -1;
+}
+
+UniformizationOptions component_options(const UniformizationOptions& o, const RepairedMesh& m,
+                                        const std::vector<std::pair<int, int>>& where, int k) {
+  UniformizationOptions c = o;
+  const MeshComponent& component = m.components[k];
+  if (o.preset == TargetPreset::Values && o.cones.empty()) {
+    if (o.values.size() != m.num_input_vertices) {
+      throw InvalidTargetError("target curvature: " + std::to_string(o.values.size()) +
+                               " values for a mesh of " + std::to_string(m.num_input_vertices) +
+                               " vertices; give one value per vertex, in vertex order");
+    }
+    c.values.resize(static_cast<long>(component.vertex.size()));
+    for (size_t i = 0; i < component.vertex.size(); ++i) {
+      c.values[static_cast<long>(i)] = o.values[m.original[component.vertex[i]]];
+    }
+  }
+  if (!o.scheme.eps.empty()) {  // the mixed scheme's eps per input vertex
+    if (static_cast<int>(o.scheme.eps.size()) != m.num_input_vertices) {
+      throw InvalidArgumentError("mixed scheme: eps has " + std::to_string(o.scheme.eps.size()) +
+                                 " values but the mesh has " +
+                                 std::to_string(m.num_input_vertices) +
+                                 " vertices; give one of +1, 0, -1 per vertex");
+    }
+    c.scheme.eps.clear();
+    for (int v : component.vertex) c.scheme.eps.push_back(o.scheme.eps[m.original[v]]);
+  }
+  c.cones.clear();
+  for (const Cone& cone : o.cones) {
+    if (cone.vertex < 0 || cone.vertex >= m.num_input_vertices) {
+      throw InvalidTargetError("cone at vertex " + std::to_string(cone.vertex) +
+                               ": the mesh has vertices 0.." +
+                               std::to_string(m.num_input_vertices - 1));
+    }
+    const int local = component_vertex(cone.vertex, where, k, "cone");
+    if (local >= 0) c.cones.push_back({local, cone.angle});
+  }
+  c.center_vertex = component_vertex(o.center_vertex, where, k, "center");
+  c.axis_vertex = component_vertex(o.axis_vertex, where, k, "axis");
+  return c;
+}
+
+// === The atlas
+
+struct Chart {
+  std::vector<std::array<Eigen::Vector2d, 3>> corners;  // per component face
+  Eigen::Vector2d lo, size;                             // bounding box, in scaled units
+  double scale = 1;                                     // layout units -> atlas units
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();     // where the box goes
+};
+
+std::vector<std::array<Eigen::Vector2d, 3>> planar_corners(const Uniformization& run) {
+  std::vector<std::array<Eigen::Vector2d, 3>> corners;
+  if (run.layout_kind == LayoutKind::None || run.layout_kind == LayoutKind::Sphere) return corners;
+  for (const auto& face : run.corners) {
+    corners.push_back({face[0].head<2>(), face[1].head<2>(), face[2].head<2>()});
+  }
+  return corners;
+}
+
+// Each chart scaled to its surface's area, then the boxes packed on shelves, tallest first.
+void pack(std::vector<Chart>& charts, const std::vector<double>& surface_area) {
+  double total = 0, widest = 0;
+  for (size_t k = 0; k < charts.size(); ++k) {
+    Chart& c = charts[k];
+    if (c.corners.empty()) continue;
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
+    double area = 0;
+    for (const auto& t : c.corners) {
+      for (const auto& p : t) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+      const Eigen::Vector2d a = t[1] - t[0], b = t[2] - t[0];
+      area += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+    }
+    c.scale = area > 0 ? std::sqrt(surface_area[k] / area) : 1;
+    c.lo = lo;
+    c.size = (hi - lo) * c.scale;
+    total += surface_area[k];
+    widest = std::max(widest, c.size.x());
+  }
+  const double gap = 0.02 * std::sqrt(total);
+  double boxes = 0;
+  for (const Chart& c : charts) {
+    if (!c.corners.empty()) boxes += (c.size.x() + gap) * (c.size.y() + gap);
+  }
+  const double width = std::max(widest + gap, std::sqrt(boxes));
+  std::vector<size_t> order(charts.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return charts[a].size.y() > charts[b].size.y(); });
+  double x = 0, y = 0, shelf = 0;
+  for (size_t k : order) {
+    Chart& c = charts[k];
+    if (c.corners.empty()) continue;
+    if (x > 0 && x + c.size.x() > width) x = 0, y += shelf + gap, shelf = 0;
+    c.offset = Eigen::Vector2d(x, y);
+    x += c.size.x() + gap;
+    shelf = std::max(shelf, c.size.y());
+  }
+  double extent = 0;
+  for (const Chart& c : charts) {
+    if (!c.corners.empty()) extent = std::max(extent, (c.offset + c.size).maxCoeff());
+  }
+  for (Chart& c : charts) {
+    c.scale /= extent;
+    c.offset /= extent;
+  }
+}
+
+Eigen::Vector2d atlas_point(const Chart& c, const Eigen::Vector2d& p) {
+  return c.offset + (p - c.lo) * c.scale;
+}
+
+void gather_texture(MeshUniformization& out) {
+  const size_t n = out.components.size();
+  if (n == 1) {
+    out.texture = texture_coordinates(out.components[0]);
+    return;
+  }
+  std::vector<Chart> charts(n);
+  std::vector<double> area(n);
+  bool any = false, all_per_vertex = true;
+  for (size_t k = 0; k < n; ++k) {
+    charts[k].corners = planar_corners(out.components[k]);
+    area[k] = out.mesh.components[k].mesh.input_area();
+    any = any || !charts[k].corners.empty();
+    all_per_vertex = all_per_vertex && out.components[k].layout_kind == LayoutKind::Plane;
+  }
+  if (!any) return;
+  pack(charts, area);
+  if (all_per_vertex) {
+    out.texture.vertex.assign(out.mesh.positions.size(), Eigen::Vector2d::Zero());
+    for (size_t k = 0; k < n; ++k) {
+      const MeshComponent& c = out.mesh.components[k];
+      for (size_t i = 0; i < c.vertex.size(); ++i) {
+        out.texture.vertex[c.vertex[i]] =
+            atlas_point(charts[k], out.components[k].position[i].head<2>());
+      }
+    }
+    for (size_t v = 0; v < out.texture.vertex.size(); ++v) {
+      const int r = out.mesh.represented_by[v];
+      if (r >= 0 && r != static_cast<int>(v)) out.texture.vertex[v] = out.texture.vertex[r];
+    }
+    return;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    for (size_t f = 0; f < out.mesh.components[k].face.size(); ++f) {
+      std::array<Eigen::Vector2d, 3> uv = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
+                                           Eigen::Vector2d::Zero()};
+      if (!charts[k].corners.empty()) {
+        for (int c = 0; c < 3; ++c) uv[c] = atlas_point(charts[k], charts[k].corners[f][c]);
+      }
+      out.texture.wedge.push_back(uv);
+    }
+  }
+}
+
+// Per-vertex results of every component, on the repaired mesh's vertices.
+void gather_vertices(MeshUniformization& out) {
+  const size_t nv = out.mesh.positions.size();
+  for (Eigen::VectorXd* x : {&out.u, &out.radius, &out.curvature, &out.target}) {
+    *x = Eigen::VectorXd::Constant(static_cast<long>(nv), kNaN);
+  }
+  bool any_position = false;
+  for (const Uniformization& run : out.components) any_position |= !run.position.empty();
+  if (any_position) out.position.assign(nv, Eigen::Vector3d::Constant(kNaN));
+  for (size_t k = 0; k < out.components.size(); ++k) {
+    const MeshComponent& c = out.mesh.components[k];
+    const Uniformization& run = out.components[k];
+    const FlowResult& r = run.result;
+    for (size_t i = 0; i < c.vertex.size(); ++i) {
+      const int v = c.vertex[i];
+      const long l = static_cast<long>(i);
+      out.u[v] = r.u.size() > l ? r.u[l] : kNaN;
+      out.radius[v] = r.radius.size() > l ? r.radius[l] : kNaN;
+      out.curvature[v] = r.curvature.size() > l ? r.curvature[l] : kNaN;
+      out.target[v] = r.target.size() > l ? r.target[l] : kNaN;
+      if (!run.position.empty()) out.position[v] = run.position[i];
+    }
+    for (size_t f = 0; f < c.face.size(); ++f) {
+      const auto& t = c.mesh.faces()[f];
+      out.faces.push_back({c.vertex[t[0]], c.vertex[t[1]], c.vertex[t[2]]});
+      out.input_face.push_back(c.face[f]);
+    }
+  }
+  for (size_t v = 0; v < nv; ++v) {  // vertices a zero-length edge collapsed take its result
+    const int r = out.mesh.represented_by[v];
+    if (r < 0 || r == static_cast<int>(v)) continue;
+    for (Eigen::VectorXd* x : {&out.u, &out.radius, &out.curvature, &out.target}) {
+      (*x)[static_cast<long>(v)] = (*x)[r];
+    }
+    if (any_position) out.position[v] = out.position[r];
+  }
+}
+
+}  // namespace
+
+bool MeshUniformization::converged() const {
+  return std::all_of(components.begin(), components.end(),
+                     [](const Uniformization& run) { return run.converged(); });
+}
+
+void MeshUniformization::require_converged(const std::string& subject) const {
+  for (size_t k = 0; k < components.size(); ++k) {
+    if (components.size() == 1) {
+      components[k].require_converged(subject);
+    } else {
+      components[k].require_converged((subject.empty() ? "" : subject + ", ") + "component " +
+                                      std::to_string(k));
+    }
+  }
+}
+
+std::vector<LayoutKind> planned_layouts(const RepairedMesh& mesh,
+                                        const UniformizationOptions& options) {
+  const std::vector<std::pair<int, int>> where = locate_inputs(mesh);
+  std::vector<LayoutKind> kinds;
+  for (size_t k = 0; k < mesh.components.size(); ++k) {
+    const CompactMesh& m = mesh.components[k].mesh;
+    const auto [preset, geometry] =
+        resolve_request(m, component_options(options, mesh, where, static_cast<int>(k)));
+    kinds.push_back(planned_layout(m, preset, geometry));
+  }
+  return kinds;
+}
+
+MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOptions& options) {
+  MeshUniformization out;
+  out.mesh = std::move(mesh);
+  const std::vector<std::pair<int, int>> where = locate_inputs(out.mesh);
+  for (size_t k = 0; k < out.mesh.components.size(); ++k) {
+    const UniformizationOptions o =
+        component_options(options, out.mesh, where, static_cast<int>(k));
+    try {
+      out.components.push_back(uniformize(out.mesh.components[k].mesh, o));
+    } catch (const InvalidTargetError& e) {
+      if (out.mesh.components.size() == 1) throw;
+      throw InvalidTargetError("component " + std::to_string(k) + ": " + e.what());
+    } catch (const InvalidArgumentError& e) {
+      if (out.mesh.components.size() == 1) throw;
+      throw InvalidArgumentError("component " + std::to_string(k) + ": " + e.what());
+    }
+  }
+  gather_vertices(out);
+  gather_texture(out);
+  return out;
+}
+
+}  // namespace ricci

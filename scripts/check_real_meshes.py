@@ -1,0 +1,164 @@
+#!/usr/bin/env python3
+"""Runs ricci-flow with its defaults on every real mesh and checks each result on its own.
+
+Usage: check_real_meshes.py RICCI_FLOW OUT_DIR [--timeout SECONDS] [MESH ...]
+
+Meshes default to those listed in meshes/real-meshes.tsv (fetched by scripts/real_meshes.sh into
+third_party/real-meshes/) and CGAL's set. A result counts as valid when ricci-flow exited 0 and the
+written PLY, read here by a reader of this script's own, has every face laid out with positive
+orientation: in the texture (per vertex or per face corner), on the unit sphere (layout_x/y/z), in
+the Poincare disk. Prints one row per mesh and a summary; writes OUT_DIR/results.tsv.
+"""
+import argparse
+import os
+import struct
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SIZES = {"char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort": 2, "int16": 2,
+         "uint16": 2, "int": 4, "uint": 4, "int32": 4, "uint32": 4, "float": 4, "float32": 4,
+         "double": 8, "float64": 8}
+CODES = {"char": "b", "uchar": "B", "int8": "b", "uint8": "B", "short": "h", "ushort": "H",
+         "int16": "h", "uint16": "H", "int": "i", "uint": "I", "int32": "i", "uint32": "I",
+         "float": "f", "float32": "f", "double": "d", "float64": "d"}
+
+
+def read_ply(path):
+    """Vertex properties (dict of arrays), faces (list of index lists), face texcoords or None."""
+    data = open(path, "rb").read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().split("\n")
+    fmt = "ascii"
+    elements = []
+    for line in header:
+        w = line.split()
+        if not w:
+            continue
+        if w[0] == "format":
+            fmt = w[1]
+        elif w[0] == "element":
+            elements.append((w[1], int(w[2]), []))
+        elif w[0] == "property":
+            elements[-1][2].append(tuple(w[1:]))
+    body = data[end:]
+    vertex, faces, texcoords = {}, [], []
+    if fmt == "ascii":
+        tokens = body.split()
+        pos = 0
+        def take(t):
+            nonlocal pos
+            pos += 1
+            return float(tokens[pos - 1])
+    else:
+        order = "<" if fmt == "binary_little_endian" else ">"
+        pos = 0
+        def take(t):
+            nonlocal pos
+            v = struct.unpack_from(order + CODES[t], body, pos)[0]
+            pos += SIZES[t]
+            return v
+    for name, count, props in elements:
+        for _ in range(count):
+            for p in props:
+                if p[0] == "list":
+                    n = int(take(p[1]))
+                    values = [take(p[2]) for _ in range(n)]
+                    if name == "face" and p[3] == "vertex_indices":
+                        faces.append([int(x) for x in values])
+                    elif name == "face" and p[3] == "texcoord":
+                        texcoords.append(values)
+                elif name == "vertex":
+                    vertex.setdefault(p[1], []).append(take(p[0]))
+                else:
+                    take(p[0])
+    return {k: np.array(v) for k, v in vertex.items()}, faces, texcoords or None
+
+
+def signed_areas_2d(a, b, c):
+    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+
+def check(ply_path):
+    """(faces, flipped, collapsed, kind) of a result, measured here."""
+    v, faces, wedges = read_ply(ply_path)
+    f = np.array(faces)
+    if wedges is not None:
+        t = np.array(wedges).reshape(-1, 3, 2)
+        laid = np.abs(t).sum(axis=(1, 2)) > 0  # faces of sphere components carry zeros
+        area = signed_areas_2d(t[laid, 0], t[laid, 1], t[laid, 2])
+        kind = "wedge uv"
+    elif "texture_u" in v:
+        uv = np.stack([v["texture_u"], v["texture_v"]], axis=1)
+        area = signed_areas_2d(uv[f[:, 0]], uv[f[:, 1]], uv[f[:, 2]])
+        kind = "vertex uv"
+    elif "layout_x" in v:
+        p = np.stack([v["layout_x"], v["layout_y"], v["layout_z"]], axis=1)
+        area = np.einsum("ij,ij->i", p[f[:, 0]], np.cross(p[f[:, 1]], p[f[:, 2]]))
+        kind = "sphere"
+    else:
+        return len(faces), 0, 0, "no layout"
+    scale = max(np.abs(area).max(), 1e-300)
+    flipped = int(np.sum(~(area > 0)))
+    collapsed = int(np.sum(np.abs(area) <= 1e-12 * scale))
+    return len(faces), flipped - collapsed, collapsed, kind
+
+
+def default_meshes():
+    meshes = []
+    tsv = os.path.join(ROOT, "meshes", "real-meshes.tsv")
+    folder = os.path.join(ROOT, "third_party", "real-meshes")
+    for line in open(tsv).read().splitlines()[1:]:
+        name, _source, _path, fmt, _licence, category, _note = line.split("\t")
+        meshes.append((os.path.join(folder, name + "." + fmt), category))
+    return meshes
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("tool")
+    parser.add_argument("out")
+    parser.add_argument("--timeout", type=float, default=120)
+    parser.add_argument("meshes", nargs="*")
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    meshes = [(m, "") for m in args.meshes] or default_meshes()
+    rows = []
+    for path, category in meshes:
+        name = os.path.basename(path)
+        out = os.path.join(args.out, name + ".ply")
+        if os.path.exists(out):
+            os.remove(out)
+        start = time.time()
+        try:
+            r = subprocess.run([args.tool, path, "-o", out, "--quiet"], capture_output=True,
+                               text=True, timeout=args.timeout)
+            code, message = r.returncode, r.stderr.strip().replace("\n", " ")
+        except subprocess.TimeoutExpired:
+            code, message = -1, "timeout after %.0f s" % args.timeout
+        seconds = time.time() - start
+        if code == 0:
+            faces, flipped, collapsed, kind = check(out)
+            status = "valid" if flipped == 0 else "FLIPPED"
+            detail = "%d faces, %s, %d flipped, %d collapsed" % (faces, kind, flipped, collapsed)
+        else:
+            status = "refused" if code in (1, 2) else "failed"
+            detail = message.replace("ricci-flow: error: ", "")
+        rows.append((name, category, status, "%.1f" % seconds, detail))
+        print("%-40s %-22s %-8s %6s s  %s" % (name, category, status, rows[-1][3], detail[:160]),
+              flush=True)
+    with open(os.path.join(args.out, "results.tsv"), "w") as f:
+        f.write("mesh\tcategory\tstatus\tseconds\tdetail\n")
+        for row in rows:
+            f.write("\t".join(row) + "\n")
+    counts = {}
+    for row in rows:
+        counts[row[2]] = counts.get(row[2], 0) + 1
+    print(" ".join("%s %d" % kv for kv in sorted(counts.items())), "of", len(rows))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

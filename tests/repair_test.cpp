@@ -1,0 +1,140 @@
+// Repairs keep the surface: every component is a checked mesh, the input's vertices keep their
+// place, the area is the input's, and each defect is reported with where it was.
+#include "ricci/repair.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "ricci/errors.h"
+#include "ricci/geometry.h"
+#include "test_meshes.h"
+
+namespace ricci {
+namespace {
+
+using Faces = std::vector<std::array<int, 3>>;
+using Points = std::vector<Eigen::Vector3d>;
+
+double area(const Points& p, const Faces& faces) {
+  double a = 0;
+  for (const auto& t : faces) a += 0.5 * (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).norm();
+  return a;
+}
+
+double repaired_area(const RepairedMesh& r) {
+  double a = 0;
+  for (const MeshComponent& c : r.components) a += c.mesh.input_area();
+  return a;
+}
+
+const RepairReport::Entry* entry(const RepairedMesh& r, const std::string& what) {
+  for (const auto& e : r.report.entries) {
+    if (e.what.find(what) != std::string::npos) return &e;
+  }
+  return nullptr;
+}
+
+// The 3 x 3 grid of the unit square: 16 vertices, 18 faces, a disk.
+CompactMesh grid() {
+  return test::square_grid(3);
+}
+
+TEST(Repair, CleanMeshIsOneComponentUnchanged) {
+  const CompactMesh g = grid();
+  const RepairedMesh r = repair_mesh(g.positions(), g.faces());
+  EXPECT_TRUE(r.report.empty());
+  ASSERT_EQ(r.components.size(), 1u);
+  EXPECT_EQ(r.components[0].mesh.faces(), g.faces());
+  EXPECT_EQ(r.positions, g.positions());
+}
+
+TEST(Repair, EveryDefectRepairedAndReported) {
+  const CompactMesh g = grid();
+  Points p = g.positions();
+  Faces f = g.faces();
+  const double input_area = area(p, f);
+  std::swap(f[4][1], f[4][2]);                 // a face turned over
+  f.push_back(f[7]);                           // an exact duplicate (face 18)
+  f.push_back({f[2][0], f[2][0], f[2][1]});    // a repeated vertex (face 19)
+  p.emplace_back(7, 7, 7);                     // unreferenced (vertex 16)
+  p.push_back(p[5]);                           // a copy of vertex 5 (vertex 17) ...
+  f.push_back({5, 17, 6});                     // ... joined to it by a needle (face 20)
+  const int tip = static_cast<int>(p.size());  // a fan touching the grid at vertex 0 only
+  p.emplace_back(-1, 0, 0.5);
+  p.emplace_back(-1, -1, 0.5);
+  f.push_back({0, tip, tip + 1});  // (face 21)
+  const RepairedMesh r = repair_mesh(p, f);
+  for (const char* what :
+       {"faces reoriented", "duplicate faces dropped", "repeated vertex", "unreferenced vertices",
+        "zero-length edges collapsed", "non-manifold vertices split"}) {
+    EXPECT_NE(entry(r, what), nullptr) << what;
+  }
+  EXPECT_EQ(entry(r, "duplicate faces")->first, std::vector<int>{18});
+  EXPECT_EQ(entry(r, "unreferenced")->first, std::vector<int>{16});
+  EXPECT_EQ(entry(r, "faces reoriented")->first, std::vector<int>{4});
+  // Two components (the grid and the fan), the input's vertices where they were, the vertex
+  // split at the fan's corner copied after them.
+  ASSERT_EQ(r.components.size(), 2u);
+  for (size_t v = 0; v < p.size(); ++v) EXPECT_EQ(r.positions[v], p[v]);
+  EXPECT_EQ(r.positions.size(), p.size() + 1);
+  EXPECT_EQ(r.original.back(), 0);
+  EXPECT_EQ(r.represented_by[17], 5);  // collapsed onto vertex 5
+  EXPECT_EQ(r.represented_by[16], -1);
+  EXPECT_NEAR(repaired_area(r), input_area + 0.5 * std::sqrt(1.25), 1e-12);
+}
+
+TEST(Repair, CapsAreRemovedBySplittingTheirNeighbour) {
+  // Vertex 4 lies on the edge (1, 2) of face (0, 1, 2); the cap (1, 4, 2) fills the slit.
+  const Points p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.5, 0}};
+  const Faces f = {{0, 1, 2}, {1, 3, 2}, {1, 4, 2}};
+  EXPECT_THROW(CompactMesh(p, f), InvalidMeshError);
+  // The cap's neighbour across (1, 2) is face 0 or face 1: made a fan with its other triangle.
+  const Faces with_cap = {{0, 1, 2}, {2, 1, 4}, {3, 2, 4}, {1, 3, 4}};
+  const RepairedMesh r = repair_mesh(p, with_cap);
+  ASSERT_NE(entry(r, "zero-area faces removed"), nullptr);
+  ASSERT_EQ(r.components.size(), 1u);
+  const CompactMesh& m = r.components[0].mesh;
+  EXPECT_EQ(m.num_faces(), 4);  // face 0 split in two, the cap gone
+  EXPECT_TRUE(m.is_disk());
+  EXPECT_NEAR(m.input_area(), 1.0, 1e-15);
+  // Both halves lie in input face 0.
+  int in_face_0 = 0;
+  for (int input : r.components[0].face) in_face_0 += input == 0;
+  EXPECT_EQ(in_face_0, 2);
+}
+
+TEST(Repair, NonManifoldEdgeKeepsOnePairGlued) {
+  const Points p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}};
+  const RepairedMesh r = repair_mesh(p, {{0, 1, 2}, {0, 2, 3}, {2, 0, 4}});
+  ASSERT_NE(entry(r, "non-manifold edges cut open"), nullptr);
+  ASSERT_EQ(r.components.size(), 2u);
+  EXPECT_EQ(r.components[0].mesh.num_faces(), 2);  // the square, glued across (0, 2)
+  EXPECT_EQ(r.positions.size(), 7u);               // 0 and 2 copied for the third face
+}
+
+TEST(Repair, RefusesWhatCannotBeRepaired) {
+  const Points p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  EXPECT_THROW(repair_mesh(p, {}), InvalidMeshError);
+  EXPECT_THROW(repair_mesh(p, {{0, 1, 3}}), InvalidMeshError);
+  EXPECT_THROW(repair_mesh({{0, 0, 0}, {1, 0, 0}, {NAN, 1, 0}}, {{0, 1, 2}}), InvalidMeshError);
+  // A Moebius strip: three quads in a ring, the last glued with a half turn.
+  Points m;
+  for (int k = 0; k < 3; ++k) {
+    const double a = 2 * kPi * k / 3;
+    m.emplace_back(std::cos(a), std::sin(a), -0.2);
+    m.emplace_back(std::cos(a), std::sin(a), 0.2);
+  }
+  const Faces strip = {{0, 2, 3}, {0, 3, 1}, {2, 4, 5}, {2, 5, 3}, {4, 1, 0}, {4, 0, 5}};
+  try {
+    repair_mesh(m, strip);
+    FAIL() << "a Moebius strip is not orientable";
+  } catch (const InvalidMeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("not orientable"), std::string::npos) << e.what();
+  }
+  // Strict: the first defect, as the compact mesh names it.
+  EXPECT_THROW(repair_mesh(p, {{0, 1, 2}, {0, 1, 2}}, {true}), InvalidMeshError);
+}
+
+}  // namespace
+}  // namespace ricci
