@@ -97,7 +97,7 @@ int run(const cli::Options& o) {
   const MeshUniformization run = uniformize_mesh(std::move(repaired), request);
   if (show_progress) std::fprintf(stderr, "\n");
   if (!o.report.empty()) write_text(o.report, json_report(run, context));
-  run.require_converged(o.input);
+  run.require_valid(o.input);
   cli::write_result_ply(o.output, run, o.ascii);
   if (!o.picture.empty()) cli::write_layout_png(o.picture, run.faces, run.texture.vertex, run.u);
   if (!o.quiet) {

@@ -155,12 +155,21 @@ const std::vector<Flag>& flags() {
        [](O& o, const std::string&, const std::string& v) {
          o.request.flow.linear_solver = linear_solver_from_string(v);
        }},
+      {{"--flips"},
+       "WHEN",
+       "edge flips that keep the triangulation (power) Delaunay: when-needed (run on the input's "
+       "triangulation, again with flips where that does not converge), always, never",
+       [](const O& o) { return to_string(o.request.edge_flips); },
+       [](O& o, const std::string&, const std::string& v) {
+         o.request.edge_flips = edge_flips_from_string(v);
+       }},
       {{"--no-flips"},
        "",
-       "keep the input triangulation (by default edges are flipped to keep it (power) Delaunay, "
-       "which real meshes need)",
+       "the same as --flips never: keep the input's triangulation",
        nullptr,
-       [](O& o, const std::string&, const std::string&) { o.request.flow.edge_flips = false; }},
+       [](O& o, const std::string&, const std::string&) {
+         o.request.edge_flips = EdgeFlips::Never;
+       }},
       {{"--strict"},
        "",
        "refuse a mesh that needs repairs (by default duplicate, degenerate and misoriented faces, "

@@ -97,11 +97,11 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
   o.flow.max_iterations = settings.max_iterations;
   o.flow.linear_solver = settings.linear_solver;
   o.flow.max_step_halvings = settings.max_step_halvings;
-  o.flow.edge_flips = settings.edge_flips;
+  o.edge_flips = settings.edge_flips ? EdgeFlips::WhenNeeded : EdgeFlips::Never;
   o.flow.progress = progress;
   FilterComputation c;
   c.uniformization = uniformize(input.mesh, o);
-  c.uniformization.require_converged();
+  c.uniformization.require_valid();
   c.texture = texture_coordinates(c.uniformization);
   return c;
 }

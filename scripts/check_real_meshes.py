@@ -102,9 +102,9 @@ def check(ply_path):
     else:
         return len(faces), 0, 0, "no layout"
     scale = max(np.abs(area).max(), 1e-300)
-    flipped = int(np.sum(~(area > 0)))
-    collapsed = int(np.sum(np.abs(area) <= 1e-12 * scale))
-    return len(faces), flipped - collapsed, collapsed, kind
+    flipped = int(np.sum(area < 0))
+    collapsed = int(np.sum((area >= 0) & (area <= 1e-12 * scale)))
+    return len(faces), flipped, collapsed, kind
 
 
 def default_meshes():
@@ -113,7 +113,8 @@ def default_meshes():
     folder = os.path.join(ROOT, "third_party", "real-meshes")
     for line in open(tsv).read().splitlines()[1:]:
         name, _source, _path, fmt, _licence, category, _note = line.split("\t")
-        meshes.append((os.path.join(folder, name + "." + fmt), category))
+        found = [f for f in os.listdir(folder) if os.path.splitext(f)[0] == name]
+        meshes.append((os.path.join(folder, found[0] if found else name + "." + fmt), category))
     return meshes
 
 
@@ -123,7 +124,7 @@ def main():
     parser.add_argument("out")
     parser.add_argument("--timeout", type=float, default=120)
     parser.add_argument("meshes", nargs="*")
-    args = parser.parse_args()
+    args = parser.parse_intermixed_args()
     os.makedirs(args.out, exist_ok=True)
     meshes = [(m, "") for m in args.meshes] or default_meshes()
     rows = []
@@ -142,7 +143,8 @@ def main():
         seconds = time.time() - start
         if code == 0:
             faces, flipped, collapsed, kind = check(out)
-            status = "valid" if flipped == 0 else "FLIPPED"
+            status = "valid" if flipped == 0 and collapsed == 0 else (
+                "FLIPPED" if flipped else "COLLAPSED")
             detail = "%d faces, %s, %d flipped, %d collapsed" % (faces, kind, flipped, collapsed)
         else:
             status = "refused" if code in (1, 2) else "failed"

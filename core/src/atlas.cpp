@@ -238,13 +238,18 @@ bool MeshUniformization::converged() const {
                      [](const Uniformization& run) { return run.converged(); });
 }
 
-void MeshUniformization::require_converged(const std::string& subject) const {
+bool MeshUniformization::valid() const {
+  return std::all_of(components.begin(), components.end(),
+                     [](const Uniformization& run) { return run.valid(); });
+}
+
+void MeshUniformization::require_valid(const std::string& subject) const {
   for (size_t k = 0; k < components.size(); ++k) {
     if (components.size() == 1) {
-      components[k].require_converged(subject);
+      components[k].require_valid(subject);
     } else {
-      components[k].require_converged((subject.empty() ? "" : subject + ", ") + "component " +
-                                      std::to_string(k));
+      components[k].require_valid((subject.empty() ? "" : subject + ", ") + "component " +
+                                  std::to_string(k));
     }
   }
 }

@@ -79,10 +79,15 @@ LayoutQuality measure_layout(const CompactMesh& mesh, Geometry geometry, const F
     layout_area[f] = triangle_area(to);
     input_total += input_area[f];
     layout_total += layout_area[f];
-    q.flipped_faces += !(orientation(geometry, p) > 0);
+    if (!(orientation(geometry, p) > 0)) {
+      if (q.flipped_faces++ == 0) q.first_flipped_face = f;
+    }
   }
   std::vector<double> area_ratio(nf);
   for (int f = 0; f < nf; ++f) {
+    if (layout_area[f] <= 1e-12 * layout_total / nf && orientation(geometry, corners[f]) > 0) {
+      if (q.collapsed_faces++ == 0) q.first_collapsed_face = f;
+    }
     area_ratio[f] = (layout_area[f] / layout_total) / (input_area[f] / input_total);
   }
   q.quasi_conformal_median = quantile(ratio, 0.5);

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "mesh_checks.h"
 #include "ricci/errors.h"
@@ -34,6 +35,14 @@ class Reporter {
     }
     ++it->count;
     if (it->first.size() < 3) it->first.push_back(index);
+  }
+  void merge(const Reporter& other) {
+    for (const RepairReport::Entry& e : other.report.entries) {
+      for (int index : e.first) add(e.what, e.element, index);
+      auto it = std::find_if(report.entries.begin(), report.entries.end(),
+                             [&](const RepairReport::Entry& x) { return x.what == e.what; });
+      it->count += e.count - static_cast<int>(e.first.size());
+    }
   }
   RepairReport report;
 };
@@ -252,17 +261,21 @@ namespace {
 
 // One vertex per fan of faces: corners are joined across glued edges; a vertex with several
 // fans gets a copy per further fan. Then the faces' components.
-void split_fans_and_components(const std::vector<Face>& faces, RepairedMesh& out,
-                               Reporter& reporter) {
+// Splits vertices into one per fan (corners joined across glued edges) and returns the faces on
+// them; `components` joins the faces across glued edges. `cut_all`: edges whose faces stay apart.
+std::vector<std::array<int, 3>> split_fans(const std::vector<Face>& faces, const EdgeMap& edges,
+                                           const std::unordered_set<std::uint64_t>& cut_all,
+                                           RepairedMesh& out, UnionFind& components,
+                                           Reporter& reporter) {
   const int nf = static_cast<int>(faces.size());
-  const EdgeMap edges = edge_uses(faces);
-  UnionFind corners(3 * nf), components(nf);
+  UnionFind corners(3 * nf);
   const auto corner = [&](int f, int v) {
     return 3 * f + static_cast<int>(std::find(faces[f].v.begin(), faces[f].v.end(), v) -
                                     faces[f].v.begin());
   };
   for (const auto& [key, uses] : edges) {
     if (uses.size() > 2) reporter.add("non-manifold edges cut open", "edge", uses[0].from);
+    if (cut_all.count(key)) continue;
     for (const auto& [first, second] : glued_pairs(uses)) {
       components.unite(first.face, second.face);
       for (int v : {first.from, second.from}) {
@@ -288,6 +301,43 @@ void split_fans_and_components(const std::vector<Face>& faces, RepairedMesh& out
       }
     }
     split[k / 3][k % 3] = vertex_of_root[root];
+  }
+  return split;
+}
+
+// One vertex per fan of faces, and the components. Where faces of a non-manifold edge were paired
+// but their fans joined again (so one component would still have the edge more than twice), all
+// faces of that edge are cut apart and the split is redone.
+void split_fans_and_components(const std::vector<Face>& faces, RepairedMesh& out,
+                               Reporter& reporter) {
+  const int nf = static_cast<int>(faces.size());
+  const EdgeMap edges = edge_uses(faces);
+  const size_t input_vertices = out.positions.size();
+  std::unordered_set<std::uint64_t> cut_all;
+  std::vector<std::array<int, 3>> split;
+  UnionFind components(nf);
+  for (int attempt = 0;; ++attempt) {
+    out.positions.resize(input_vertices);
+    out.original.resize(input_vertices);
+    components = UnionFind(nf);
+    Reporter attempt_reporter;
+    split = split_fans(faces, edges, cut_all, out, components, attempt_reporter);
+    std::unordered_map<std::uint64_t, int> faces_at;
+    for (const auto& t : split) {
+      for (int c = 0; c < 3; ++c) ++faces_at[edge_key(t[c], t[(c + 1) % 3])];
+    }
+    const size_t before = cut_all.size();
+    for (int f = 0; f < nf; ++f) {
+      for (int c = 0; c < 3; ++c) {
+        if (faces_at[edge_key(split[f][c], split[f][(c + 1) % 3])] > 2) {
+          cut_all.insert(edge_key(faces[f].v[c], faces[f].v[(c + 1) % 3]));
+        }
+      }
+    }
+    if (cut_all.size() == before || attempt == 4) {
+      reporter.merge(attempt_reporter);
+      break;
+    }
   }
   // Components in the order of their first input face.
   std::map<int, std::vector<int>> members;  // root -> faces

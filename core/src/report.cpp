@@ -105,7 +105,8 @@ std::vector<std::pair<std::string, double>> result_numbers(const Uniformization&
           {"quasi_conformal_median", run.quality.quasi_conformal_median},
           {"closure_error", run.layout.closure_error},
           {"circle_error", run.circle_error},
-          {"flows", run.totals.flows}};
+          {"flows", run.totals.flows},
+          {"collapsed_faces", run.quality.collapsed_faces}};
 }
 
 std::vector<std::string> summary_lines(const MeshUniformization& run, const RunContext& context) {
@@ -139,7 +140,7 @@ std::vector<std::pair<std::string, double>> result_numbers(const MeshUniformizat
     for (size_t i = 0; i < numbers.size(); ++i) {
       const std::string& name = numbers[i].first;
       const bool sum = name == "iterations" || name == "edge_flips" || name == "flipped_faces" ||
-                       name == "flows";
+                       name == "flows" || name == "collapsed_faces";
       total[i].second =
           sum ? total[i].second + numbers[i].second : std::max(total[i].second, numbers[i].second);
     }
@@ -171,6 +172,7 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
   line("Converged in ", t.newton_iterations, " Newton iterations with ", t.edge_flips,
        " edge flips: max |K - Kbar| = ", run.quality.max_curvature_error, ", mean ",
        run.quality.mean_curvature_error, " (", t.times.total, " s)");
+  if (run.edge_flips_needed) line("Edge flips were needed: without them, ", run.without_flips);
   if (run.preset == TargetPreset::UnitDisk) {
     line("Boundary loops on circles after ", t.flows, " flows: circle error ", run.circle_error);
   }
@@ -184,6 +186,15 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
        " of the input's faces flipped; quasi-conformal ratio median ", q.quasi_conformal_median,
        ", 95% ", q.quasi_conformal_p95, ", max ", q.quasi_conformal_max, "; area ratio 5%..95% ",
        q.area_ratio_p5, "..", q.area_ratio_p95);
+  if (q.collapsed_faces > 0) {
+    line("Warning: ", q.collapsed_faces,
+         " of the input's faces are squeezed to almost no area in "
+         "the layout (first: face ",
+         q.first_collapsed_face,
+         "): the conformal map shrinks "
+         "protrusions exponentially");
+  }
+  if (!run.layout_failure.empty()) line("Invalid layout: ", run.layout_failure);
   const Layout& m = run.layout;
   if (!m.cut.paths.empty()) {
     line("Cut into a disk along ", m.cut.paths.size(), " paths (", m.cut.num_generators,
@@ -222,6 +233,9 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
   j << "  \"converged\": " << (result.converged ? "true" : "false") << ",\n";
   j << "  \"failure\": " << (result.converged ? "null" : quoted(result.failure)) << ",\n";
   j << "  \"residual\": " << number(result.residual) << ",\n";
+  j << "  \"edge_flips_needed\": " << (run.edge_flips_needed ? "true" : "false") << ",\n";
+  j << "  \"without_flips\": " << (run.edge_flips_needed ? quoted(run.without_flips) : "null")
+    << ",\n";
   j << "  \"flows\": " << totals.flows << ",\n";
   j << "  \"iterations\": " << totals.newton_iterations << ",\n";
   j << "  \"edge_flips\": " << totals.edge_flips << ",\n";

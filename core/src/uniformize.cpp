@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <complex>
+#include <sstream>
 
 #include "circle_domain.h"
 #include "ricci/errors.h"
@@ -143,10 +144,34 @@ void FlowTotals::add(const FlowResult& r) {
   times.total += r.times.total;
 }
 
-void Uniformization::require_converged(const std::string& subject) const {
-  if (result.converged) return;
-  throw ConvergenceError(flow_failure_message(geometry, scheme, result, subject), result.iterations,
-                         result.residual);
+void Uniformization::require_valid(const std::string& subject) const {
+  if (!result.converged) {
+    throw ConvergenceError(flow_failure_message(geometry, scheme, result, subject),
+                           result.iterations, result.residual);
+  }
+  if (!layout_failure.empty()) {
+    throw LayoutError("layout" + (subject.empty() ? "" : " of " + subject) + ": " + layout_failure);
+  }
+}
+
+std::string to_string(EdgeFlips f) {
+  switch (f) {
+    case EdgeFlips::WhenNeeded:
+      return "when-needed";
+    case EdgeFlips::Always:
+      return "always";
+    case EdgeFlips::Never:
+      return "never";
+  }
+  return "?";
+}
+
+EdgeFlips edge_flips_from_string(const std::string& name) {
+  for (EdgeFlips f : {EdgeFlips::WhenNeeded, EdgeFlips::Always, EdgeFlips::Never}) {
+    if (to_string(f) == name) return f;
+  }
+  throw InvalidArgumentError("unknown edge flip choice '" + name +
+                             "'; choose when-needed, always or never");
 }
 
 std::string to_string(LayoutKind k) {
@@ -222,7 +247,55 @@ LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geomet
   return LayoutKind::None;
 }
 
+namespace {
+
+// What makes a converged layout no map: faces turned over, the unit disk's loops off circles.
+std::string layout_failure(const Uniformization& run) {
+  std::ostringstream s;
+  if (run.quality.flipped_faces > 0) {
+    s << run.quality.flipped_faces << " of the input's faces are turned over (first: face "
+      << run.quality.first_flipped_face << ")";
+    if (run.result.num_flips > 0 || run.edge_flips_needed) {
+      s << ": the flow needed edge flips, and the input's faces drawn over the flipped "
+           "triangulation by their corners can turn over; try another scheme";
+    }
+    return s.str();
+  }
+  if (run.preset == TargetPreset::UnitDisk && !(run.circle_error <= 1e-6)) {
+    s << "the boundary loops are not on circles: circle error " << run.circle_error
+      << " (a flat metric with these boundary curvatures was found, but its loops do not close "
+         "up into circles)";
+  }
+  return s.str();
+}
+
+}  // namespace
+
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+  if (request.edge_flips != EdgeFlips::WhenNeeded) {
+    UniformizationOptions o = request;
+    o.flow.edge_flips = request.edge_flips == EdgeFlips::Always;
+    return uniformize_once(mesh, o);
+  }
+  UniformizationOptions o = request;
+  o.flow.edge_flips = false;
+  Uniformization plain = uniformize_once(mesh, o);
+  if (plain.converged()) return plain;
+  o.flow.edge_flips = true;
+  Uniformization flipped = uniformize_once(mesh, o);
+  flipped.edge_flips_needed = true;
+  flipped.without_flips = plain.result.failure;
+  const FlowTotals& before = plain.totals;
+  flipped.totals.times.total += before.times.total;
+  flipped.totals.newton_iterations += before.newton_iterations;
+  flipped.totals.numeric_factorizations += before.numeric_factorizations;
+  flipped.totals.symbolic_analyses += before.symbolic_analyses;
+  flipped.totals.flows += before.flows;
+  flipped.layout_failure = layout_failure(flipped);
+  return flipped;
+}
+
+Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOptions& request) {
   const UniformizationOptions o = with_cone_values(mesh, request);
   Uniformization run;
   std::tie(run.preset, run.geometry) = resolve_request(mesh, o);
@@ -242,6 +315,7 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   }
   if (run.result.converged) lay_out_result(mesh, o, outer, run);
   run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
+  if (run.result.converged) run.layout_failure = layout_failure(run);
   return run;
 }
 

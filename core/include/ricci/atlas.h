@@ -31,8 +31,9 @@ struct MeshUniformization {
   TextureCoordinates texture;
 
   bool converged() const;
-  //! \throws ConvergenceError naming the first component that did not converge.
-  void require_converged(const std::string& subject = "") const;
+  bool valid() const;  //!< every component converged with a valid layout
+  //! \throws ConvergenceError or LayoutError naming the first component that failed.
+  void require_valid(const std::string& subject = "") const;
 };
 
 //! The layout each component will get (planned_layout of its resolved request).

@@ -44,6 +44,13 @@ class ConvergenceError : public Error {
   double residual_;
 };
 
+//! The flow converged but its layout is not a valid map: faces turned over, boundary loops off
+//! their circles.
+class LayoutError : public Error {
+ public:
+  using Error::Error;
+};
+
 //! A sparse factorization failed in a way that step control cannot recover from.
 class SolverError : public Error {
  public:

@@ -22,6 +22,11 @@ struct LayoutQuality {
   //! 95th percentile.
   double area_ratio_p5 = 1, area_ratio_median = 1, area_ratio_p95 = 1;
   int flipped_faces = 0;  //!< input faces whose layout triangle is turned over or degenerate
+  int first_flipped_face = -1;
+  //! Input faces whose layout triangle keeps its orientation but has less than 1e-12 of the
+  //! layout's mean triangle area: squeezed below what float texture coordinates resolve.
+  int collapsed_faces = 0;
+  int first_collapsed_face = -1;
 };
 
 //! Measures a layout given per input face and corner: points in the plane (z = 0), in the

@@ -44,6 +44,14 @@ enum class LayoutKind {
 //! "none", "plane", "plane-cut", "poincare-disk", "sphere".
 std::string to_string(LayoutKind k);
 
+//! When the flow flips edges: only when it cannot converge on the input's triangulation (then the
+//! whole uniformization is run again with flips), always, or never.
+enum class EdgeFlips { WhenNeeded, Always, Never };
+//! "when-needed", "always", "never".
+std::string to_string(EdgeFlips f);
+//! Inverse of to_string. \throws InvalidArgumentError naming the choices.
+EdgeFlips edge_flips_from_string(const std::string& name);
+
 struct UniformizationOptions {
   TargetPreset preset = TargetPreset::Automatic;
   //! The geometry; empty: the preset's (preset_geometry), or for Values the one Gauss-Bonnet
@@ -55,7 +63,9 @@ struct UniformizationOptions {
   //! preset is Values and `values` is ignored.
   std::vector<Cone> cones;
   SchemeOptions scheme;
+  //! The flow's options; its edge_flips is set by `edge_flips` below.
   FlowOptions flow;
+  EdgeFlips edge_flips = EdgeFlips::WhenNeeded;
   //! Disk preset: the vertex mapped to the centre of the unit disk, and the one mapped onto the
   //! positive real axis (-1: none).
   int center_vertex = -1, axis_vertex = -1;
@@ -98,11 +108,18 @@ struct Uniformization {
   //! transformations; |Im(conj(w0) w1)| is the torus's area.
   std::vector<std::complex<double>> periods;
   LayoutQuality quality;
+  //! EdgeFlips::WhenNeeded: the run without flips did not converge, this one flipped; why not.
+  bool edge_flips_needed = false;
+  std::string without_flips;
+  //! Why the layout is not a valid map (faces turned over, boundary off its circles), or "".
+  std::string layout_failure;
 
   bool converged() const { return result.converged; }
+  //! Converged, and the layout a valid map.
+  bool valid() const { return converged() && layout_failure.empty(); }
   //! \throws ConvergenceError with flow_failure_message (naming `subject`, e.g. the input file,
-  //!   when not empty) when the flow did not converge.
-  void require_converged(const std::string& subject = "") const;
+  //!   when not empty) when the flow did not converge, LayoutError when the layout is invalid.
+  void require_valid(const std::string& subject = "") const;
 };
 
 //! The preset (never Automatic) and geometry a request resolves to, checked.
@@ -113,10 +130,14 @@ std::pair<TargetPreset, Geometry> resolve_request(const CompactMesh& mesh,
 //! The kind of layout uniformize() gives for a resolved request, when the flow converges.
 LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geometry geometry);
 
-//! Runs the preset's flow and lays out its result. Never throws for non-convergence: the result
-//! says why (require_converged() turns that into a ConvergenceError).
+//! Runs the preset's flow and lays out its result. Never throws for non-convergence or an invalid
+//! layout: the result says why (require_valid() turns that into an error).
 //! \throws InvalidTargetError, InvalidArgumentError for requests that admit no solution (named).
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& options);
+
+//! One uniformization with the flow's edge flips as options.flow.edge_flips says (uniformize()
+//! decides them by options.edge_flips).
+Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOptions& options);
 
 //! Texture coordinates in [0, 1]^2 of a layout: per vertex for Plane (scaled with the aspect ratio
 //! kept), per face corner for PlaneCut (the same) and PoincareDisk ((z + 1) / 2); none for the
