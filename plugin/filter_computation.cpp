@@ -64,7 +64,7 @@ int compact_vertex(const MeshInput& in, int slot, const char* what) {
 }
 
 std::vector<int> mixed_eps(const MeshInput& in, MixedEpsSource source) {
-  std::vector<int> eps(in.mesh.num_vertices(), 0);
+  std::vector<int> eps(in.selected.size(), 0);
   if (source == MixedEpsSource::Selection) {
     for (size_t v = 0; v < eps.size(); ++v) eps[v] = in.selected[v] ? 1 : 0;
     return eps;
@@ -100,17 +100,16 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
   o.edge_flips = settings.edge_flips ? EdgeFlips::WhenNeeded : EdgeFlips::Never;
   o.flow.progress = progress;
   FilterComputation c;
-  c.uniformization = uniformize(input.mesh, o);
-  c.uniformization.require_valid();
-  c.texture = texture_coordinates(c.uniformization);
+  c.run = uniformize_mesh(input.repaired, o);
+  c.run.require_valid();
   return c;
 }
 
 WrittenComponents written_components(const FilterSettings& settings, const FilterComputation& c) {
   WrittenComponents w;
   w.quality_and_color = settings.write_quality;
-  w.vertex_texcoord = settings.write_texture_coordinates && !c.texture.vertex.empty();
-  w.wedge_texcoord = settings.write_texture_coordinates && !c.texture.wedge.empty();
+  w.vertex_texcoord = settings.write_texture_coordinates && !c.texture().vertex.empty();
+  w.wedge_texcoord = settings.write_texture_coordinates && !c.texture().wedge.empty();
   w.layout_layer = settings.add_layout_layer && c.has_vertex_layout();
   return w;
 }

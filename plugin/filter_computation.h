@@ -12,26 +12,37 @@
 #include <vcg/complex/complex.h>
 
 #include "filter_settings.h"
+#include "ricci/atlas.h"
+#include "ricci/repair.h"
 #include "ricci/uniformize.h"
 #include "ricci/vcg_adapter.h"
 
 namespace ricci::plugin {
 
-//! The per-vertex data the filter reads, in compact vertex order.
+//! What the filter reads, with the live vertices and faces in storage order ("compact" order).
 struct MeshInput {
-  CompactMesh mesh;
-  std::vector<int> compact_index;  //!< per slot of the vcg vertex vector; -1 where deleted
-  std::vector<char> selected;      //!< vertex selection flags
-  std::vector<double> quality;     //!< vertex quality; empty when the mesh has none
+  std::vector<std::array<int, 3>> faces;  //!< the live faces, on compact vertex indices
+  std::vector<int> compact_index;         //!< per slot of the vcg vertex vector; -1 where deleted
+  std::vector<char> selected;             //!< vertex selection flags
+  std::vector<double> quality;            //!< vertex quality; empty when the mesh has none
+  //! Repaired and split into components; its vertices are the compact ones, then copies.
+  RepairedMesh repaired;
+  //! The first component (the whole mesh when it is one clean component).
+  const CompactMesh& mesh() const { return repaired.components.front().mesh; }
 };
 
 struct FilterComputation {
-  Uniformization uniformization;  //!< flow, layout and its quality
-  TextureCoordinates texture;     //!< per vertex (plane) or per face corner (cut open)
+  MeshUniformization run;  //!< every component's flow, layout and quality, gathered per vertex
 
-  const FlowResult& result() const { return uniformization.result; }
+  const Uniformization& uniformization() const { return run.components.front(); }
+  const FlowResult& result() const { return uniformization().result; }
+  const TextureCoordinates& texture() const { return run.texture; }
   //! The layout has one position per vertex (plane, sphere).
-  bool has_vertex_layout() const { return !uniformization.position.empty(); }
+  bool has_vertex_layout() const { return !run.position.empty(); }
+  //! The repairs changed the vertices or faces: the mesh is rebuilt when the results are written.
+  bool rebuilds(const MeshInput& input) const {
+    return run.faces != input.faces || run.mesh.positions.size() != input.selected.size();
+  }
 };
 
 //! The optional mesh components a computation writes, for the adapter to enable first.
@@ -43,50 +54,87 @@ struct WrittenComponents {
 };
 WrittenComponents written_components(const FilterSettings& settings, const FilterComputation& c);
 
-//! Reads positions, faces, selection and, if has_quality, the quality of the live vertices.
+//! Reads positions, faces, selection and, if has_quality, the quality of the live vertices, and
+//! repairs the mesh (repair.h; with strict, refuses one that needs repairs instead).
 //! (MeshLab's meshes always carry a quality field; whether it holds data is in the MeshModel's
 //! data mask, which the caller passes as has_quality.)
 //! \throws InvalidMeshError when the mesh cannot be used.
 template <class MeshT>
-MeshInput read_mesh_input(const MeshT& m, bool has_quality) {
-  std::vector<int> index;
-  CompactMesh mesh = compact_mesh_from_vcg(m, &index);
-  MeshInput in{std::move(mesh), std::move(index), {}, {}};
-  in.selected.assign(in.mesh.num_vertices(), 0);
+MeshInput read_mesh_input(const MeshT& m, bool has_quality, bool strict = false) {
+  MeshInput in;
+  std::vector<Eigen::Vector3d> positions;
+  mesh_arrays_from_vcg(m, positions, in.faces, &in.compact_index);
+  in.selected.assign(positions.size(), 0);
   has_quality = has_quality && vcg::tri::HasPerVertexQuality(m);
-  if (has_quality) in.quality.assign(in.mesh.num_vertices(), 0.0);
+  if (has_quality) in.quality.assign(positions.size(), 0.0);
   for (size_t i = 0; i < m.vert.size(); ++i) {
     const int v = in.compact_index[i];
     if (v < 0) continue;
     in.selected[v] = m.vert[i].IsS();
     if (has_quality) in.quality[v] = static_cast<double>(m.vert[i].cQ());
   }
+  in.repaired = repair_mesh(positions, in.faces, {strict});
   return in;
 }
 
-//! Runs the flow and lays out its result (uniformize.h).
-//! \throws the core's errors, and ConvergenceError when the flow does not converge.
+//! Runs the flow on every component and lays out its result (atlas.h).
+//! \throws the core's errors, ConvergenceError when a flow does not converge, LayoutError when a
+//!   layout is not a valid map.
 FilterComputation compute(const MeshInput& input, const FilterSettings& settings,
                           const std::function<bool(const FlowProgress&)>& progress = {});
 
+//! Replaces the mesh's faces by the repaired ones and adds the vertex copies the repairs made,
+//! then compacts it: afterwards its live vertices are the repaired mesh's, in order.
+template <class MeshT>
+void rebuild_repaired(MeshT& m, const FilterComputation& c) {
+  using Allocator = vcg::tri::Allocator<MeshT>;
+  using Scalar = typename MeshT::ScalarType;
+  Allocator::CompactEveryVector(m);
+  const std::vector<Eigen::Vector3d>& p = c.run.mesh.positions;
+  const size_t live = m.vert.size();
+  if (p.size() > live) Allocator::AddVertices(m, p.size() - live);
+  for (size_t v = live; v < p.size(); ++v) {
+    m.vert[v].P() =
+        vcg::Point3<Scalar>(static_cast<Scalar>(p[v].x()), static_cast<Scalar>(p[v].y()),
+                            static_cast<Scalar>(p[v].z()));
+  }
+  for (auto& f : m.face) {
+    if (!f.IsD()) Allocator::DeleteFace(m, f);
+  }
+  auto added = Allocator::AddFaces(m, c.run.faces.size());
+  for (const auto& t : c.run.faces) {
+    for (int k = 0; k < 3; ++k) added->V(k) = &m.vert[t[k]];
+    ++added;
+  }
+  Allocator::CompactEveryVector(m);
+}
+
 //! Writes the results: custom attributes ricci_u, ricci_radius, ricci_curvature, ricci_target
 //! (float) and, with a per-vertex layout, ricci_layout (Point3); texture coordinates per vertex
-//! (plane) or per wedge (cut open); vertex quality = u with a color ramp. The caller enables the
-//! optional components first (quality, color, vertex or wedge texture coordinates) as
-//! written_components() and the settings ask.
+//! (plane) or per wedge (cut open); vertex quality = u with a color ramp. A mesh the repairs
+//! changed is rebuilt first (rebuild_repaired). The caller enables the optional components first
+//! (quality, color, vertex or wedge texture coordinates) as written_components() and the settings
+//! ask. Returns, per vertex slot of the mesh as written, its vertex of the repaired mesh (-1 where
+//! deleted).
 template <class MeshT>
-void write_results(MeshT& m, const MeshInput& input, const FilterSettings& settings,
-                   const FilterComputation& c) {
+std::vector<int> write_results(MeshT& m, const MeshInput& input, const FilterSettings& settings,
+                               const FilterComputation& c) {
   using Allocator = vcg::tri::Allocator<MeshT>;
   using Scalar = typename MeshT::ScalarType;
   using Point3 = vcg::Point3<Scalar>;
-  const FlowResult& result = c.result();
+  std::vector<int> vertex_of_slot = input.compact_index;
+  if (c.rebuilds(input)) {
+    rebuild_repaired(m, c);
+    vertex_of_slot.resize(m.vert.size());
+    for (size_t i = 0; i < m.vert.size(); ++i) vertex_of_slot[i] = static_cast<int>(i);
+  }
+  const MeshUniformization& run = c.run;
   auto u = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_u");
   auto radius = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_radius");
   auto curvature = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_curvature");
   auto target = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_target");
-  const bool vertex_uv = !c.texture.vertex.empty() && settings.write_texture_coordinates;
-  const bool wedge_uv = !c.texture.wedge.empty() && settings.write_texture_coordinates;
+  const bool vertex_uv = !run.texture.vertex.empty() && settings.write_texture_coordinates;
+  const bool wedge_uv = !run.texture.wedge.empty() && settings.write_texture_coordinates;
   if (vertex_uv) vcg::tri::RequirePerVertexTexCoord(m);
   if (wedge_uv) vcg::tri::RequirePerFaceWedgeTexCoord(m);
   if (settings.write_quality) vcg::tri::RequirePerVertexQuality(m);
@@ -95,32 +143,32 @@ void write_results(MeshT& m, const MeshInput& input, const FilterSettings& setti
     layout = Allocator::template GetPerVertexAttribute<Point3>(m, "ricci_layout");
   }
   for (size_t i = 0; i < m.vert.size(); ++i) {
-    const int v = input.compact_index[i];
+    const int v = vertex_of_slot[i];
     if (v < 0) continue;
     auto& vertex = m.vert[i];
-    u[vertex] = static_cast<Scalar>(result.u[v]);
-    radius[vertex] = static_cast<Scalar>(result.radius[v]);
-    curvature[vertex] = static_cast<Scalar>(result.curvature[v]);
-    target[vertex] = static_cast<Scalar>(result.target[v]);
+    u[vertex] = static_cast<Scalar>(run.u[v]);
+    radius[vertex] = static_cast<Scalar>(run.radius[v]);
+    curvature[vertex] = static_cast<Scalar>(run.curvature[v]);
+    target[vertex] = static_cast<Scalar>(run.target[v]);
     if (layout) {
-      const Eigen::Vector3d& p = c.uniformization.position[v];
+      const Eigen::Vector3d& p = run.position[v];
       (*layout)[vertex] = Point3(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()),
                                  static_cast<Scalar>(p.z()));
     }
     if (vertex_uv) {
-      vertex.T().U() = static_cast<Scalar>(c.texture.vertex[v].x());
-      vertex.T().V() = static_cast<Scalar>(c.texture.vertex[v].y());
+      vertex.T().U() = static_cast<Scalar>(run.texture.vertex[v].x());
+      vertex.T().V() = static_cast<Scalar>(run.texture.vertex[v].y());
       vertex.T().N() = 0;
     }
-    if (settings.write_quality) vertex.Q() = static_cast<Scalar>(result.u[v]);
+    if (settings.write_quality) vertex.Q() = static_cast<Scalar>(run.u[v]);
   }
   if (wedge_uv) {
-    size_t f = 0;  // compact faces are the live faces in storage order
+    size_t f = 0;  // the live faces are the repaired mesh's faces, in order
     for (auto& face : m.face) {
       if (face.IsD()) continue;
       for (int k = 0; k < 3; ++k) {
-        face.WT(k).U() = static_cast<Scalar>(c.texture.wedge[f][k].x());
-        face.WT(k).V() = static_cast<Scalar>(c.texture.wedge[f][k].y());
+        face.WT(k).U() = static_cast<Scalar>(run.texture.wedge[f][k].x());
+        face.WT(k).V() = static_cast<Scalar>(run.texture.wedge[f][k].y());
         face.WT(k).N() = 0;
       }
       ++f;
@@ -129,17 +177,20 @@ void write_results(MeshT& m, const MeshInput& input, const FilterSettings& setti
   if (settings.write_quality && vcg::tri::HasPerVertexColor(m)) {
     vcg::tri::UpdateColor<MeshT>::PerVertexQualityRamp(m);
   }
+  return vertex_of_slot;
 }
 
-//! Moves the vertices of `layer`, a copy of the input mesh, to the per-vertex layout (the plane
-//! at z = 0, or the unit sphere). \pre c.has_vertex_layout(), and layer has the input's slots.
+//! Moves the vertices of `layer`, a copy of the mesh as written, to the per-vertex layout (the
+//! plane at z = 0, or the unit sphere). \pre c.has_vertex_layout(); vertex_of_slot as
+//! write_results returned it.
 template <class MeshT>
-void place_at_layout(MeshT& layer, const MeshInput& input, const FilterComputation& c) {
+void place_at_layout(MeshT& layer, const std::vector<int>& vertex_of_slot,
+                     const FilterComputation& c) {
   using Scalar = typename MeshT::ScalarType;
   for (size_t i = 0; i < layer.vert.size(); ++i) {
-    const int v = input.compact_index[i];
+    const int v = vertex_of_slot[i];
     if (v < 0) continue;
-    const Eigen::Vector3d& p = c.uniformization.position[v];
+    const Eigen::Vector3d& p = c.run.position[v];
     layer.vert[i].P() = vcg::Point3<Scalar>(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()),
                                             static_cast<Scalar>(p.z()));
   }

@@ -152,6 +152,15 @@ const std::vector<ParameterSpec>& parameter_specs() {
        {},
        "Vertex quality = u, with color ramp",
        "Store the conformal factor u as vertex quality and color the mesh by it."},
+      {"strictMesh",
+       Kind::Bool,
+       d.strict ? 1.0 : 0.0,
+       {},
+       "Refuse meshes that need repairs",
+       "Off (default): duplicate, degenerate and misoriented faces, non-manifold edges and "
+       "vertices are repaired in ways that keep the surface (the log says what was done; the "
+       "mesh's faces are rebuilt then), and every connected component is mapped by its own "
+       "topology. On: such a mesh is refused and left as it was."},
       {"layoutLayer",
        Kind::Bool,
        d.add_layout_layer ? 1.0 : 0.0,
@@ -200,6 +209,7 @@ FilterSettings settings_from_values(const ParameterValues& values) {
   s.write_texture_coordinates = number(values, "writeUV") != 0;
   s.write_quality = number(values, "writeQuality") != 0;
   s.add_layout_layer = number(values, "layoutLayer") != 0;
+  s.strict = number(values, "strictMesh") != 0;
   return s;
 }
 

@@ -37,6 +37,7 @@ struct FilterSettings {
   bool write_texture_coordinates = true;
   bool write_quality = true;
   bool add_layout_layer = false;
+  bool strict = false;  //!< refuse a mesh that needs repairs instead of repairing it
 };
 
 //! One dialog parameter.

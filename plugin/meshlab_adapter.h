@@ -100,7 +100,8 @@ FilterComputation run_filter(Document& md, const ParameterValues& values, CallBa
   using Model = std::remove_reference_t<decltype(m)>;
   using Mesh = std::remove_reference_t<decltype(m.cm)>;
   const FilterSettings settings = settings_from_values(values);
-  const MeshInput input = read_mesh_input(m.cm, m.hasDataMask(Model::MM_VERTQUALITY));
+  const MeshInput input =
+      read_mesh_input(m.cm, m.hasDataMask(Model::MM_VERTQUALITY), settings.strict);
   double first = -1;
   FilterComputation c = compute(input, settings, [&](const FlowProgress& p) {
     if (first < 0) first = p.residual;
@@ -114,16 +115,20 @@ FilterComputation run_filter(Document& md, const ParameterValues& values, CallBa
   if (written.vertex_texcoord) mask |= Model::MM_VERTTEXCOORD;
   if (written.wedge_texcoord) mask |= Model::MM_WEDGTEXCOORD;
   m.updateDataMask(mask);
-  write_results(m.cm, input, settings, c);
+  const std::vector<int> vertex_of_slot = write_results(m.cm, input, settings, c);
+  if (c.rebuilds(input)) {  // the repairs changed faces: adjacency and normals are stale
+    m.clearDataMask(Model::MM_FACEFACETOPO | Model::MM_VERTFACETOPO);
+    vcg::tri::UpdateNormal<Mesh>::PerVertexNormalizedPerFaceNormalized(m.cm);
+  }
   if (written.layout_layer) {
     Model* layer = md.addNewMesh("", m.label() + " (Ricci flow layout)", false);
     layer->updateDataMask(&m);
     vcg::tri::Append<Mesh, Mesh>::MeshCopy(layer->cm, m.cm);
-    place_at_layout(layer->cm, input, c);
+    place_at_layout(layer->cm, vertex_of_slot, c);
     vcg::tri::UpdateBounding<Mesh>::Box(layer->cm);
     vcg::tri::UpdateNormal<Mesh>::PerVertexNormalizedPerFaceNormalized(layer->cm);
   }
-  log = summary_lines(input.mesh, c.uniformization, RunContext{m.label().toStdString(), "", 0});
+  log = summary_lines(c.run, RunContext{m.label().toStdString(), "", 0});
   return c;
 }
 

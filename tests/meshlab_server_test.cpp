@@ -151,11 +151,45 @@ TEST(MeshlabServer, EachGeometryScriptOnItsTopology) {
   }
 }
 
+TEST(MeshlabServer, DirtyMeshIsRepairedAndMapped) {
+  // A bowtie (two triangles sharing a vertex) and a duplicate face: by default the vertex is split,
+  // the duplicate dropped, each triangle mapped onto its own chart, and the log says so.
+  const std::string bowtie = temp("bowtie-dup.off");
+  std::ofstream(bowtie) << "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n"
+                           "3 0 1 2\n";
+  const std::string out = temp("bowtie-repaired.ply");
+  const ServerRun r = meshlabserver(bowtie, out, script("ricci_flow_auto.mlx"));
+  ASSERT_EQ(r.exit_code, 0) << r.log;
+  EXPECT_NE(r.log.find("Repaired: 1 non-manifold vertices split"), std::string::npos) << r.log;
+  EXPECT_NE(r.log.find("Repaired: 1 duplicate faces dropped"), std::string::npos) << r.log;
+  EXPECT_NE(r.log.find("2 connected components"), std::string::npos) << r.log;
+  const ricci::test::PlyData ply = ricci::test::read_ply(out);
+  ASSERT_EQ(ply.faces.size(), 2u);
+  EXPECT_EQ(ply.vertex.at("x").size(), 6u);  // vertex 0 copied for the second triangle
+  ASSERT_TRUE(ply.has_vertex("texture_u"));
+  for (const auto& f : ply.faces) {  // both charts counter-clockwise in the atlas
+    const auto& u = ply.vertex.at("texture_u");
+    const auto& v = ply.vertex.at("texture_v");
+    EXPECT_GT((u[f[1]] - u[f[0]]) * (v[f[2]] - v[f[0]]) - (v[f[1]] - v[f[0]]) * (u[f[2]] - u[f[0]]),
+              0);
+  }
+}
+
 TEST(MeshlabServer, BadMeshFailsWithTheReasonAndNoOutput) {
   const std::string bowtie = temp("bowtie.off");
   std::ofstream(bowtie) << "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n";
   const std::string out = temp("never.ply");
-  ServerRun r = meshlabserver(bowtie, out, script("ricci_flow_auto.mlx"));
+  // With 'Refuse meshes that need repairs' on, the bowtie is refused.
+  std::ifstream in(script("ricci_flow_auto.mlx"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string strict = text.str();
+  const std::string off = "name=\"strictMesh\" value=\"false\"";
+  ASSERT_NE(strict.find(off), std::string::npos);
+  strict.replace(strict.find(off), off.size(), "name=\"strictMesh\" value=\"true\"");
+  const std::string strict_script = temp("strict.mlx");
+  std::ofstream(strict_script) << strict;
+  ServerRun r = meshlabserver(bowtie, out, strict_script);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.log.find("Ricci flow failed, the mesh is unchanged: mesh: 1 non-manifold vertices"),
             std::string::npos)

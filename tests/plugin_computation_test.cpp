@@ -48,10 +48,10 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   int progress_calls = 0;
   const FilterComputation c =
       compute(input, settings, [&](const FlowProgress&) { return ++progress_calls > 0; });
-  ASSERT_EQ(c.uniformization.layout_kind, LayoutKind::Plane);  // auto: the unit disk
+  ASSERT_EQ(c.uniformization().layout_kind, LayoutKind::Plane);  // auto: the unit disk
   EXPECT_GT(progress_calls, 1);
   enable_outputs(m);
-  write_results(m, input, settings, c);
+  const std::vector<int> vertex_of_slot = write_results(m, input, settings, c);
   for (const char* name :
        {"ricci_u", "ricci_radius", "ricci_curvature", "ricci_target", "ricci_layout"}) {
     EXPECT_TRUE(has_attribute(m, name)) << name;
@@ -60,7 +60,7 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   auto k = vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<float>(m, "ricci_curvature");
   auto target = vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<float>(m, "ricci_target");
   auto layout = vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<vcg::Point3f>(m, "ricci_layout");
-  const CompactMesh& mesh = input.mesh;
+  const CompactMesh& mesh = input.mesh();
   bool colors_differ = false;
   for (size_t i = 0; i < m.vert.size(); ++i) {
     const auto& v = m.vert[i];
@@ -82,7 +82,7 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
     colors_differ = colors_differ || !(v.cC() == m.vert[0].cC());
   }
   EXPECT_TRUE(colors_differ) << "quality color ramp";
-  const auto lines = summary_lines(input.mesh, c.uniformization, {});
+  const auto lines = summary_lines(input.mesh(), c.uniformization(), {});
   ASSERT_EQ(lines.size(), 4u);
   EXPECT_NE(lines[1].find("Converged in"), std::string::npos);
   EXPECT_NE(lines[2].find("on circles"), std::string::npos);
@@ -102,7 +102,7 @@ TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
   CMeshO layer;
   FreeAttributesAtExit layer_cleanup{layer};
   vcg::tri::Append<CMeshO, CMeshO>::MeshCopy(layer, m);
-  place_at_layout(layer, input, c);
+  place_at_layout(layer, vertex_of_slot, c);
   for (const auto& f : layer.face) {
     for (int e = 0; e < 3; ++e) {
       EXPECT_EQ(f.cP(e).Z(), 0.0f);
@@ -125,11 +125,11 @@ TEST(PluginComputation, CenterAndAxisVerticesNormalizeTheDisk) {
   load(m, "nefertiti.off");
   const MeshInput input = read_mesh_input(m, false);
   int center = 0;
-  while (input.mesh.is_boundary_vertex(input.compact_index[center])) ++center;
-  const int axis = input.mesh.boundary_loops()[0][0];  // compact = slot: nothing is deleted
+  while (input.mesh().is_boundary_vertex(input.compact_index[center])) ++center;
+  const int axis = input.mesh().boundary_loops()[0][0];  // compact = slot: nothing is deleted
   const FilterComputation c =
       compute(input, settings_from_values({{"centerVertex", center}, {"axisVertex", axis}}));
-  const auto& p = c.uniformization.position;
+  const auto& p = c.uniformization().position;
   EXPECT_LE(p[input.compact_index[center]].norm(), 1e-12);
   EXPECT_NEAR(p[axis].x(), 1.0, 1e-8);
   EXPECT_NEAR(p[axis].y(), 0.0, 1e-12);
@@ -171,7 +171,7 @@ TEST(PluginComputation, ClosedSurfacesGetTheirLayouts) {
           EXPECT_LE(f.cWT(k).V(), 1.0f);
         }
       }
-      const auto lines = summary_lines(input.mesh, c.uniformization, {});
+      const auto lines = summary_lines(input.mesh(), c.uniformization(), {});
       EXPECT_TRUE(std::any_of(lines.begin(), lines.end(), [](const std::string& l) {
         return l.find("relation error") != std::string::npos;
       })) << lines.back();
@@ -188,7 +188,7 @@ TEST(PluginComputation, MixedEpsFromSelectionAndTargetFromQuality) {
   const MeshInput free_input = read_mesh_input(m, false);
   // Quality = the free-boundary target: 0 inside, NaN (u fixed) on the boundary.
   for (size_t i = 0; i < m.vert.size(); ++i) {
-    m.vert[i].Q() = free_input.mesh.is_boundary_vertex(free_input.compact_index[i]) ? NAN : 0.0f;
+    m.vert[i].Q() = free_input.mesh().is_boundary_vertex(free_input.compact_index[i]) ? NAN : 0.0f;
   }
   const MeshInput input = read_mesh_input(m, true);
   const FilterComputation by_quality =
@@ -209,7 +209,7 @@ TEST(PluginComputation, FailureLeavesTheMeshUntouched) {
     const char* reason;
   };
   const Case cases[] = {
-      {"blobby_3cc.off", {}, "connected components"},
+      {"blobby_3cc.off", {{"strictMesh", 1}}, "connected components"},
       {"pipe.off", {{"geometry", 3}}, "spherical geometry needs"},
       {"elk.off", {{"scheme", 3}, {"edgeFlips", 0}}, "stalled"},
       {"nefertiti.off", {{"target", 3}}, "no vertex quality"},
@@ -226,8 +226,9 @@ TEST(PluginComputation, FailureLeavesTheMeshUntouched) {
       colors_before.push_back(v.cC());
     }
     try {
-      const MeshInput input = read_mesh_input(m, false);
-      compute(input, settings_from_values(c.values));
+      const FilterSettings settings = settings_from_values(c.values);
+      const MeshInput input = read_mesh_input(m, false, settings.strict);
+      compute(input, settings);
       ADD_FAILURE() << c.mesh << ": expected an error";
     } catch (const ricci::Error& e) {
       EXPECT_NE(std::string(e.what()).find(c.reason), std::string::npos) << e.what();

@@ -64,7 +64,7 @@ std::map<std::string, QVariant> FilterRicciFlowPlugin::applyFilter(
     // The numbers a script checks, returned by pymeshlab's apply_filter as a dict (pymeshlab
     // passes numbers only; geometry and layout kind are in the log).
     std::map<std::string, QVariant> out;
-    for (const auto& [name, value] : ricci::result_numbers(c.uniformization)) out[name] = value;
+    for (const auto& [name, value] : ricci::result_numbers(c.run)) out[name] = value;
     return out;
   } catch (const ricci::Error& e) {
     throw MLException(QString("Ricci flow failed, the mesh is unchanged: ") + e.what());

@@ -126,7 +126,7 @@ def test_enums_by_label_and_by_index():
 
 
 @pytest.mark.parametrize("name, options, reason", [
-    ("blobby_3cc.off", {}, "3 connected components"),
+    ("blobby_3cc.off", {"strict_mesh": True}, "3 connected components"),
     ("sphere.off", {"target": "Free boundary"}, "needs a boundary"),
     ("pipe.off", {"geometry": "Spherical (S2)"}, "spherical geometry needs"),
 ])
@@ -142,3 +142,54 @@ def test_bad_input_raises_the_reason_and_leaves_the_mesh(name, options, reason):
     assert not m.has_vertex_tex_coord() and not m.has_wedge_tex_coord()
     with pytest.raises(Exception):
         m.vertex_custom_scalar_attribute_array("ricci_u")
+
+
+def icosahedron():
+    t = (1 + 5 ** 0.5) / 2
+    v = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
+                  [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]], float)
+    f = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9],
+                  [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2],
+                  [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10],
+                  [8, 6, 7], [9, 8, 1]], np.int32)
+    return v, f
+
+
+def test_several_components_each_get_their_own_map():
+    # Two icosahedra in one mesh, the second stretched: each onto its own unit sphere.
+    v, f = icosahedron()
+    vertices = np.vstack([v, v * [1, 1, 2] + [5, 0, 0]])
+    faces = np.vstack([f, f + len(v)])
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertices, faces))
+    out = ms.apply_filter(FILTER)
+    assert out["components"] == 2
+    assert out["flipped_faces"] == 0
+    assert out["max_curvature_error"] <= 1e-9
+    m = ms.current_mesh()
+    assert m.face_number() == len(faces)
+    layout = m.vertex_custom_point_attribute_matrix("ricci_layout")
+    assert np.allclose(np.linalg.norm(layout, axis=1), 1.0, atol=1e-6)
+
+
+def test_a_dirty_mesh_is_repaired_and_mapped():
+    # A bowtie (two triangles sharing only a vertex) with one face given twice: the vertex is split
+    # into one copy per triangle, the duplicate dropped, each triangle a chart of the atlas.
+    vertices = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [-1, 0, 0], [-1, -1, 0]], dtype=float)
+    faces = np.array([[0, 1, 2], [0, 3, 4], [0, 1, 2]], dtype=np.int32)
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertices, faces))
+    out = ms.apply_filter(FILTER)
+    assert out["components"] == 2
+    m = ms.current_mesh()
+    assert m.vertex_number() == 6 and m.face_number() == 2
+    assert np.array_equal(m.vertex_matrix()[:5], vertices)
+    uv = m.vertex_tex_coord_matrix()
+    for a, b, c in m.face_matrix():
+        d, e = uv[b] - uv[a], uv[c] - uv[a]
+        assert d[0] * e[1] - d[1] * e[0] > 0
+    strict = pymeshlab.MeshSet()
+    strict.add_mesh(pymeshlab.Mesh(vertices, faces))
+    with pytest.raises(pymeshlab.PyMeshLabException) as error:
+        strict.apply_filter(FILTER, strict_mesh=True)
+    assert "duplicate faces" in str(error.value)

@@ -12,13 +12,14 @@
 
 namespace ricci {
 
-//! Index arrays of a vcg::tri mesh (deleted elements skipped, vertices in storage order).
-//! If vertex_index is given, it receives the compact index of every slot of m.vert (-1 where
-//! deleted). \throws InvalidMeshError as CompactMesh does.
+//! The live vertices' positions (in storage order) and the live faces on their indices. If
+//! vertex_index is given, it receives the index of every slot of m.vert (-1 where deleted).
 template <class MeshT>
-CompactMesh compact_mesh_from_vcg(const MeshT& m, std::vector<int>* vertex_index = nullptr) {
+void mesh_arrays_from_vcg(const MeshT& m, std::vector<Eigen::Vector3d>& positions,
+                          std::vector<std::array<int, 3>>& faces,
+                          std::vector<int>* vertex_index = nullptr) {
   std::vector<int> index(m.vert.size(), -1);
-  std::vector<Eigen::Vector3d> positions;
+  positions.clear();
   positions.reserve(m.vn);
   for (size_t i = 0; i < m.vert.size(); ++i) {
     if (m.vert[i].IsD()) continue;
@@ -26,7 +27,7 @@ CompactMesh compact_mesh_from_vcg(const MeshT& m, std::vector<int>* vertex_index
     const auto& p = m.vert[i].cP();
     positions.emplace_back(double(p[0]), double(p[1]), double(p[2]));
   }
-  std::vector<std::array<int, 3>> faces;
+  faces.clear();
   faces.reserve(m.fn);
   for (const auto& f : m.face) {
     if (f.IsD()) continue;
@@ -34,7 +35,16 @@ CompactMesh compact_mesh_from_vcg(const MeshT& m, std::vector<int>* vertex_index
     for (int c = 0; c < 3; ++c) t[c] = index[f.cV(c) - &m.vert[0]];
     faces.push_back(t);
   }
-  if (vertex_index) *vertex_index = index;
+  if (vertex_index) *vertex_index = std::move(index);
+}
+
+//! The compact mesh of a vcg::tri mesh (mesh_arrays_from_vcg, then checked).
+//! \throws InvalidMeshError as CompactMesh does.
+template <class MeshT>
+CompactMesh compact_mesh_from_vcg(const MeshT& m, std::vector<int>* vertex_index = nullptr) {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<std::array<int, 3>> faces;
+  mesh_arrays_from_vcg(m, positions, faces, vertex_index);
   return CompactMesh(std::move(positions), std::move(faces));
 }
 
