@@ -86,19 +86,22 @@ def check(ply_path):
     """(faces, flipped, collapsed, kind) of a result, measured here."""
     v, faces, wedges = read_ply(ply_path)
     f = np.array(faces)
-    if wedges is not None:
+    if "layout_x" in v and np.any(np.isfinite(v["layout_x"])):
+        # The double-precision layout where there is one per vertex: the plane (z = 0) or the
+        # unit sphere.
+        p = np.stack([v["layout_x"], v["layout_y"], v["layout_z"]], axis=1)
+        f = f[np.all(np.isfinite(p[f]).reshape(len(f), -1), axis=1)]
+        if np.all(p[:, 2][np.isfinite(p[:, 2])] == 0):
+            area = signed_areas_2d(p[f[:, 0]], p[f[:, 1]], p[f[:, 2]])
+            kind = "plane"
+        else:
+            area = np.einsum("ij,ij->i", p[f[:, 0]], np.cross(p[f[:, 1]], p[f[:, 2]]))
+            kind = "sphere"
+    elif wedges is not None:
         t = np.array(wedges).reshape(-1, 3, 2)
         laid = np.abs(t).sum(axis=(1, 2)) > 0  # faces of sphere components carry zeros
         area = signed_areas_2d(t[laid, 0], t[laid, 1], t[laid, 2])
-        kind = "wedge uv"
-    elif "texture_u" in v:
-        uv = np.stack([v["texture_u"], v["texture_v"]], axis=1)
-        area = signed_areas_2d(uv[f[:, 0]], uv[f[:, 1]], uv[f[:, 2]])
-        kind = "vertex uv"
-    elif "layout_x" in v:
-        p = np.stack([v["layout_x"], v["layout_y"], v["layout_z"]], axis=1)
-        area = np.einsum("ij,ij->i", p[f[:, 0]], np.cross(p[f[:, 1]], p[f[:, 2]]))
-        kind = "sphere"
+        kind = "wedge uv (float)"
     else:
         return len(faces), 0, 0, "no layout"
     scale = max(np.abs(area).max(), 1e-300)

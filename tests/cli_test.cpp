@@ -322,6 +322,23 @@ TEST(Cli, BadInputGetsAClearError) {
                {"no convergence in 1 iterations"});
 }
 
+bool parses_as_json(const std::string& path) {
+  // An independent parser: Python's.
+  return std::system(("python3 -c 'import json, sys; json.load(open(sys.argv[1]))' " + path +
+                      " >/dev/null 2>&1")
+                         .c_str()) == 0;
+}
+
+TEST(Cli, ReportsAreJsonForOneAndSeveralComponents) {
+  for (const char* mesh : {"nefertiti.off", "blobby_3cc.off"}) {
+    const std::string report = temp("report.json");
+    std::remove(report.c_str());
+    ricci_flow(cgal(mesh) + " -o " + temp("report.ply") + " --report " + report +
+               " --scheme tangential");
+    EXPECT_TRUE(parses_as_json(report)) << mesh << ": " << slurp(report);
+  }
+}
+
 TEST(Cli, DirtyMeshesAreRepairedAndReported) {
   // The defects --strict refuses (above) are repaired by default, keeping the surface, and said.
   struct Case {

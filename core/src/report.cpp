@@ -217,7 +217,6 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
   const FlowTimes& t = totals.times;
   const LayoutQuality& q = run.quality;
   std::ostringstream j;
-  j << "{\n";
   j << "  \"input\": " << quoted(context.input) << ",\n";
   j << "  \"mesh\": {\"vertices\": " << mesh.num_vertices() << ", \"faces\": " << mesh.num_faces()
     << ", \"edges\": " << mesh.num_edges()
