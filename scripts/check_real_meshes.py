@@ -91,12 +91,12 @@ def check(ply_path):
         # unit sphere.
         p = np.stack([v["layout_x"], v["layout_y"], v["layout_z"]], axis=1)
         f = f[np.all(np.isfinite(p[f]).reshape(len(f), -1), axis=1)]
-        if np.all(p[:, 2][np.isfinite(p[:, 2])] == 0):
-            area = signed_areas_2d(p[f[:, 0]], p[f[:, 1]], p[f[:, 2]])
-            kind = "plane"
-        else:
-            area = np.einsum("ij,ij->i", p[f[:, 0]], np.cross(p[f[:, 1]], p[f[:, 2]]))
-            kind = "sphere"
+        # Per face: in the plane when its corners have z = 0, else on the sphere (components of
+        # both kinds can share one file).
+        planar = np.all(p[f][:, :, 2] == 0, axis=1)
+        area = np.where(planar, signed_areas_2d(p[f[:, 0]], p[f[:, 1]], p[f[:, 2]]),
+                        np.einsum("ij,ij->i", p[f[:, 0]], np.cross(p[f[:, 1]], p[f[:, 2]])))
+        kind = "plane" if planar.all() else ("sphere" if not planar.any() else "plane and sphere")
     elif wedges is not None:
         t = np.array(wedges).reshape(-1, 3, 2)
         laid = np.abs(t).sum(axis=(1, 2)) > 0  # faces of sphere components carry zeros
@@ -104,7 +104,8 @@ def check(ply_path):
         kind = "wedge uv (float)"
     else:
         return len(faces), 0, 0, "no layout"
-    scale = max(np.abs(area).max(), 1e-300)
+    # The tool's own rule for a collapsed face: under 1e-12 of the mean layout triangle.
+    scale = max(np.abs(area).mean(), 1e-300)
     flipped = int(np.sum(area < 0))
     collapsed = int(np.sum((area >= 0) & (area <= 1e-12 * scale)))
     return len(faces), flipped, collapsed, kind
