@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "ply_reader.h"
 #include "ricci/geometry.h"
@@ -379,6 +380,43 @@ TEST(Cli, DirtyMeshesAreRepairedAndReported) {
       EXPECT_GT((b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]), 0) << c.name;
     }
   }
+}
+
+TEST(Cli, RealDirtyMeshesAsTheyCome) {
+  // From meshes/real-meshes.tsv (origins and licences there): an ASCII STL in capitals, an OBJ
+  // with negative indices and quads, one with 16-gons, one with a non-manifold edge, one with
+  // non-manifold vertices and misoriented faces, and STL faces back to back.
+  const std::string dir = RICCI_REAL_MESH_DIR;
+  for (const char* mesh :
+       {"admesh-block.stl", "uranium-negative-indices.obj", "bouncy-farmer.obj",
+        "minetest-chest-open.obj", "geomview-hook.off", "openscad-back-to-back.stl"}) {
+    const std::string out = temp("real.ply");
+    const CliRun r = ricci_flow(dir + "/" + mesh + " -o " + out);
+    EXPECT_EQ(r.exit_code, 0) << mesh << ": " << r.err;
+    if (r.exit_code != 0) continue;
+    // Every face laid out counter-clockwise: in the plane, or seen from outside the sphere, or
+    // in the texture of a surface cut open.
+    const ricci::test::PlyData ply = read_ply(out);
+    for (size_t k = 0; k < ply.faces.size(); ++k) {
+      const auto& f = ply.faces[k];
+      std::array<Eigen::Vector3d, 3> p;
+      for (int c = 0; c < 3; ++c) {
+        p[c] = ply.has_vertex("layout_x") ? Eigen::Vector3d(ply.vertex.at("layout_x")[f[c]],
+                                                            ply.vertex.at("layout_y")[f[c]],
+                                                            ply.vertex.at("layout_z")[f[c]])
+                                          : Eigen::Vector3d(ply.face_texcoords[k][2 * c],
+                                                            ply.face_texcoords[k][2 * c + 1], 0.0);
+      }
+      const bool plane = p[0].z() == 0 && p[1].z() == 0 && p[2].z() == 0;
+      const double orientation =
+          plane ? (p[1] - p[0]).cross(p[2] - p[0]).z() : p[0].dot(p[1].cross(p[2]));
+      EXPECT_GT(orientation, 0) << mesh << " face " << k;
+    }
+  }
+  // A closed genus-0 scan where the flow stalls: the message never doubts the round metric.
+  const CliRun r = ricci_flow(dir + "/ipp-3d.stl -o " + temp("ipp.ply"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.err.find("may not exist"), std::string::npos) << r.err;
 }
 
 TEST(Cli, FailedRunWritesNoMesh) {

@@ -124,13 +124,23 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
                                                 0.5 * r.squaredNorm(), options.max_step_halvings);
   times.line_search += seconds_since(t);
   const char* flips_help = options.edge_flips ? "" : " on this triangulation (edge flips help)";
+  // Kbar = 0 on a closed surface is its uniformization: the metric exists, only the flow missed it.
+  const bool exists =
+      mesh.is_closed() && target.num_fixed() == 0 && target.curvature.cwiseAbs().maxCoeff() == 0;
+  const char* exists_note =
+      "; a metric of this target exists for every closed surface (uniformization), this flow did "
+      "not reach it: try the tangential scheme";
   if (!step.accepted) {
     s << "stalled at iteration " << it << " with max |K - Kbar| = " << result.residual
       << ": no step of length >= 2^-" << options.max_step_halvings << " reduces the residual";
     if (!step.state.valid())
       s << " while keeping every triangle valid (" << detail::describe_invalid(step.state) << ")";
-    s << "; the solution may not exist" << (options.edge_flips ? " for this mesh" : flips_help)
-      << ", or try another scheme";
+    if (exists) {
+      s << exists_note;
+    } else {
+      s << "; the solution may not exist" << (options.edge_flips ? " for this mesh" : flips_help)
+        << ", or try another scheme";
+    }
     return s.str();
   }
   const std::vector<double>& history = result.residual_history;
@@ -138,10 +148,14 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
     s << "stalled at iteration " << it << ": for " << detail::StallWindow::kLength
       << " iterations the step was cut below 1/64 to keep triangles from degenerating, and "
          "max |K - Kbar| only went from "
-      << history[history.size() - detail::StallWindow::kLength] << " to " << result.residual
-      << "; the target is not reachable"
-      << (options.edge_flips ? " even with edge flips" : flips_help)
-      << ", or try the tangential scheme, whose triangles are always valid";
+      << history[history.size() - detail::StallWindow::kLength] << " to " << result.residual;
+    if (exists) {
+      s << exists_note;
+    } else {
+      s << "; the target is not reachable"
+        << (options.edge_flips ? " even with edge flips" : flips_help)
+        << ", or try the tangential scheme, whose triangles are always valid";
+    }
     return s.str();
   }
   if (spherical())
