@@ -239,7 +239,8 @@ std::vector<std::string> wrapped(const std::string& text, size_t width) {
   while (std::getline(lines, line)) {
     const std::string indent(
         line.find_first_not_of(' ') == std::string::npos ? 0 : line.find_first_not_of(' '), ' ');
-    while (line.size() > width && line.rfind(' ', width) > indent.size()) {
+    while (line.size() > width && line.rfind(' ', width) != std::string::npos &&
+           line.rfind(' ', width) > indent.size()) {
       const size_t cut = line.rfind(' ', width);
       out.push_back(line.substr(0, line.find_last_not_of(' ', cut) + 1));
       line = indent + "  " + line.substr(cut + 1);

@@ -6,8 +6,9 @@
 // (double; NaN for vertices of components without one) plus, when every component is laid out in
 // the plane one position per vertex, texture_u texture_v (float). face: vertex_indices (the
 // repaired faces, component after component), and when a component is cut open (torus in E2, H2
-// in the Poincare disk) texcoord for every face, 6 floats (u v per corner, in [0, 1]), which
-// MeshLab reads as wedge texture coordinates.
+// in the Poincare disk), or planar charts share the file with a sphere, texcoord for every face,
+// 6 floats (u v per corner, in [0, 1]; 0 for the sphere's faces), which MeshLab reads as wedge
+// texture coordinates.
 #pragma once
 
 #include <string>

@@ -3,6 +3,8 @@
 // succeeded, so a failed filter leaves the mesh as it was.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <string>
@@ -37,11 +39,26 @@ struct FilterComputation {
   const Uniformization& uniformization() const { return run.components.front(); }
   const FlowResult& result() const { return uniformization().result; }
   const TextureCoordinates& texture() const { return run.texture; }
-  //! The layout has one position per vertex (plane, sphere).
-  bool has_vertex_layout() const { return !run.position.empty(); }
-  //! The repairs changed the vertices or faces: the mesh is rebuilt when the results are written.
+  //! Every component's layout has one position per vertex (plane, sphere).
+  bool has_vertex_layout() const {
+    return !run.position.empty() &&
+           std::all_of(run.components.begin(), run.components.end(),
+                       [](const Uniformization& u) { return !u.position.empty(); });
+  }
+  //! The repairs changed the vertices or faces (not only the order of the components' faces):
+  //! the mesh is rebuilt when the results are written.
   bool rebuilds(const MeshInput& input) const {
-    return run.faces != input.faces || run.mesh.positions.size() != input.selected.size();
+    if (run.mesh.positions.size() != input.selected.size() ||
+        run.faces.size() != input.faces.size()) {
+      return true;
+    }
+    for (size_t k = 0; k < run.faces.size(); ++k) {
+      const int f = run.input_face[k];
+      if (f < 0 || f >= static_cast<int>(input.faces.size()) || run.faces[k] != input.faces[f]) {
+        return true;
+      }
+    }
+    return false;
   }
 };
 
@@ -114,19 +131,21 @@ void rebuild_repaired(MeshT& m, const FilterComputation& c) {
 //! (plane) or per wedge (cut open); vertex quality = u with a color ramp. A mesh the repairs
 //! changed is rebuilt first (rebuild_repaired). The caller enables the optional components first
 //! (quality, color, vertex or wedge texture coordinates) as written_components() and the settings
-//! ask. Returns, per vertex slot of the mesh as written, its vertex of the repaired mesh (-1 where
-//! deleted).
+//! ask.
 template <class MeshT>
-std::vector<int> write_results(MeshT& m, const MeshInput& input, const FilterSettings& settings,
-                               const FilterComputation& c) {
+void write_results(MeshT& m, const MeshInput& input, const FilterSettings& settings,
+                   const FilterComputation& c) {
   using Allocator = vcg::tri::Allocator<MeshT>;
   using Scalar = typename MeshT::ScalarType;
   using Point3 = vcg::Point3<Scalar>;
   std::vector<int> vertex_of_slot = input.compact_index;
+  std::vector<int> run_face(c.run.faces.size());  // per live face, in order: its repaired face
+  for (size_t k = 0; k < run_face.size(); ++k) run_face[c.run.input_face[k]] = static_cast<int>(k);
   if (c.rebuilds(input)) {
     rebuild_repaired(m, c);
     vertex_of_slot.resize(m.vert.size());
     for (size_t i = 0; i < m.vert.size(); ++i) vertex_of_slot[i] = static_cast<int>(i);
+    for (size_t k = 0; k < run_face.size(); ++k) run_face[k] = static_cast<int>(k);
   }
   const MeshUniformization& run = c.run;
   auto u = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_u");
@@ -160,15 +179,18 @@ std::vector<int> write_results(MeshT& m, const MeshInput& input, const FilterSet
       vertex.T().V() = static_cast<Scalar>(run.texture.vertex[v].y());
       vertex.T().N() = 0;
     }
-    if (settings.write_quality) vertex.Q() = static_cast<Scalar>(run.u[v]);
+    if (settings.write_quality && std::isfinite(run.u[v])) {
+      vertex.Q() = static_cast<Scalar>(run.u[v]);  // vertices in no face keep theirs
+    }
   }
   if (wedge_uv) {
-    size_t f = 0;  // the live faces are the repaired mesh's faces, in order
+    size_t f = 0;  // the live faces, in order
     for (auto& face : m.face) {
       if (face.IsD()) continue;
+      const auto& uv = run.texture.wedge[run_face[f]];
       for (int k = 0; k < 3; ++k) {
-        face.WT(k).U() = static_cast<Scalar>(run.texture.wedge[f][k].x());
-        face.WT(k).V() = static_cast<Scalar>(run.texture.wedge[f][k].y());
+        face.WT(k).U() = static_cast<Scalar>(uv[k].x());
+        face.WT(k).V() = static_cast<Scalar>(uv[k].y());
         face.WT(k).N() = 0;
       }
       ++f;
@@ -177,20 +199,18 @@ std::vector<int> write_results(MeshT& m, const MeshInput& input, const FilterSet
   if (settings.write_quality && vcg::tri::HasPerVertexColor(m)) {
     vcg::tri::UpdateColor<MeshT>::PerVertexQualityRamp(m);
   }
-  return vertex_of_slot;
 }
 
-//! Moves the vertices of `layer`, a copy of the mesh as written, to the per-vertex layout (the
-//! plane at z = 0, or the unit sphere). \pre c.has_vertex_layout(); vertex_of_slot as
-//! write_results returned it.
+//! Moves the vertices of `layer`, a copy of the mesh as written (vcg's copy keeps the live
+//! vertices in order, and those are the repaired mesh's), to the per-vertex layout (the plane at
+//! z = 0, or the unit sphere); a vertex in no face keeps its place.
+//! \pre c.has_vertex_layout()
 template <class MeshT>
-void place_at_layout(MeshT& layer, const std::vector<int>& vertex_of_slot,
-                     const FilterComputation& c) {
+void place_at_layout(MeshT& layer, const FilterComputation& c) {
   using Scalar = typename MeshT::ScalarType;
-  for (size_t i = 0; i < layer.vert.size(); ++i) {
-    const int v = vertex_of_slot[i];
-    if (v < 0) continue;
-    const Eigen::Vector3d& p = c.run.position[v];
+  for (size_t i = 0; i < layer.vert.size() && i < c.run.position.size(); ++i) {
+    const Eigen::Vector3d& p = c.run.position[i];
+    if (!p.allFinite()) continue;
     layer.vert[i].P() = vcg::Point3<Scalar>(static_cast<Scalar>(p.x()), static_cast<Scalar>(p.y()),
                                             static_cast<Scalar>(p.z()));
   }

@@ -137,8 +137,9 @@ const std::vector<ParameterSpec>& parameter_specs() {
        d.edge_flips ? 1.0 : 0.0,
        {},
        "Edge flips (keep the triangulation Delaunay)",
-       "Flip edges during the flow so the triangulation stays (power) Delaunay for the current "
-       "metric; real meshes need it. The result comes back per vertex of the input."},
+       "On: flip edges to keep the triangulation (power) Delaunay where the flow does not converge "
+       "on the mesh's own triangulation (the mesh is first tried without flips). Off: never "
+       "flip."},
       {"writeUV",
        Kind::Bool,
        d.write_texture_coordinates ? 1.0 : 0.0,

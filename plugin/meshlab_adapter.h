@@ -115,7 +115,7 @@ FilterComputation run_filter(Document& md, const ParameterValues& values, CallBa
   if (written.vertex_texcoord) mask |= Model::MM_VERTTEXCOORD;
   if (written.wedge_texcoord) mask |= Model::MM_WEDGTEXCOORD;
   m.updateDataMask(mask);
-  const std::vector<int> vertex_of_slot = write_results(m.cm, input, settings, c);
+  write_results(m.cm, input, settings, c);
   if (c.rebuilds(input)) {  // the repairs changed faces: adjacency and normals are stale
     m.clearDataMask(Model::MM_FACEFACETOPO | Model::MM_VERTFACETOPO);
     vcg::tri::UpdateNormal<Mesh>::PerVertexNormalizedPerFaceNormalized(m.cm);
@@ -124,7 +124,7 @@ FilterComputation run_filter(Document& md, const ParameterValues& values, CallBa
     Model* layer = md.addNewMesh("", m.label() + " (Ricci flow layout)", false);
     layer->updateDataMask(&m);
     vcg::tri::Append<Mesh, Mesh>::MeshCopy(layer->cm, m.cm);
-    place_at_layout(layer->cm, vertex_of_slot, c);
+    place_at_layout(layer->cm, c);
     vcg::tri::UpdateBounding<Mesh>::Box(layer->cm);
     vcg::tri::UpdateNormal<Mesh>::PerVertexNormalizedPerFaceNormalized(layer->cm);
   }

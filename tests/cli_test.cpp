@@ -358,6 +358,11 @@ TEST(Cli, DirtyMeshesAreRepairedAndReported) {
                 "1 duplicate faces dropped (first: face 2)", 4, 2},
            Case{"unreferenced", "5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n9 9 9\n3 0 1 2\n3 0 2 3\n",
                 "1 unreferenced vertices kept without a result (first: vertex 4)", 5, 2},
+           // Vertex 0 in no face, as in OBJ files whose first vertex nothing uses: the UVs must
+           // stay with their vertices.
+           Case{"unreferenced-first",
+                "5 2 0\n9 9 9\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 1 2 3\n3 1 3 4\n",
+                "1 unreferenced vertices kept without a result (first: vertex 0)", 5, 2},
            Case{"misoriented", "4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 3 2\n",
                 "1 faces reoriented", 4, 2},
        }) {
@@ -370,7 +375,7 @@ TEST(Cli, DirtyMeshesAreRepairedAndReported) {
     EXPECT_EQ(ply.vertex.at("x").size(), static_cast<size_t>(c.vertices)) << c.name;
     EXPECT_EQ(ply.faces.size(), static_cast<size_t>(c.faces)) << c.name;
     // The input's vertices keep their place; every face is laid out counter-clockwise.
-    EXPECT_EQ(ply.vertex.at("x")[1], 1.0) << c.name;
+    EXPECT_EQ(ply.vertex.at("x")[1], c.name == "unreferenced-first" ? 0.0 : 1.0) << c.name;
     for (const auto& f : ply.faces) {
       const auto uv = [&](int k) {
         return std::array<double, 2>{ply.vertex.at("texture_u")[f[k]],

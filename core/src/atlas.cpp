@@ -29,10 +29,10 @@ std::vector<std::pair<int, int>> locate_inputs(const RepairedMesh& m) {
 }
 
 // A vertex option (centre, axis) given in the input's numbering, for component k.
-int component_vertex(int input_vertex, const std::vector<std::pair<int, int>>& where, int k,
-                     const char* what) {
+int component_vertex(int input_vertex, const std::vector<std::pair<int, int>>& where,
+                     int num_input_vertices, int k, const char* what) {
   if (input_vertex < 0) return -1;
-  if (input_vertex >= static_cast<int>(where.size()) || where[input_vertex].first < 0) {
+  if (input_vertex >= num_input_vertices || where[input_vertex].first < 0) {
     throw InvalidArgumentError(std::string("the ") + what + " vertex " +
                                std::to_string(input_vertex) + " is in no face of the mesh");
   }
@@ -71,11 +71,15 @@ UniformizationOptions component_options(const UniformizationOptions& o, const Re
                                ": the mesh has vertices 0.." +
                                std::to_string(m.num_input_vertices - 1));
     }
-    const int local = component_vertex(cone.vertex, where, k, "cone");
+    const int local = component_vertex(cone.vertex, where, m.num_input_vertices, k, "cone");
     if (local >= 0) c.cones.push_back({local, cone.angle});
   }
-  c.center_vertex = component_vertex(o.center_vertex, where, k, "center");
-  c.axis_vertex = component_vertex(o.axis_vertex, where, k, "axis");
+  if (!o.cones.empty() && c.cones.empty()) {  // no cone here: flat, and straight on the boundary
+    c.preset = TargetPreset::Values;
+    c.values = Eigen::VectorXd::Zero(static_cast<long>(component.vertex.size()));
+  }
+  c.center_vertex = component_vertex(o.center_vertex, where, m.num_input_vertices, k, "center");
+  c.axis_vertex = component_vertex(o.axis_vertex, where, m.num_input_vertices, k, "axis");
   return c;
 }
 
@@ -151,8 +155,17 @@ Eigen::Vector2d atlas_point(const Chart& c, const Eigen::Vector2d& p) {
 
 void gather_texture(MeshUniformization& out) {
   const size_t n = out.components.size();
-  if (n == 1) {
-    out.texture = texture_coordinates(out.components[0]);
+  if (n == 1) {  // the component's own normalization, its vertex UVs on the repaired mesh's
+    const TextureCoordinates t = texture_coordinates(out.components[0]);
+    out.texture.wedge = t.wedge;
+    if (t.vertex.empty()) return;
+    out.texture.vertex.assign(out.mesh.positions.size(), Eigen::Vector2d::Zero());
+    const std::vector<int>& vertex = out.mesh.components[0].vertex;
+    for (size_t i = 0; i < vertex.size(); ++i) out.texture.vertex[vertex[i]] = t.vertex[i];
+    for (size_t v = 0; v < out.texture.vertex.size(); ++v) {
+      const int r = out.mesh.represented_by[v];
+      if (r >= 0 && r != static_cast<int>(v)) out.texture.vertex[v] = out.texture.vertex[r];
+    }
     return;
   }
   std::vector<Chart> charts(n);

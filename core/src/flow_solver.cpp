@@ -224,13 +224,6 @@ void RicciFlowSolver::restart() {
   s.pattern_current = false;
 }
 
-const Triangulation& RicciFlowSolver::triangulation() const {
-  return state_->triangulation;
-}
-const Eigen::VectorXd& RicciFlowSolver::u() const {
-  return state_->u;
-}
-
 FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::VectorXd* start) {
   State& s = *state_;
   check_target(s.mesh, s.structure.geometry, target);

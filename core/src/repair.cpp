@@ -1,7 +1,6 @@
 #include "ricci/repair.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <map>
 #include <numeric>
@@ -37,8 +36,6 @@ namespace {
 
 // === Fans and components
 
-// One vertex per fan of faces: corners are joined across glued edges; a vertex with several
-// fans gets a copy per further fan. Then the faces' components.
 // Splits vertices into one per fan (corners joined across glued edges) and returns the faces on
 // them; `components` joins the faces across glued edges. `cut_all`: edges whose faces stay apart.
 std::vector<std::array<int, 3>> split_fans(const std::vector<Face>& faces, const EdgeMap& edges,

@@ -129,19 +129,32 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
 }  // namespace
 
 void FlowTotals::add(const FlowResult& r) {
-  ++flows;
-  newton_iterations += r.iterations;
-  edge_flips += r.num_flips;
-  symbolic_analyses += r.num_analyses;
-  numeric_factorizations += r.num_factorizations;
-  times.setup += r.times.setup;
-  times.assembly += r.times.assembly;
-  times.analysis += r.times.analysis;
-  times.factorization += r.times.factorization;
-  times.solve += r.times.solve;
-  times.line_search += r.times.line_search;
-  times.flips += r.times.flips;
-  times.total += r.times.total;
+  FlowTotals one;
+  one.flows = 1;
+  one.newton_iterations = r.iterations;
+  one.edge_flips = r.num_flips;
+  one.symbolic_analyses = r.num_analyses;
+  one.numeric_factorizations = r.num_factorizations;
+  one.times = r.times;
+  add(one);
+}
+
+void FlowTotals::add(const FlowTotals& o) {
+  flows += o.flows;
+  newton_iterations += o.newton_iterations;
+  edge_flips += o.edge_flips;
+  symbolic_analyses += o.symbolic_analyses;
+  numeric_factorizations += o.numeric_factorizations;
+  for (auto [to, from] : {std::pair{&times.setup, o.times.setup},
+                          {&times.assembly, o.times.assembly},
+                          {&times.analysis, o.times.analysis},
+                          {&times.factorization, o.times.factorization},
+                          {&times.solve, o.times.solve},
+                          {&times.line_search, o.times.line_search},
+                          {&times.flips, o.times.flips},
+                          {&times.total, o.times.total}}) {
+    *to += from;
+  }
 }
 
 void Uniformization::require_valid(const std::string& subject) const {
@@ -255,7 +268,7 @@ std::string layout_failure(const Uniformization& run) {
   if (run.quality.flipped_faces > 0) {
     s << run.quality.flipped_faces << " of the input's faces are turned over (first: face "
       << run.quality.first_flipped_face << ")";
-    if (run.result.num_flips > 0 || run.edge_flips_needed) {
+    if (run.totals.edge_flips > 0) {
       s << ": the flow needed edge flips, and the input's faces drawn over the flipped "
            "triangulation by their corners can turn over; try another scheme";
     }
@@ -285,12 +298,7 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   Uniformization flipped = uniformize_once(mesh, o);
   flipped.edge_flips_needed = true;
   flipped.without_flips = plain.result.failure;
-  const FlowTotals& before = plain.totals;
-  flipped.totals.times.total += before.times.total;
-  flipped.totals.newton_iterations += before.newton_iterations;
-  flipped.totals.numeric_factorizations += before.numeric_factorizations;
-  flipped.totals.symbolic_analyses += before.symbolic_analyses;
-  flipped.totals.flows += before.flows;
+  flipped.totals.add(plain.totals);
   flipped.layout_failure = layout_failure(flipped);
   return flipped;
 }

@@ -31,7 +31,8 @@ std::string json_report(const CompactMesh& mesh, const Uniformization& run,
                         const RunContext& context);
 
 //! The headline numbers by name, in a fixed order: iterations, edge_flips, max_curvature_error,
-//! flipped_faces, quasi_conformal_median, closure_error, circle_error, flows.
+//! flipped_faces, quasi_conformal_median, closure_error, circle_error, flows, collapsed_faces
+//! (and, for a mesh of several components, components).
 std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& run);
 
 //! The same for a whole mesh: its repairs, then each component's (the numbers: sums of counts,

@@ -108,9 +108,6 @@ class RicciFlowSolver {
   //! Back to the input triangulation, the input structure and u0.
   void restart();
 
-  const Triangulation& triangulation() const;
-  const Eigen::VectorXd& u() const;
-
  private:
   struct State;
   std::unique_ptr<State> state_;

@@ -84,6 +84,7 @@ struct FlowTotals {
   int numeric_factorizations = 0;
   FlowTimes times;
   void add(const FlowResult& r);
+  void add(const FlowTotals& other);
 };
 
 struct Uniformization {

@@ -1,14 +1,13 @@
-// The adapter from vcglib's meshes (MeshLab's CMeshO, or any vcg::tri::TriMesh) to the compact
-// mesh. A template over the mesh type: it uses vcglib's member names only, so the core does not
-// depend on vcglib; whoever includes this has vcglib.
+// The adapter from vcglib's meshes (MeshLab's CMeshO, or any vcg::tri::TriMesh) to the core's
+// index arrays (repair_mesh, then components of CompactMesh). A template over the mesh type: it
+// uses vcglib's member names only, so the core does not depend on vcglib; whoever includes this has
+// vcglib.
 #pragma once
 
 #include <array>
 #include <vector>
 
 #include <Eigen/Core>
-
-#include "ricci/compact_mesh.h"
 
 namespace ricci {
 
@@ -36,16 +35,6 @@ void mesh_arrays_from_vcg(const MeshT& m, std::vector<Eigen::Vector3d>& position
     faces.push_back(t);
   }
   if (vertex_index) *vertex_index = std::move(index);
-}
-
-//! The compact mesh of a vcg::tri mesh (mesh_arrays_from_vcg, then checked).
-//! \throws InvalidMeshError as CompactMesh does.
-template <class MeshT>
-CompactMesh compact_mesh_from_vcg(const MeshT& m, std::vector<int>* vertex_index = nullptr) {
-  std::vector<Eigen::Vector3d> positions;
-  std::vector<std::array<int, 3>> faces;
-  mesh_arrays_from_vcg(m, positions, faces, vertex_index);
-  return CompactMesh(std::move(positions), std::move(faces));
 }
 
 }  // namespace ricci
