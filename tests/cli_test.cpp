@@ -116,7 +116,8 @@ TEST(Cli, DiskResultFollowsThePlyContract) {
   const std::string json = slurp(report);
   for (const char* key :
        {"\"converged\": true", "\"residual_history\"", "\"seconds\"", "\"gauss_bonnet_error\"",
-        "\"flipped_faces\": 0", "\"edge_flips\": ", "\"symbolic_analyses\": "}) {
+        "\"flipped_faces\": 0", "\"collapsed_faces\": 0", "\"failure\": null", "\"edge_flips\": ",
+        "\"symbolic_analyses\": ", "\"edge_flips_needed\": false", "\"repairs\": []"}) {
     EXPECT_NE(json.find(key), std::string::npos) << key << " missing in " << json;
   }
   const std::string picture = slurp(png);

@@ -50,7 +50,8 @@ std::string layout_json(const Uniformization& run) {
   const Layout& m = run.layout;
   std::ostringstream j;
   j << "{\"kind\": " << quoted(to_string(run.layout_kind))
-    << ", \"flipped_faces\": " << q.flipped_faces
+    << ", \"flipped_faces\": " << q.flipped_faces << ", \"collapsed_faces\": " << q.collapsed_faces
+    << ", \"failure\": " << (run.layout_failure.empty() ? "null" : quoted(run.layout_failure))
     << ", \"quasi_conformal\": {\"median\": " << number(q.quasi_conformal_median)
     << ", \"p95\": " << number(q.quasi_conformal_p95)
     << ", \"max\": " << number(q.quasi_conformal_max) << "}"
