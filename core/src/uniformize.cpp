@@ -275,9 +275,17 @@ std::string layout_failure(const Uniformization& run) {
     return s.str();
   }
   if (run.preset == TargetPreset::UnitDisk && !(run.circle_error <= 1e-6)) {
-    s << "the boundary loops are not on circles: circle error " << run.circle_error
-      << " (a flat metric with these boundary curvatures was found, but its loops do not close "
-         "up into circles)";
+    s << "the boundary loops are not on circles: circle error " << run.circle_error;
+    if (run.quality.collapsed_faces > 0) {
+      s << "; " << run.quality.collapsed_faces
+        << " faces are squeezed below 1e-12 of the mean area, so loops far down a tube shrink "
+           "below what double precision resolves (the conformal map of a long tube onto a "
+           "circle domain is exponentially small there); --target free-boundary keeps the "
+           "boundary's lengths";
+    } else {
+      s << " (a flat metric with these boundary curvatures was found, but its loops do not "
+           "close up into circles)";
+    }
   }
   return s.str();
 }
