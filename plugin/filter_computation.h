@@ -140,12 +140,15 @@ void write_results(MeshT& m, const MeshInput& input, const FilterSettings& setti
   using Point3 = vcg::Point3<Scalar>;
   std::vector<int> vertex_of_slot = input.compact_index;
   std::vector<int> run_face(c.run.faces.size());  // per live face, in order: its repaired face
-  for (size_t k = 0; k < run_face.size(); ++k) run_face[c.run.input_face[k]] = static_cast<int>(k);
-  if (c.rebuilds(input)) {
+  if (c.rebuilds(input)) {  // the live faces become the repaired ones, in their order
     rebuild_repaired(m, c);
     vertex_of_slot.resize(m.vert.size());
     for (size_t i = 0; i < m.vert.size(); ++i) vertex_of_slot[i] = static_cast<int>(i);
     for (size_t k = 0; k < run_face.size(); ++k) run_face[k] = static_cast<int>(k);
+  } else {  // the same faces, perhaps in another order (components): matched by input face
+    for (size_t k = 0; k < run_face.size(); ++k) {
+      run_face[c.run.input_face[k]] = static_cast<int>(k);
+    }
   }
   const MeshUniformization& run = c.run;
   auto u = Allocator::template GetPerVertexAttribute<Scalar>(m, "ricci_u");

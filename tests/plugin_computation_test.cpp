@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <map>
 
 #include <common/ml_mesh_type.h>
@@ -37,6 +38,33 @@ struct FreeAttributesAtExit {
 
 bool has_attribute(CMeshO& m, const char* name) {
   return vcg::tri::HasPerVertexAttribute(m, name);
+}
+
+TEST(PluginComputation, RepairedMeshIsRebuiltWithItsResults) {
+  // Face 0 repeats a vertex (dropped), faces 1 and 2 share only vertex 0 (split): the mesh is
+  // rebuilt with 6 vertices and 2 faces, each triangle a chart of its own.
+  const std::string path = ::testing::TempDir() + "/ricci_plugin_dirty.off";
+  std::ofstream(path) << "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n"
+                         "3 0 0 1\n3 0 1 2\n3 0 3 4\n";
+  CMeshO m;
+  FreeAttributesAtExit cleanup{m};
+  int mask = 0;
+  ASSERT_EQ(vcg::tri::io::Importer<CMeshO>::Open(m, path.c_str(), mask), 0);
+  ASSERT_EQ(m.fn, 3);
+  const FilterSettings settings = settings_from_values({});
+  const MeshInput input = read_mesh_input(m, false, settings.strict);
+  const FilterComputation c = compute(input, settings);
+  EXPECT_TRUE(c.rebuilds(input));
+  enable_outputs(m);
+  write_results(m, input, settings, c);
+  ASSERT_EQ(m.vert.size(), 6u);
+  ASSERT_EQ(m.face.size(), 2u);
+  auto u = vcg::tri::Allocator<CMeshO>::GetPerVertexAttribute<float>(m, "ricci_u");
+  for (const auto& v : m.vert) EXPECT_TRUE(std::isfinite(u[v]));
+  for (const auto& f : m.face) {
+    const auto a = f.cV(0)->cT().P(), b = f.cV(1)->cT().P(), d = f.cV(2)->cT().P();
+    EXPECT_GT((b - a) ^ (d - a), 0.0f);  // counter-clockwise in the atlas
+  }
 }
 
 TEST(PluginComputation, DiskGetsAttributesUvAndQuality) {
