@@ -100,6 +100,32 @@ TEST(Uniformize, SquareOntoTheDiskConvergesToTheConformalMap) {
   EXPECT_LT(e32.corner, 0.02);
 }
 
+TEST(Uniformize, EdgeFlipsOnlyWhereTheFlowStalls) {
+  // hand.off: the round sphere's Yamabe flow stalls on the input's triangulation; by default the
+  // run is repeated with flips, and the report says why. A cancelled run is not repeated.
+  const CompactMesh hand = test::cgal_mesh("hand.off");
+  UniformizationOptions o;
+  const Uniformization run = uniformize(hand, o);
+  ASSERT_TRUE(run.valid()) << run.result.failure << run.layout_failure;
+  EXPECT_TRUE(run.edge_flips_needed);
+  EXPECT_NE(run.without_flips.find("stalled"), std::string::npos) << run.without_flips;
+  EXPECT_GT(run.totals.edge_flips, 0);
+  const Uniformization sphere = uniformize(test::ellipsoid(2, 1, 1, 2), o);
+  EXPECT_TRUE(sphere.valid());
+  EXPECT_FALSE(sphere.edge_flips_needed);
+  EXPECT_EQ(sphere.totals.edge_flips, 0);
+  int calls = 0;
+  o.flow.progress = [&](const FlowProgress&) {
+    ++calls;
+    return false;  // cancel at once
+  };
+  const Uniformization cancelled = uniformize(hand, o);
+  EXPECT_FALSE(cancelled.converged());
+  EXPECT_EQ(cancelled.result.stop, FlowStop::Cancelled);
+  EXPECT_FALSE(cancelled.edge_flips_needed);
+  EXPECT_EQ(calls, 1);  // not run again with flips
+}
+
 TEST(Uniformize, DiskPresetPutsTheBoundaryOnTheUnitCircle) {
   const CompactMesh disk = test::cgal_mesh("nefertiti.off");
   UniformizationOptions o;  // auto: a disk goes to the unit disk

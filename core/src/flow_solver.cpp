@@ -251,10 +251,12 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
       r.iterations = it;
       if (s.options.progress && !s.options.progress({it, r.residual})) {
         r.failure = "cancelled at iteration " + std::to_string(it);
+        r.stop = FlowStop::Cancelled;
         break;
       }
       if (r.residual <= s.options.tolerance || s.steps.num_free() == 0) {
         r.converged = true;
+        r.stop = FlowStop::Converged;
         break;
       }
       if (it >= s.options.max_iterations) {
@@ -263,10 +265,14 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
           << " > tolerance " << s.options.tolerance
           << "; raise the iteration limit, or loosen the tolerance";
         r.failure = m.str();
+        r.stop = FlowStop::IterationLimit;
         break;
       }
       r.failure = s.iterate(target, it);
-      if (!r.failure.empty()) break;
+      if (!r.failure.empty()) {
+        r.stop = FlowStop::Stalled;
+        break;
+      }
     }
     if (r.converged) s.normalize_scale(target);
   }

@@ -292,26 +292,17 @@ std::string layout_failure(const Uniformization& run) {
 
 }  // namespace
 
-Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
-  if (request.edge_flips != EdgeFlips::WhenNeeded) {
-    UniformizationOptions o = request;
-    o.flow.edge_flips = request.edge_flips == EdgeFlips::Always;
-    return uniformize_once(mesh, o);
-  }
-  UniformizationOptions o = request;
-  o.flow.edge_flips = false;
-  Uniformization plain = uniformize_once(mesh, o);
-  if (plain.converged()) return plain;
-  o.flow.edge_flips = true;
-  Uniformization flipped = uniformize_once(mesh, o);
-  flipped.edge_flips_needed = true;
-  flipped.without_flips = plain.result.failure;
-  flipped.totals.add(plain.totals);
-  flipped.layout_failure = layout_failure(flipped);
-  return flipped;
-}
+namespace {
 
-Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOptions& request) {
+// The stereographic start is the same for every attempt of one request: computed once.
+struct StartCache {
+  bool computed = false;
+  std::optional<Eigen::VectorXd> start;
+};
+
+// One uniformization with the flow's edge flips as options.flow.edge_flips says.
+Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOptions& request,
+                               StartCache& cache) {
   const UniformizationOptions o = with_cone_values(mesh, request);
   Uniformization run;
   std::tie(run.preset, run.geometry) = resolve_request(mesh, o);
@@ -325,14 +316,40 @@ Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOpti
   if (run.preset == TargetPreset::UnitDisk) {
     detail::fit_boundary_to_circles(solver, mesh, outer, target, o, run);
   } else {
-    const std::optional<Eigen::VectorXd> start = flow_start(mesh, run.structure, target, o.flow);
-    run.result = solver.solve(target, start ? &*start : nullptr);
+    if (!cache.computed) cache.start = flow_start(mesh, run.structure, target, o.flow);
+    cache.computed = true;
+    run.result = solver.solve(target, cache.start ? &*cache.start : nullptr);
     run.totals.add(run.result);
   }
   if (run.result.converged) lay_out_result(mesh, o, outer, run);
   run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
   if (run.result.converged) run.layout_failure = layout_failure(run);
   return run;
+}
+
+}  // namespace
+
+Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+  StartCache cache;
+  UniformizationOptions o = request;
+  if (request.edge_flips != EdgeFlips::WhenNeeded) {
+    o.flow.edge_flips = request.edge_flips == EdgeFlips::Always;
+    return uniformize_once(mesh, o, cache);
+  }
+  o.flow.edge_flips = false;
+  Uniformization plain = uniformize_once(mesh, o, cache);
+  // Flips help only a flow that ran and got stuck on this triangulation; a flow that never
+  // started, or was cancelled, ends here.
+  const FlowStop stop = plain.result.stop;
+  if (plain.converged() || (stop != FlowStop::Stalled && stop != FlowStop::IterationLimit)) {
+    return plain;
+  }
+  o.flow.edge_flips = true;
+  Uniformization flipped = uniformize_once(mesh, o, cache);
+  flipped.edge_flips_needed = true;
+  flipped.without_flips = plain.result.failure;
+  flipped.totals.add(plain.totals);
+  return flipped;
 }
 
 }  // namespace ricci

@@ -54,8 +54,14 @@ struct FlowTimes {
          flips = 0, total = 0;
 };
 
+//! Why a flow stopped: converged; never started (an invalid initial metric, a circle pattern
+//! that cannot exist); cancelled by the progress callback; at the iteration limit; or stalled, no
+//! step making progress on this triangulation (edge flips may help).
+enum class FlowStop { Converged, NotStarted, Cancelled, IterationLimit, Stalled };
+
 struct FlowResult {
   bool converged = false;
+  FlowStop stop = FlowStop::NotStarted;
   std::string failure;  //!< why the flow stopped, when !converged
 
   Eigen::VectorXd u;                 //!< conformal factor per vertex

@@ -136,10 +136,6 @@ LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geomet
 //! \throws InvalidTargetError, InvalidArgumentError for requests that admit no solution (named).
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& options);
 
-//! One uniformization with the flow's edge flips as options.flow.edge_flips says (uniformize()
-//! decides them by options.edge_flips).
-Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOptions& options);
-
 //! Texture coordinates in [0, 1]^2 of a layout: per vertex for Plane (scaled with the aspect ratio
 //! kept), per face corner for PlaneCut (the same) and PoincareDisk ((z + 1) / 2); none for the
 //! sphere.
