@@ -45,7 +45,8 @@ class PlyOut {
 void write_result_ply(const std::string& path, const MeshUniformization& run, bool ascii) {
   std::ofstream out(path, std::ios::binary);
   if (!out) throw IoError("cannot write '" + path + "' (missing folder or no permission)");
-  const std::vector<Eigen::Vector3d>& positions = run.mesh.positions;
+  const std::vector<Eigen::Vector3d>& positions = run.positions;
+  const bool subdivided = run.num_new_vertices() > 0;
   const bool has_layout = !run.position.empty();
   const bool has_texture = !run.texture.vertex.empty();
   const bool has_wedges = !run.texture.wedge.empty();
@@ -59,8 +60,13 @@ void write_result_ply(const std::string& path, const MeshUniformization& run, bo
   if (has_layout)
     out << "property double layout_x\nproperty double layout_y\nproperty double layout_z\n";
   if (has_texture) out << "property float texture_u\nproperty float texture_v\n";
+  if (subdivided) {
+    out << "property int ricci_input_face\nproperty double ricci_bary_0\n"
+        << "property double ricci_bary_1\nproperty double ricci_bary_2\n";
+  }
   out << "element face " << run.faces.size() << "\n";
   out << "property list uchar int vertex_indices\n";
+  if (subdivided) out << "property int ricci_input_face\n";
   if (has_wedges) out << "property list uchar float texcoord\n";
   out << "end_header\n";
   PlyOut ply(out, ascii);
@@ -78,11 +84,16 @@ void write_result_ply(const std::string& path, const MeshUniformization& run, bo
       ply.put(static_cast<float>(run.texture.vertex[v].x()));
       ply.put(static_cast<float>(run.texture.vertex[v].y()));
     }
+    if (subdivided) {
+      ply.put(static_cast<std::int32_t>(run.vertex_input_face[v]));
+      for (int c = 0; c < 3; ++c) ply.put(run.vertex_barycentric[v][c]);
+    }
     ply.end_row();
   }
   for (size_t f = 0; f < run.faces.size(); ++f) {
     ply.put(std::uint8_t{3});
     for (int v : run.faces[f]) ply.put(static_cast<std::int32_t>(v));
+    if (subdivided) ply.put(static_cast<std::int32_t>(run.input_face[f]));
     if (has_wedges) {
       ply.put(std::uint8_t{6});
       for (const Eigen::Vector2d& uv : run.texture.wedge[f]) {

@@ -9,6 +9,11 @@
 // in the Poincare disk), or planar charts share the file with a sphere, texcoord for every face,
 // 6 floats (u v per corner, in [0, 1]; 0 for the sphere's faces), which MeshLab reads as wedge
 // texture coordinates.
+// When the flow flipped edges and the input's faces would turn over, the mesh is the common
+// subdivision (common_subdivision.h): the vertices above, then the new ones (each on an input
+// edge), with vertex properties ricci_input_face (int, -1 for the repaired mesh's vertices) and
+// ricci_bary_0..2 (double, the barycentric coordinates in that input face), and the face property
+// ricci_input_face (int, the input face the face lies in).
 #pragma once
 
 #include <string>

@@ -109,7 +109,8 @@ TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInput) {
     // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
     IntrinsicTriangulation t(mesh);
     std::vector<double> lambda = mesh.input_lengths();
-    for (int e : r.flip_sequence) {
+    for (const EdgeFlip& flip : r.flip_sequence) {
+      const int e = flip.edge;
       const int h = t.edge_halfedge(e), tw = t.twin(h);
       const int f = h / 3, c = h % 3, g = tw / 3, d = tw % 3;
       const double ka = lambda[t.face_edge(f, (c + 2) % 3)],

@@ -149,6 +149,14 @@ void pack(std::vector<Chart>& charts, const std::vector<double>& surface_area) {
   }
 }
 
+// The delivered vertex of component k's vertex i (i past the component's vertices: a new vertex
+// of its common subdivision).
+int delivered_vertex(const MeshUniformization& out, size_t k, int i) {
+  const std::vector<int>& vertex = out.mesh.components[k].vertex;
+  if (i < static_cast<int>(vertex.size())) return vertex[static_cast<size_t>(i)];
+  return out.new_vertex_base[k] + i - static_cast<int>(vertex.size());
+}
+
 Eigen::Vector2d atlas_point(const Chart& c, const Eigen::Vector2d& p) {
   return c.offset + (p - c.lo) * c.scale;
 }
@@ -159,9 +167,10 @@ void gather_texture(MeshUniformization& out) {
     const TextureCoordinates t = texture_coordinates(out.components[0]);
     out.texture.wedge = t.wedge;
     if (t.vertex.empty()) return;
-    out.texture.vertex.assign(out.mesh.positions.size(), Eigen::Vector2d::Zero());
-    const std::vector<int>& vertex = out.mesh.components[0].vertex;
-    for (size_t i = 0; i < vertex.size(); ++i) out.texture.vertex[vertex[i]] = t.vertex[i];
+    out.texture.vertex.assign(out.positions.size(), Eigen::Vector2d::Zero());
+    for (size_t i = 0; i < t.vertex.size(); ++i) {
+      out.texture.vertex[delivered_vertex(out, 0, static_cast<int>(i))] = t.vertex[i];
+    }
     for (size_t v = 0; v < out.texture.vertex.size(); ++v) {
       const int r = out.mesh.represented_by[v];
       if (r >= 0 && r != static_cast<int>(v)) out.texture.vertex[v] = out.texture.vertex[r];
@@ -180,12 +189,12 @@ void gather_texture(MeshUniformization& out) {
   if (!any) return;
   pack(charts, area);
   if (all_per_vertex) {
-    out.texture.vertex.assign(out.mesh.positions.size(), Eigen::Vector2d::Zero());
+    out.texture.vertex.assign(out.positions.size(), Eigen::Vector2d::Zero());
     for (size_t k = 0; k < n; ++k) {
-      const MeshComponent& c = out.mesh.components[k];
-      for (size_t i = 0; i < c.vertex.size(); ++i) {
-        out.texture.vertex[c.vertex[i]] =
-            atlas_point(charts[k], out.components[k].position[i].head<2>());
+      const auto& position = out.components[k].position;
+      for (size_t i = 0; i < position.size(); ++i) {
+        out.texture.vertex[delivered_vertex(out, k, static_cast<int>(i))] =
+            atlas_point(charts[k], position[i].head<2>());
       }
     }
     for (size_t v = 0; v < out.texture.vertex.size(); ++v) {
@@ -195,7 +204,7 @@ void gather_texture(MeshUniformization& out) {
     return;
   }
   for (size_t k = 0; k < n; ++k) {
-    for (size_t f = 0; f < out.mesh.components[k].face.size(); ++f) {
+    for (size_t f = 0; f < out.components[k].corners.size(); ++f) {
       std::array<Eigen::Vector2d, 3> uv = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
                                            Eigen::Vector2d::Zero()};
       if (!charts[k].corners.empty()) {
@@ -206,12 +215,22 @@ void gather_texture(MeshUniformization& out) {
   }
 }
 
-// Per-vertex results of every component, on the repaired mesh's vertices.
+// Per-vertex results of every component, on the delivered vertices.
 void gather_vertices(MeshUniformization& out) {
-  const size_t nv = out.mesh.positions.size();
+  out.positions = out.mesh.positions;
+  for (size_t k = 0; k < out.components.size(); ++k) {
+    out.new_vertex_base.push_back(static_cast<int>(out.positions.size()));
+    if (const auto& sub = out.components[k].subdivision) {
+      out.positions.insert(out.positions.end(), sub->positions.begin() + sub->num_input_vertices,
+                           sub->positions.end());
+    }
+  }
+  const size_t nv = out.positions.size();
   for (Eigen::VectorXd* x : {&out.u, &out.radius, &out.curvature, &out.target}) {
     *x = Eigen::VectorXd::Constant(static_cast<long>(nv), kNaN);
   }
+  out.vertex_input_face.assign(nv, -1);
+  out.vertex_barycentric.assign(nv, Eigen::Vector3d::Zero());
   bool any_position = false;
   for (const Uniformization& run : out.components) any_position |= !run.position.empty();
   if (any_position) out.position.assign(nv, Eigen::Vector3d::Constant(kNaN));
@@ -228,13 +247,32 @@ void gather_vertices(MeshUniformization& out) {
       out.target[v] = r.target.size() > l ? r.target[l] : kNaN;
       if (!run.position.empty()) out.position[v] = run.position[i];
     }
-    for (size_t f = 0; f < c.face.size(); ++f) {
-      const auto& t = c.mesh.faces()[f];
-      out.faces.push_back({c.vertex[t[0]], c.vertex[t[1]], c.vertex[t[2]]});
-      out.input_face.push_back(c.face[f]);
+    if (!run.subdivision) {
+      for (size_t f = 0; f < c.face.size(); ++f) {
+        const auto& t = c.mesh.faces()[f];
+        out.faces.push_back({c.vertex[t[0]], c.vertex[t[1]], c.vertex[t[2]]});
+        out.input_face.push_back(c.face[f]);
+      }
+      continue;
+    }
+    const CommonSubdivision& sub = *run.subdivision;
+    for (size_t i = c.vertex.size(); i < sub.positions.size(); ++i) {
+      const int v = delivered_vertex(out, k, static_cast<int>(i));
+      out.u[v] = sub.u[static_cast<long>(i)];
+      out.radius[v] = radius_from_conformal_factor(run.geometry, out.u[v]);
+      out.curvature[v] = 0;
+      if (!run.position.empty()) out.position[v] = run.position[i];
+      out.vertex_input_face[v] = c.face[sub.vertex_input_face[i]];
+      out.vertex_barycentric[v] = sub.vertex_barycentric[i];
+    }
+    for (size_t f = 0; f < sub.faces.size(); ++f) {
+      std::array<int, 3> t{};
+      for (int j = 0; j < 3; ++j) t[j] = delivered_vertex(out, k, sub.faces[f][j]);
+      out.faces.push_back(t);
+      out.input_face.push_back(c.face[sub.input_face[f]]);
     }
   }
-  for (size_t v = 0; v < nv; ++v) {  // vertices a zero-length edge collapsed take its result
+  for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
     const int r = out.mesh.represented_by[v];
     if (r < 0 || r == static_cast<int>(v)) continue;
     for (Eigen::VectorXd* x : {&out.u, &out.radius, &out.curvature, &out.target}) {

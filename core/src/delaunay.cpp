@@ -28,6 +28,18 @@ double lambda(const ConformalStructure& s, int e) {
   return std::sqrt(2 * s.eta[e]);
 }
 
+// The chord of a geodesic of length l: l (E2), 2 sinh(l/2) (H2), 2 sin(l/2) (S2).
+double chord(Geometry g, double l) {
+  switch (g) {
+    case Geometry::Hyperbolic:
+      return 2 * std::sinh(l / 2);
+    case Geometry::Spherical:
+      return 2 * std::sin(l / 2);
+    default:
+      return l;
+  }
+}
+
 }  // namespace
 
 bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, double tolerance) {
@@ -84,7 +96,15 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     const double old_eta = structure.eta[e];
     double new_eta;
     const auto& eps = structure.eps;
-    if (eps[k] == 0 && eps[a] == 0 && eps[b] == 0 && eps[l] == 0) {
+    EdgeFlip record;
+    record.edge = e;
+    const std::array<int, 5> quad_edges = {e_ka, e_al, e_lb, e_bk, e};
+    for (int i = 0; i < 5; ++i) {
+      record.lambda[i] = lambda(structure, quad_edges[i]);
+      record.chord[i] = chord(g, state.edges[quad_edges[i]].length);
+    }
+    record.ptolemy = eps[k] == 0 && eps[a] == 0 && eps[b] == 0 && eps[l] == 0;
+    if (record.ptolemy) {
       // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
       const double lam = (lambda(structure, e_ka) * lambda(structure, e_lb) +
                           lambda(structure, e_al) * lambda(structure, e_bk)) /
@@ -115,7 +135,7 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     edges.erase(pair_key(a, b));
     edges.insert(pair_key(k, l));
     ++report.flips;
-    report.sequence.push_back(e);
+    report.sequence.push_back(record);
     for (int side : {e_bk, e_ka, e_al, e_lb}) {
       if (!mesh.is_boundary_edge(side) && !queued[side]) {
         stack.push_back(side);

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "metric.h"
+#include "ricci/ricci_flow.h"
 #include "ricci/scheme.h"
 #include "ricci/triangulation.h"
 
@@ -28,7 +29,7 @@ bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e,
 
 struct FlipReport {
   int flips = 0;              //!< edges flipped
-  std::vector<int> sequence;  //!< the flipped edges, in order
+  std::vector<EdgeFlip> sequence;  //!< the flipped edges, in order
   int blocked = 0;  //!< non-Delaunay edges that could not be flipped (non-convex quadrilateral,
                     //!< the new diagonal already an edge, eta <= 0 or an invalid triangle after)
 };

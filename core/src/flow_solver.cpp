@@ -33,7 +33,7 @@ struct RicciFlowSolver::State {
   IntrinsicTriangulation triangulation;  // the input's, then as flipped
   ConformalStructure structure;          // eta changes with flips
   Eigen::VectorXd u;
-  std::vector<int> flip_sequence;
+  std::vector<EdgeFlip> flip_sequence;
   std::vector<int> free_index;  // of the pattern the step solver holds
   bool pattern_current = false;
   detail::StepSolver steps;

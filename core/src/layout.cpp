@@ -51,8 +51,9 @@ Layout lay_out(const Triangulation& mesh, Geometry geometry, const std::vector<d
 }
 
 double orientation(Geometry geometry, const std::array<Eigen::Vector3d, 3>& p) {
-  if (geometry == Geometry::Spherical) return p[0].dot(p[1].cross(p[2]));
   const Eigen::Vector3d u = p[1] - p[0], v = p[2] - p[0];
+  // S2: det(p0, p1, p2) = p0 . (u x v); differences first keep the sign of small triangles.
+  if (geometry == Geometry::Spherical) return u.cross(v).dot(p[0] + p[1] + p[2]) / 3;
   return u.x() * v.y() - u.y() * v.x();
 }
 
@@ -102,14 +103,15 @@ std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid
   return corners;
 }
 
-std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points) {
-  if (points.empty()) return points;
+std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points, size_t count) {
+  count = std::min(count, points.size());
+  if (count == 0) return points;
   // phi_a(x) = ((1 - |a|^2)(x - a) - |x - a|^2 a) / (1 - 2 a.x + |a|^2 |x|^2): the automorphism
   // of the unit ball that moves a to 0, a Moebius map of the sphere.
   const auto centroid = [&]() {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (const auto& x : points) c += x;
-    return Eigen::Vector3d(c / static_cast<double>(points.size()));
+    for (size_t i = 0; i < count; ++i) c += points[i];
+    return Eigen::Vector3d(c / static_cast<double>(count));
   };
   for (int it = 0; it < 200; ++it) {
     const Eigen::Vector3d c = centroid();

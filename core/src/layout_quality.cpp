@@ -53,6 +53,27 @@ double quasi_conformal_ratio(const std::array<double, 3>& from, const std::array
 
 LayoutQuality measure_layout(const CompactMesh& mesh, Geometry geometry, const FlowResult& result,
                              const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
+  std::vector<std::array<double, 3>> sides(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) sides[f][c] = mesh.input_lengths()[mesh.face_edge(f, c)];
+  }
+  return measure_layout(sides, geometry, result, corners);
+}
+
+std::vector<std::array<double, 3>> face_sides(const std::vector<Eigen::Vector3d>& positions,
+                                              const std::vector<std::array<int, 3>>& faces) {
+  std::vector<std::array<double, 3>> sides(faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      sides[f][c] = (positions[faces[f][(c + 1) % 3]] - positions[faces[f][(c + 2) % 3]]).norm();
+    }
+  }
+  return sides;
+}
+
+LayoutQuality measure_layout(const std::vector<std::array<double, 3>>& input_sides,
+                             Geometry geometry, const FlowResult& result,
+                             const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
   LayoutQuality q;
   int with_target = 0;
   for (int v = 0; v < result.target.size(); ++v) {
@@ -65,13 +86,11 @@ LayoutQuality measure_layout(const CompactMesh& mesh, Geometry geometry, const F
   if (with_target > 0) q.mean_curvature_error /= with_target;
   if (corners.empty()) return q;
 
-  const int nf = mesh.num_faces();
+  const int nf = static_cast<int>(input_sides.size());
   std::vector<double> ratio(nf), input_area(nf), layout_area(nf);
   double input_total = 0, layout_total = 0;
   for (int f = 0; f < nf; ++f) {
-    const std::array<double, 3> from = {mesh.input_lengths()[mesh.face_edge(f, 0)],
-                                        mesh.input_lengths()[mesh.face_edge(f, 1)],
-                                        mesh.input_lengths()[mesh.face_edge(f, 2)]};
+    const std::array<double, 3>& from = input_sides[f];
     const auto& p = corners[f];
     const std::array<double, 3> to = side_lengths(p);
     ratio[f] = quasi_conformal_ratio(from, to);

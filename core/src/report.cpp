@@ -59,6 +59,19 @@ std::string layout_json(const Uniformization& run) {
     << ", \"median\": " << number(q.area_ratio_median) << ", \"p95\": " << number(q.area_ratio_p95)
     << "}";
   if (run.preset == TargetPreset::UnitDisk) j << ", \"circle_error\": " << number(run.circle_error);
+  j << ", \"input_faces_turned_over\": " << run.input_faces_turned_over;
+  if (run.subdivision) {
+    const CommonSubdivision& sub = *run.subdivision;
+    j << ", \"common_subdivision\": {\"vertices\": " << sub.positions.size()
+      << ", \"new_vertices\": " << sub.positions.size() - sub.num_input_vertices
+      << ", \"faces\": " << sub.faces.size() << ", \"flips_followed\": " << sub.num_flips
+      << ", \"seconds\": " << number(sub.seconds) << "}";
+  } else {
+    j << ", \"common_subdivision\": null";
+  }
+  if (!run.subdivision_failure.empty()) {
+    j << ", \"common_subdivision_failure\": " << quoted(run.subdivision_failure);
+  }
   if (run.geometry == Geometry::Euclidean) {
     j << ", \"max_relative_length_error\": " << number(m.max_relative_length_error);
   }
@@ -99,15 +112,20 @@ double gauss_bonnet_error(const CompactMesh& mesh, Geometry geometry, const Flow
 }
 
 std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& run) {
-  return {{"iterations", run.totals.newton_iterations},
-          {"edge_flips", run.totals.edge_flips},
-          {"max_curvature_error", run.quality.max_curvature_error},
-          {"flipped_faces", run.quality.flipped_faces},
-          {"quasi_conformal_median", run.quality.quasi_conformal_median},
-          {"closure_error", run.layout.closure_error},
-          {"circle_error", run.circle_error},
-          {"flows", run.totals.flows},
-          {"collapsed_faces", run.quality.collapsed_faces}};
+  return {
+      {"iterations", run.totals.newton_iterations},
+      {"edge_flips", run.totals.edge_flips},
+      {"max_curvature_error", run.quality.max_curvature_error},
+      {"flipped_faces", run.quality.flipped_faces},
+      {"quasi_conformal_median", run.quality.quasi_conformal_median},
+      {"closure_error", run.layout.closure_error},
+      {"circle_error", run.circle_error},
+      {"flows", run.totals.flows},
+      {"collapsed_faces", run.quality.collapsed_faces},
+      {"input_faces_turned_over", run.input_faces_turned_over},
+      {"new_vertices", run.subdivision ? static_cast<double>(run.subdivision->positions.size() -
+                                                             run.subdivision->num_input_vertices)
+                                       : 0.0}};
 }
 
 std::vector<std::string> summary_lines(const MeshUniformization& run, const RunContext& context) {
@@ -141,7 +159,8 @@ std::vector<std::pair<std::string, double>> result_numbers(const MeshUniformizat
     for (size_t i = 0; i < numbers.size(); ++i) {
       const std::string& name = numbers[i].first;
       const bool sum = name == "iterations" || name == "edge_flips" || name == "flipped_faces" ||
-                       name == "flows" || name == "collapsed_faces";
+                       name == "flows" || name == "collapsed_faces" ||
+                       name == "input_faces_turned_over" || name == "new_vertices";
       total[i].second =
           sum ? total[i].second + numbers[i].second : std::max(total[i].second, numbers[i].second);
     }
@@ -183,13 +202,25 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     return lines;
   }
   const LayoutQuality& q = run.quality;
-  line("Layout (", to_string(run.layout_kind), "): ", q.flipped_faces,
-       " of the input's faces flipped; quasi-conformal ratio median ", q.quasi_conformal_median,
-       ", 95% ", q.quasi_conformal_p95, ", max ", q.quasi_conformal_max, "; area ratio 5%..95% ",
+  const char* faces = "input's faces";
+  if (run.subdivision) {
+    const CommonSubdivision& sub = *run.subdivision;
+    faces = "subdivision's faces";
+    line("Common subdivision: ", run.input_faces_turned_over,
+         " of the input's faces would turn over on the flipped triangulation, so the input is cut "
+         "along its edges: ",
+         sub.positions.size(), " vertices (", sub.positions.size() - mesh.num_vertices(),
+         " new, on input edges), ", sub.faces.size(), " faces (", sub.seconds, " s)");
+  } else if (run.input_faces_turned_over > 0 && !run.subdivision_failure.empty()) {
+    line("No common subdivision: ", run.subdivision_failure);
+  }
+  line("Layout (", to_string(run.layout_kind), "): ", q.flipped_faces, " of the ", faces,
+       " flipped; quasi-conformal ratio median ", q.quasi_conformal_median, ", 95% ",
+       q.quasi_conformal_p95, ", max ", q.quasi_conformal_max, "; area ratio 5%..95% ",
        q.area_ratio_p5, "..", q.area_ratio_p95);
   if (q.collapsed_faces > 0) {
-    line("Warning: ", q.collapsed_faces,
-         " of the input's faces are squeezed to almost no area in "
+    line("Warning: ", q.collapsed_faces, " of the ", faces,
+         " are squeezed to almost no area in "
          "the layout (first: face ",
          q.first_collapsed_face,
          "): the conformal map shrinks "

@@ -96,33 +96,73 @@ std::vector<std::complex<double>> torus_periods(const Layout& layout) {
 }
 
 // The layout of a converged flow, its per-vertex positions where it has them, and the corners of
-// the input's faces.
+// the delivered faces: the input's, or, when those would turn over after edge flips, the common
+// subdivision's.
 void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int outer_loop,
                     Uniformization& run) {
   const Triangulation& flowed = result_triangulation(mesh, run.result);
   run.layout_kind = planned_layout(mesh, run.preset, run.geometry);
   run.layout = lay_out(flowed, run.geometry, run.result.edge_lengths, o.flow.linear_solver);
-  if (run.layout_kind == LayoutKind::Plane || run.layout_kind == LayoutKind::Sphere) {
-    run.position = vertex_positions(flowed, run.layout);
-  }
-  if (run.layout_kind == LayoutKind::Sphere && mesh.is_closed()) {
-    run.position = center_on_sphere(std::move(run.position));
-  }
-  if (run.preset == TargetPreset::UnitDisk) {
-    run.position = detail::normalize_to_unit_disk(
-        std::move(run.position), mesh.boundary_loops()[outer_loop], o.center_vertex, o.axis_vertex);
-    run.circle_error = detail::circle_error(run.position, mesh);
-  }
+  const bool per_vertex =
+      run.layout_kind == LayoutKind::Plane || run.layout_kind == LayoutKind::Sphere;
+  std::vector<Eigen::Vector3d> position;
+  if (per_vertex) position = vertex_positions(flowed, run.layout);
   if (run.geometry == Geometry::Euclidean && mesh.is_closed() && mesh.genus() == 1) {
     run.periods = torus_periods(run.layout);
   }
-  if (run.position.empty()) {
-    if (run.layout_kind != LayoutKind::None) run.corners = corners_on(flowed, run.layout, mesh);
+  if (run.layout_kind == LayoutKind::None) return;
+  std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  if (per_vertex) {
+    corners.resize(mesh.num_faces());
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      for (int c = 0; c < 3; ++c) corners[f][c] = position[mesh.face_vertex(f, c)];
+    }
+  } else {
+    corners = corners_on(flowed, run.layout, mesh);
+  }
+  // The normalizations below keep orientations: count the turned faces before them.
+  if (!run.result.flip_sequence.empty()) {
+    for (const auto& t : corners) {
+      run.input_faces_turned_over += !(orientation(run.geometry, t) > 0);
+    }
+  }
+  if (run.input_faces_turned_over > 0 && !o.keep_input_triangulation) {
+    try {
+      run.subdivision = common_subdivision(mesh, run.structure, run.result, run.layout);
+    } catch (const LayoutError& e) {
+      run.subdivision_failure = e.what();
+    }
+  }
+  const CommonSubdivision* sub = run.subdivision ? &*run.subdivision : nullptr;
+  if (sub && per_vertex) {
+    position.insert(position.end(), sub->vertex_layout.begin() + mesh.num_vertices(),
+                    sub->vertex_layout.end());
+  }
+  if (run.layout_kind == LayoutKind::Sphere && mesh.is_closed()) {
+    position = center_on_sphere(std::move(position), mesh.num_vertices());
+  }
+  if (run.preset == TargetPreset::UnitDisk) {
+    position = detail::normalize_to_unit_disk(
+        std::move(position), mesh.boundary_loops()[outer_loop], o.center_vertex, o.axis_vertex);
+    run.circle_error = detail::circle_error(position, mesh);
+  }
+  run.position = std::move(position);
+  if (!sub) {
+    if (per_vertex) {
+      for (int f = 0; f < mesh.num_faces(); ++f) {
+        for (int c = 0; c < 3; ++c) corners[f][c] = run.position[mesh.face_vertex(f, c)];
+      }
+    }
+    run.corners = std::move(corners);
     return;
   }
-  run.corners.resize(mesh.num_faces());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) run.corners[f][c] = run.position[mesh.face_vertex(f, c)];
+  if (!per_vertex) {
+    run.corners = sub->corners;
+    return;
+  }
+  run.corners.resize(sub->faces.size());
+  for (size_t f = 0; f < sub->faces.size(); ++f) {
+    for (int c = 0; c < 3; ++c) run.corners[f][c] = run.position[sub->faces[f][c]];
   }
 }
 
@@ -265,12 +305,20 @@ namespace {
 // What makes a converged layout no map: faces turned over, the unit disk's loops off circles.
 std::string layout_failure(const Uniformization& run) {
   std::ostringstream s;
+  if (run.subdivision && run.quality.flipped_faces > 0) {
+    s << run.quality.flipped_faces << " faces of the common subdivision are turned over (first: "
+      << "face " << run.quality.first_flipped_face << ")";
+    return s.str();
+  }
   if (run.quality.flipped_faces > 0) {
     s << run.quality.flipped_faces << " of the input's faces are turned over (first: face "
       << run.quality.first_flipped_face << ")";
     if (run.totals.edge_flips > 0) {
       s << ": the flow needed edge flips, and the input's faces drawn over the flipped "
-           "triangulation by their corners can turn over; try another scheme";
+           "triangulation by their corners turn over";
+      if (!run.subdivision_failure.empty()) {
+        s << "; the common subdivision could not be built (" << run.subdivision_failure << ")";
+      }
     }
     return s.str();
   }
@@ -322,7 +370,12 @@ Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOpti
     run.totals.add(run.result);
   }
   if (run.result.converged) lay_out_result(mesh, o, outer, run);
-  run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
+  if (run.subdivision) {
+    run.quality = measure_layout(face_sides(run.subdivision->positions, run.subdivision->faces),
+                                 run.geometry, run.result, run.corners);
+  } else {
+    run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
+  }
   if (run.result.converged) run.layout_failure = layout_failure(run);
   return run;
 }

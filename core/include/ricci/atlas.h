@@ -17,19 +17,34 @@ namespace ricci {
 struct MeshUniformization {
   RepairedMesh mesh;
   std::vector<Uniformization> components;  //!< one per mesh.components
-  //! Per vertex of the repaired mesh; NaN where a vertex is in no face.
+  //! The delivered vertices: the repaired mesh's, then the new vertices of the components whose
+  //! result is a common subdivision (common_subdivision.h), component after component.
+  std::vector<Eigen::Vector3d> positions;
+  //! Per delivered vertex: -1 for the repaired mesh's; for a new vertex the input face it lies in
+  //! and its barycentric coordinates at that face's corners (in the order the faces were read,
+  //! or reversed where the repair reoriented the face).
+  std::vector<int> vertex_input_face;
+  std::vector<Eigen::Vector3d> vertex_barycentric;
+  //! Per delivered vertex; NaN where a vertex is in no face. New vertices are flat (curvature
+  //! 0), with no target; u interpolated along their input edge.
   Eigen::VectorXd u, radius, curvature, target;
   //! Per vertex where its component's layout has one position per vertex (plane, sphere), NaN
   //! elsewhere; empty when no component has one.
   std::vector<Eigen::Vector3d> position;
-  //! The repaired mesh's faces, component after component, and the input face each lies in.
+  //! The delivered faces (the repaired mesh's, or a component's common subdivision), component
+  //! after component, and the input face each lies in.
   std::vector<std::array<int, 3>> faces;
   std::vector<int> input_face;
   //! Per vertex when every component is laid out in the plane with one position per vertex, else
   //! per face corner (faces of sphere components at 0); the charts packed into [0, 1]^2. Empty
   //! when no component has a planar layout.
   TextureCoordinates texture;
+  //! Per component: the delivered index of its first new vertex.
+  std::vector<int> new_vertex_base;
 
+  int num_new_vertices() const {
+    return static_cast<int>(positions.size() - mesh.positions.size());
+  }
   bool converged() const;
   bool valid() const;  //!< every component converged with a valid layout
   //! \throws ConvergenceError or LayoutError naming the first component that failed.

@@ -86,8 +86,10 @@ std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid
 double surface_group_relation_error(const Triangulation& mesh, const Layout& layout);
 
 //! S2: the Moebius transformation of the sphere that moves the points' centre of mass to the
-//! origin (iterated ball automorphisms); returns the moved points. \pre unit vectors.
-std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points);
+//! origin (iterated ball automorphisms); returns the moved points. Only the first `count` points
+//! make the centre of mass; all move. \pre unit vectors.
+std::vector<Eigen::Vector3d> center_on_sphere(std::vector<Eigen::Vector3d> points,
+                                              size_t count = static_cast<size_t>(-1));
 
 //! Orientation of a laid-out triangle: positive when counter-clockwise in the plane or the disk,
 //! or counter-clockwise seen from outside the sphere.

@@ -35,6 +35,15 @@ struct LayoutQuality {
 LayoutQuality measure_layout(const CompactMesh& mesh, Geometry geometry, const FlowResult& result,
                              const std::vector<std::array<Eigen::Vector3d, 3>>& corners);
 
+//! The same for any triangle mesh: per face its input side lengths (l[k] opposite corner k).
+LayoutQuality measure_layout(const std::vector<std::array<double, 3>>& input_sides,
+                             Geometry geometry, const FlowResult& result,
+                             const std::vector<std::array<Eigen::Vector3d, 3>>& corners);
+
+//! Side lengths (l[k] opposite corner k) of every face of a mesh in 3D.
+std::vector<std::array<double, 3>> face_sides(const std::vector<Eigen::Vector3d>& positions,
+                                              const std::vector<std::array<int, 3>>& faces);
+
 //! The quasi-conformal ratio of the affine map between two triangles given by their side
 //! lengths (l[k] opposite corner k); infinity for a degenerate triangle.
 double quasi_conformal_ratio(const std::array<double, 3>& from, const std::array<double, 3>& to);

@@ -13,6 +13,7 @@
 // compute_ricci_flow is the one-shot call.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -59,6 +60,20 @@ struct FlowTimes {
 //! step making progress on this triangulation (edge flips may help).
 enum class FlowStop { Converged, NotStarted, Cancelled, IterationLimit, Stalled };
 
+//! One edge flip of the flow, with what the common subdivision (common_subdivision.h) needs to
+//! follow the input's edges through it. Before the flip, edge a-b is the diagonal of the
+//! quadrilateral k, a, l, b of its faces (k, a, b) and (l, b, a); after it, k-l.
+struct EdgeFlip {
+  int edge = -1;
+  //! Yamabe (eps = 0 at all four corners): Ptolemy's relation on the lambda-lengths, which keeps
+  //! the discrete conformal class; otherwise the flip keeps the metric of that moment.
+  bool ptolemy = false;
+  //! Sides k-a, a-l, l-b, b-k and the diagonal a-b before the flip: lambda-lengths sqrt(2 eta)
+  //! (used when ptolemy), and chords of the metric of that moment (2 sin(l/2) in S2, 2 sinh(l/2)
+  //! in H2).
+  std::array<double, 5> lambda{}, chord{};
+};
+
 struct FlowResult {
   bool converged = false;
   FlowStop stop = FlowStop::NotStarted;
@@ -73,7 +88,7 @@ struct FlowResult {
   int connectivity_changes = 0;      //!< flip rounds of this solve that changed the triangulation
   //! Every flipped edge since the input triangulation, in order (replays the flips), over every
   //! solve of the solver so far.
-  std::vector<int> flip_sequence;
+  std::vector<EdgeFlip> flip_sequence;
   //! The final connectivity when flips changed it (edge indices as in the input).
   std::optional<Triangulation> triangulation;
   double area = 0;  //!< total area in the background geometry

@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include "ricci/common_subdivision.h"
 #include "ricci/compact_mesh.h"
 #include "ricci/layout.h"
 #include "ricci/layout_quality.h"
@@ -73,6 +74,9 @@ struct UniformizationOptions {
   //! changes by less than this (radians).
   double boundary_tolerance = 1e-9;
   int max_boundary_iterations = 200;
+  //! After edge flips, lay out the input's own faces by their corners even when some turn over
+  //! (reported as an invalid layout) instead of delivering the common subdivision.
+  bool keep_input_triangulation = false;
 };
 
 //! Sums over the flows of one uniformization (the disk preset runs several).
@@ -103,12 +107,20 @@ struct Uniformization {
   Layout layout;
   //! Plane and Sphere: position per vertex (Plane: z = 0).
   std::vector<Eigen::Vector3d> position;
-  //! Every layout: positions per face and corner of the input mesh.
+  //! Every layout: positions per face and corner of the delivered mesh (the input's, or the
+  //! common subdivision's).
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  //! When the flow flipped edges and the input's faces drawn by their corners would turn over:
+  //! the mesh delivered instead (common_subdivision.h); `position` and `corners` are then its.
+  std::optional<CommonSubdivision> subdivision;
+  //! Input faces that turned over when drawn by their corners on the flipped triangulation.
+  int input_faces_turned_over = 0;
+  //! Why the common subdivision could not be built, or "".
+  std::string subdivision_failure;
   //! Flat torus (E2, closed genus 1): two translations spanning the period lattice, from the deck
   //! transformations; |Im(conj(w0) w1)| is the torus's area.
   std::vector<std::complex<double>> periods;
-  LayoutQuality quality;
+  LayoutQuality quality;  //!< of the delivered mesh's layout
   //! EdgeFlips::WhenNeeded: the run without flips did not converge, this one flipped; why not.
   bool edge_flips_needed = false;
   std::string without_flips;

@@ -1,0 +1,60 @@
+// The common subdivision of the input mesh and the flow's final triangulation: what a flow that
+// flipped edges delivers when the input's own faces, drawn by their corners, would turn over.
+//
+// The flow's metric lives on the flipped triangulation T' of the input's vertices; the input's
+// edges, followed through every flip (input_overlay.h), cross the edges of T'. Cutting the input
+// mesh along T' (equivalently T' along the input's edges) gives pieces that each lie in one input
+// face, so the result is the user's surface exactly (new vertices lie on input edges, at their
+// 3D position), and in one face of T', so each piece's layout is a straight piece of a triangle
+// of the final metric: in the plane, the Poincare disk or on the sphere. Pieces are convex in
+// both, and fan-triangulated.
+//
+// Vertices: the input's first, unchanged and in order; then one per crossing of an input edge with
+// an edge of T', input edge after input edge, in the order along each.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/compact_mesh.h"
+#include "ricci/layout.h"
+#include "ricci/ricci_flow.h"
+#include "ricci/scheme.h"
+
+namespace ricci {
+
+struct CommonSubdivision {
+  int num_input_vertices = 0;
+  std::vector<Eigen::Vector3d> positions;  //!< 3D, on the input surface
+  std::vector<std::array<int, 3>> faces;   //!< oriented as the input's
+  std::vector<int> input_face;             //!< per face: the input face it lies in
+  std::vector<int> final_face;             //!< per face: the face of T' it lies in
+  //! Per vertex: an input face holding it and its barycentric coordinates there (for the input's
+  //! vertices: a face of theirs, with a unit coordinate).
+  std::vector<int> vertex_input_face;
+  std::vector<Eigen::Vector3d> vertex_barycentric;
+  //! Per new vertex: the input edge it lies on and its parameter there (0 at the edge's first
+  //! vertex, 1 at its second).
+  std::vector<int> vertex_input_edge;
+  std::vector<double> vertex_edge_parameter;
+  //! The layout per face and corner, in the model of `layout` (before any normalization).
+  std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  //! Per vertex: its position in the layout from the first face that holds it.
+  std::vector<Eigen::Vector3d> vertex_layout;
+  //! Per vertex: u, the input's for input vertices, interpolated along the input edge for new
+  //! ones.
+  Eigen::VectorXd u;
+  int num_flips = 0;   //!< flips followed
+  double seconds = 0;  //!< time to build it
+};
+
+//! Builds the common subdivision of a converged flow with flips. `initial` is the conformal
+//! structure the flow started from, `layout` the layout of result_triangulation(mesh, result).
+//! \throws LayoutError when the input's edges cannot be followed through the flips consistently
+//!   (names the flip or face).
+CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStructure& initial,
+                                     const FlowResult& result, const Layout& layout);
+
+}  // namespace ricci

@@ -1,0 +1,172 @@
+// The common subdivision delivered when edge flips would turn the input's faces over, checked
+// with geometry written here (not the library's): the user's surface, no face turned over, flat
+// new vertices, cone angles kept, one chart without overlaps.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "ricci/uniformize.h"
+#include "test_meshes.h"
+
+namespace ricci {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+double area3(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+double signed_area2(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return 0.5 * ((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x()));
+}
+
+double turn(Geometry g, const std::array<Vec3, 3>& p) {
+  if (g == Geometry::Spherical) return (p[1] - p[0]).cross(p[2] - p[0]).dot(p[0]);
+  return signed_area2(p[0], p[1], p[2]);
+}
+
+struct Case {
+  std::string mesh;
+  Geometry geometry;
+  Scheme scheme;
+  TargetPreset preset;
+};
+
+std::ostream& operator<<(std::ostream& s, const Case& c) {
+  return s << c.mesh << " " << to_string(c.geometry) << " " << to_string(c.scheme);
+}
+
+class CommonSubdivisionTest : public ::testing::TestWithParam<Case> {};
+
+TEST_P(CommonSubdivisionTest, IsTheInputSurfaceLaidOutWithoutTurnedFaces) {
+  const Case& c = GetParam();
+  const CompactMesh mesh = test::cgal_mesh(c.mesh);
+  UniformizationOptions o;
+  o.preset = c.preset;
+  o.geometry = c.geometry;
+  o.scheme.scheme = c.scheme;
+  o.edge_flips = EdgeFlips::Always;
+  const Uniformization run = uniformize(mesh, o);
+  ASSERT_TRUE(run.converged()) << run.result.failure;
+  ASSERT_GT(run.totals.edge_flips, 0);
+  ASSERT_GT(run.input_faces_turned_over, 0) << "this case no longer needs a subdivision";
+  ASSERT_TRUE(run.subdivision.has_value()) << run.subdivision_failure;
+  EXPECT_TRUE(run.valid()) << run.layout_failure;
+  const CommonSubdivision& s = *run.subdivision;
+  const int nv = mesh.num_vertices();
+  ASSERT_EQ(s.faces.size(), run.corners.size());
+  ASSERT_EQ(s.num_input_vertices, nv);
+
+  // The input's vertices unchanged; every new vertex on its input face at its coordinates.
+  for (int v = 0; v < nv; ++v) ASSERT_EQ(s.positions[v], mesh.positions()[v]) << v;
+  const double size = std::sqrt(mesh.input_area());
+  for (size_t v = nv; v < s.positions.size(); ++v) {
+    const int f = s.vertex_input_face[v];
+    ASSERT_GE(f, 0);
+    Vec3 p = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GE(s.vertex_barycentric[v][k], -1e-12);
+      p += s.vertex_barycentric[v][k] * mesh.positions()[mesh.face_vertex(f, k)];
+    }
+    EXPECT_LE((p - s.positions[v]).norm(), 1e-12 * size) << "vertex " << v;
+  }
+  // The same surface: each face inside its input face, same orientation, areas adding up.
+  std::vector<double> piece_area(mesh.num_faces(), 0.0);
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    const int in = s.input_face[f];
+    const Vec3 &a = mesh.positions()[mesh.face_vertex(in, 0)],
+               &b = mesh.positions()[mesh.face_vertex(in, 1)],
+               &cc = mesh.positions()[mesh.face_vertex(in, 2)];
+    const Vec3 n = (b - a).cross(cc - a).normalized();
+    const auto& t = s.faces[f];
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_LE(std::abs((s.positions[t[k]] - a).dot(n)), 1e-9 * size) << "face " << f;
+    }
+    const Vec3 m =
+        (s.positions[t[1]] - s.positions[t[0]]).cross(s.positions[t[2]] - s.positions[t[0]]);
+    EXPECT_GE(m.dot(n), -1e-12 * size * size) << "face " << f << " turned in 3D";
+    piece_area[in] += area3(s.positions[t[0]], s.positions[t[1]], s.positions[t[2]]);
+  }
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const double want =
+        area3(mesh.positions()[mesh.face_vertex(f, 0)], mesh.positions()[mesh.face_vertex(f, 1)],
+              mesh.positions()[mesh.face_vertex(f, 2)]);
+    EXPECT_NEAR(piece_area[f], want, 1e-9 * want + 1e-15) << "input face " << f;
+  }
+  // No face turned over in the layout.
+  int turned = 0;
+  for (const auto& t : run.corners) turned += !(turn(c.geometry, t) > 0);
+  EXPECT_EQ(turned, 0);
+
+  if (c.geometry != Geometry::Euclidean) return;
+  // Plane: corner angles sum to 2 pi - Kbar at interior input vertices, 2 pi at new interior
+  // ones (the pieces are flat), pi - Kbar on the boundary.
+  std::vector<double> angle(s.positions.size(), 0.0);
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 &p = run.corners[f][k], &q = run.corners[f][(k + 1) % 3],
+                 &r = run.corners[f][(k + 2) % 3];
+      const Eigen::Vector2d x = (q - p).head<2>(), y = (r - p).head<2>();
+      angle[s.faces[f][k]] += std::atan2(x.x() * y.y() - x.y() * y.x(), x.dot(y));
+    }
+  }
+  for (size_t v = 0; v < angle.size(); ++v) {
+    const bool boundary =
+        v < static_cast<size_t>(nv) && mesh.is_boundary_vertex(static_cast<int>(v));
+    const double kbar = v < static_cast<size_t>(nv) ? run.result.target[static_cast<long>(v)] : 0.0;
+    if (std::isnan(kbar)) continue;
+    EXPECT_NEAR(angle[v], (boundary ? kPi : 2 * kPi) - kbar, 1e-6) << "vertex " << v;
+  }
+  if (run.layout_kind != LayoutKind::Plane) return;
+  // One chart: no point of the plane inside two faces (sampled on a grid).
+  Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& t : run.corners) {
+    for (const auto& p : t) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
+  }
+  const int n = 400;
+  std::map<long, int> cover;
+  int overlaps = 0;
+  for (const auto& t : run.corners) {
+    Eigen::Vector2d a = t[0].head<2>(), b = a;
+    for (const auto& p : t) a = a.cwiseMin(p.head<2>()), b = b.cwiseMax(p.head<2>());
+    const Eigen::Vector2d step = (hi - lo) / n;
+    for (int i = static_cast<int>((a.x() - lo.x()) / step.x()); i <= (b.x() - lo.x()) / step.x();
+         ++i) {
+      for (int j = static_cast<int>((a.y() - lo.y()) / step.y()); j <= (b.y() - lo.y()) / step.y();
+           ++j) {
+        const Vec3 x(lo.x() + (i + 0.5) * step.x(), lo.y() + (j + 0.5) * step.y(), 0);
+        const double total = signed_area2(t[0], t[1], t[2]);
+        const double w0 = signed_area2(x, t[1], t[2]) / total,
+                     w1 = signed_area2(t[0], x, t[2]) / total;
+        if (w0 > 1e-9 && w1 > 1e-9 && 1 - w0 - w1 > 1e-9) overlaps += cover[i * (n + 1L) + j]++ > 0;
+      }
+    }
+  }
+  EXPECT_EQ(overlaps, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    FlippedMeshes, CommonSubdivisionTest,
+    ::testing::Values(
+        Case{"eight.off", Geometry::Hyperbolic, Scheme::Yamabe, TargetPreset::Automatic},
+        Case{"rotor_small.off", Geometry::Euclidean, Scheme::Yamabe, TargetPreset::Automatic},
+        Case{"mannequin-devil.off", Geometry::Euclidean, Scheme::InversiveDistance,
+             TargetPreset::FreeBoundary},
+        Case{"elk.off", Geometry::Euclidean, Scheme::Yamabe, TargetPreset::Automatic},
+        Case{"femur.off", Geometry::Hyperbolic, Scheme::Yamabe, TargetPreset::Automatic},
+        Case{"cow.off", Geometry::Spherical, Scheme::Yamabe, TargetPreset::Automatic}),
+    [](const auto& param_info) {
+      std::string name = param_info.param.mesh.substr(0, param_info.param.mesh.find('.')) + "_" +
+                         to_string(param_info.param.geometry) + "_" +
+                         to_string(param_info.param.scheme);
+      for (char& ch : name) {
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      }
+      return name;
+    });
+
+}  // namespace
+}  // namespace ricci
