@@ -170,6 +170,15 @@ const std::vector<Flag>& flags() {
        [](O& o, const std::string&, const std::string&) {
          o.request.edge_flips = EdgeFlips::Never;
        }},
+      {{"--keep-input-triangulation"},
+       "",
+       "after edge flips, write the input's faces with their corners' layout even where they turn "
+       "over (an error, as the layout is then no map) instead of the common subdivision (the "
+       "input cut along the flipped triangulation's edges, with new vertices on its edges)",
+       nullptr,
+       [](O& o, const std::string&, const std::string&) {
+         o.request.keep_input_triangulation = true;
+       }},
       {{"--strict"},
        "",
        "refuse a mesh that needs repairs (by default duplicate, degenerate and misoriented faces, "

@@ -48,8 +48,7 @@ struct FilterComputation {
   //! The repairs changed the vertices or faces (not only the order of the components' faces):
   //! the mesh is rebuilt when the results are written.
   bool rebuilds(const MeshInput& input) const {
-    if (run.mesh.positions.size() != input.selected.size() ||
-        run.faces.size() != input.faces.size()) {
+    if (run.positions.size() != input.selected.size() || run.faces.size() != input.faces.size()) {
       return true;
     }
     for (size_t k = 0; k < run.faces.size(); ++k) {
@@ -100,14 +99,15 @@ MeshInput read_mesh_input(const MeshT& m, bool has_quality, bool strict = false)
 FilterComputation compute(const MeshInput& input, const FilterSettings& settings,
                           const std::function<bool(const FlowProgress&)>& progress = {});
 
-//! Replaces the mesh's faces by the repaired ones and adds the vertex copies the repairs made,
-//! then compacts it: afterwards its live vertices are the repaired mesh's, in order.
+//! Replaces the mesh's faces by the delivered ones and adds the vertex copies the repairs made and
+//! the new vertices of a common subdivision, then compacts it: afterwards its live vertices are
+//! the delivered ones, in order.
 template <class MeshT>
 void rebuild_repaired(MeshT& m, const FilterComputation& c) {
   using Allocator = vcg::tri::Allocator<MeshT>;
   using Scalar = typename MeshT::ScalarType;
   Allocator::CompactEveryVector(m);
-  const std::vector<Eigen::Vector3d>& p = c.run.mesh.positions;
+  const std::vector<Eigen::Vector3d>& p = c.run.positions;
   const size_t live = m.vert.size();
   if (p.size() > live) Allocator::AddVertices(m, p.size() - live);
   for (size_t v = live; v < p.size(); ++v) {
