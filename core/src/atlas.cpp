@@ -171,7 +171,7 @@ void gather_texture(MeshUniformization& out) {
     for (size_t i = 0; i < t.vertex.size(); ++i) {
       out.texture.vertex[delivered_vertex(out, 0, static_cast<int>(i))] = t.vertex[i];
     }
-    for (size_t v = 0; v < out.texture.vertex.size(); ++v) {
+    for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
       const int r = out.mesh.represented_by[v];
       if (r >= 0 && r != static_cast<int>(v)) out.texture.vertex[v] = out.texture.vertex[r];
     }
@@ -197,7 +197,7 @@ void gather_texture(MeshUniformization& out) {
             atlas_point(charts[k], position[i].head<2>());
       }
     }
-    for (size_t v = 0; v < out.texture.vertex.size(); ++v) {
+    for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
       const int r = out.mesh.represented_by[v];
       if (r >= 0 && r != static_cast<int>(v)) out.texture.vertex[v] = out.texture.vertex[r];
     }
