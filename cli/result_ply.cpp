@@ -67,7 +67,10 @@ void write_result_ply(const std::string& path, const MeshUniformization& run, bo
   out << "element face " << run.faces.size() << "\n";
   out << "property list uchar int vertex_indices\n";
   if (subdivided) out << "property int ricci_input_face\n";
-  if (has_wedges) out << "property list uchar float texcoord\n";
+  if (has_wedges) {
+    out << "property list uchar float texcoord\n";
+    out << "property list uchar double texcoord_double\n";
+  }
   out << "end_header\n";
   PlyOut ply(out, ascii);
   for (size_t v = 0; v < positions.size(); ++v) {
@@ -99,6 +102,11 @@ void write_result_ply(const std::string& path, const MeshUniformization& run, bo
       for (const Eigen::Vector2d& uv : run.texture.wedge[f]) {
         ply.put(static_cast<float>(uv.x()));
         ply.put(static_cast<float>(uv.y()));
+      }
+      ply.put(std::uint8_t{6});
+      for (const Eigen::Vector2d& uv : run.texture.wedge[f]) {
+        ply.put(uv.x());
+        ply.put(uv.y());
       }
     }
     ply.end_row();

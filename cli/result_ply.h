@@ -8,7 +8,8 @@
 // repaired faces, component after component), and when a component is cut open (torus in E2, H2
 // in the Poincare disk), or planar charts share the file with a sphere, texcoord for every face,
 // 6 floats (u v per corner, in [0, 1]; 0 for the sphere's faces), which MeshLab reads as wedge
-// texture coordinates.
+// texture coordinates, and texcoord_double, the same in double precision (thin faces can turn
+// over when rounded to float).
 // When the flow flipped edges and the input's faces would turn over, the mesh is the common
 // subdivision (common_subdivision.h): the vertices above, then the new ones (each on an input
 // edge), with vertex properties ricci_input_face (int, -1 for the repaired mesh's vertices) and

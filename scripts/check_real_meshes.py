@@ -45,7 +45,7 @@ def read_ply(path):
         elif w[0] == "property":
             elements[-1][2].append(tuple(w[1:]))
     body = data[end:]
-    vertex, faces, texcoords = {}, [], []
+    vertex, faces, texcoords, texcoords_double = {}, [], [], []
     if fmt == "ascii":
         tokens = body.split()
         pos = 0
@@ -71,11 +71,15 @@ def read_ply(path):
                         faces.append([int(x) for x in values])
                     elif name == "face" and p[3] == "texcoord":
                         texcoords.append(values)
+                    elif name == "face" and p[3] == "texcoord_double":
+                        texcoords_double.append(values)
                 elif name == "vertex":
                     vertex.setdefault(p[1], []).append(take(p[0]))
                 else:
                     take(p[0])
-    return {k: np.array(v) for k, v in vertex.items()}, faces, texcoords or None
+    # The double-precision wedge coordinates where the file has them (float ones can turn thin
+    # faces over by rounding alone).
+    return {k: np.array(v) for k, v in vertex.items()}, faces, texcoords_double or texcoords or None
 
 
 def signed_areas_2d(a, b, c):
@@ -95,13 +99,16 @@ def check(ply_path):
         # both kinds can share one file).
         planar = np.all(p[f][:, :, 2] == 0, axis=1)
         area = np.where(planar, signed_areas_2d(p[f[:, 0]], p[f[:, 1]], p[f[:, 2]]),
-                        np.einsum("ij,ij->i", p[f[:, 0]], np.cross(p[f[:, 1]], p[f[:, 2]])))
+                        # det(p0, p1, p2) from differences: exact in sign for small triangles
+                        np.einsum("ij,ij->i", np.cross(p[f[:, 1]] - p[f[:, 0]],
+                                                       p[f[:, 2]] - p[f[:, 0]]),
+                                  p[f[:, 0]] + p[f[:, 1]] + p[f[:, 2]]))
         kind = "plane" if planar.all() else ("sphere" if not planar.any() else "plane and sphere")
     elif wedges is not None:
         t = np.array(wedges).reshape(-1, 3, 2)
         laid = np.abs(t).sum(axis=(1, 2)) > 0  # faces of sphere components carry zeros
         area = signed_areas_2d(t[laid, 0], t[laid, 1], t[laid, 2])
-        kind = "wedge uv (float)"
+        kind = "wedge uv"
     else:
         return len(faces), 0, 0, "no layout"
     # The tool's own rule for a collapsed face: under 1e-12 of the mean layout triangle.
