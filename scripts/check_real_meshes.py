@@ -86,6 +86,19 @@ def signed_areas_2d(a, b, c):
     return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
 
 
+def unresolved(corners):
+    """Faces whose orientation the double corners do not determine: |u x v| within 64 roundings
+    of the corners' magnitude times |u| + |v| (counted as collapsed, not turned)."""
+    c = np.asarray(corners, dtype=float)
+    if c.shape[2] == 2:
+        c = np.concatenate([c, np.zeros(c.shape[:2] + (1,))], axis=2)
+    u, w = c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]
+    magnitude = np.abs(c).max(axis=(1, 2)) * np.sqrt(3)
+    noise = 64 * np.finfo(float).eps * magnitude * (np.linalg.norm(u, axis=1) +
+                                                     np.linalg.norm(w, axis=1))
+    return np.linalg.norm(np.cross(u, w), axis=1) <= noise
+
+
 def check(ply_path):
     """(faces, flipped, collapsed, kind) of a result, measured here."""
     v, faces, wedges = read_ply(ply_path)
@@ -104,17 +117,19 @@ def check(ply_path):
                                                        p[f[:, 2]] - p[f[:, 0]]),
                                   p[f[:, 0]] + p[f[:, 1]] + p[f[:, 2]]))
         kind = "plane" if planar.all() else ("sphere" if not planar.any() else "plane and sphere")
+        fuzzy = unresolved(p[f])
     elif wedges is not None:
         t = np.array(wedges).reshape(-1, 3, 2)
         laid = np.abs(t).sum(axis=(1, 2)) > 0  # faces of sphere components carry zeros
         area = signed_areas_2d(t[laid, 0], t[laid, 1], t[laid, 2])
+        fuzzy = unresolved(t[laid])
         kind = "wedge uv"
     else:
         return len(faces), 0, 0, "no layout"
     # The tool's own rule for a collapsed face: under 1e-12 of the mean layout triangle.
     scale = max(np.abs(area).mean(), 1e-300)
-    flipped = int(np.sum(area < 0))
-    collapsed = int(np.sum((area >= 0) & (area <= 1e-12 * scale)))
+    flipped = int(np.sum((area <= 0) & ~fuzzy))
+    collapsed = int(np.sum(((area > 0) & (area <= 1e-12 * scale)) | ((area <= 0) & fuzzy)))
     return len(faces), flipped, collapsed, kind
 
 

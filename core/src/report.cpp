@@ -226,6 +226,9 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
          "): the conformal map shrinks "
          "protrusions exponentially");
   }
+  if (run.centring_skipped) {
+    line("The sphere is not centred: the centring Moebius map would turn faces over");
+  }
   if (!run.layout_failure.empty()) line("Invalid layout: ", run.layout_failure);
   const Layout& m = run.layout;
   if (!m.cut.paths.empty()) {

@@ -139,7 +139,21 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
                     sub->vertex_layout.end());
   }
   if (run.layout_kind == LayoutKind::Sphere && mesh.is_closed()) {
-    position = center_on_sphere(std::move(position), mesh.num_vertices());
+    // The centring Moebius map moves vertices along circles, not the faces' chords: a large thin
+    // face of a coarse mesh can turn over. The sphere stays uncentred then.
+    std::vector<Eigen::Vector3d> centred = center_on_sphere(position, mesh.num_vertices());
+    const std::vector<std::array<int, 3>>& faces = sub ? sub->faces : mesh.faces();
+    auto turned = [&](const std::vector<Eigen::Vector3d>& p) {
+      int n = 0;
+      for (const auto& t : faces)
+        n += !(orientation(run.geometry, {p[t[0]], p[t[1]], p[t[2]]}) > 0);
+      return n;
+    };
+    if (turned(centred) <= turned(position)) {
+      position = std::move(centred);
+    } else {
+      run.centring_skipped = true;
+    }
   }
   if (run.preset == TargetPreset::UnitDisk) {
     position = detail::normalize_to_unit_disk(

@@ -21,10 +21,13 @@ struct LayoutQuality {
   //! Area ratio per face, (layout area / total) / (input area / total): 5th percentile, median,
   //! 95th percentile.
   double area_ratio_p5 = 1, area_ratio_median = 1, area_ratio_p95 = 1;
-  int flipped_faces = 0;  //!< input faces whose layout triangle is turned over or degenerate
+  //! Faces whose layout triangle is turned over or degenerate (with an orientation the corners
+  //! determine: beyond their rounding).
+  int flipped_faces = 0;
   int first_flipped_face = -1;
-  //! Input faces whose layout triangle keeps its orientation but has less than 1e-12 of the
-  //! layout's mean triangle area: squeezed below what float texture coordinates resolve.
+  //! Faces whose layout triangle keeps its orientation but has less than 1e-12 of the layout's
+  //! mean triangle area (squeezed below what float texture coordinates resolve), or is so small
+  //! that its corners' rounding decides its orientation.
   int collapsed_faces = 0;
   int first_collapsed_face = -1;
 };

@@ -115,6 +115,8 @@ struct Uniformization {
   std::optional<CommonSubdivision> subdivision;
   //! Input faces that turned over when drawn by their corners on the flipped triangulation.
   int input_faces_turned_over = 0;
+  //! Sphere: the centring Moebius map was not applied because it would turn faces over.
+  bool centring_skipped = false;
   //! Why the common subdivision could not be built, or "".
   std::string subdivision_failure;
   //! Flat torus (E2, closed genus 1): two translations spanning the period lattice, from the deck
