@@ -28,7 +28,7 @@ bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e,
                  double tolerance = 1e-10);
 
 struct FlipReport {
-  int flips = 0;              //!< edges flipped
+  int flips = 0;                   //!< edges flipped
   std::vector<EdgeFlip> sequence;  //!< the flipped edges, in order
   int blocked = 0;  //!< non-Delaunay edges that could not be flipped (non-convex quadrilateral,
                     //!< the new diagonal already an edge, eta <= 0 or an invalid triangle after)
