@@ -425,6 +425,48 @@ TEST(Cli, RealDirtyMeshesAsTheyCome) {
   EXPECT_EQ(r.err.find("may not exist"), std::string::npos) << r.err;
 }
 
+// With flips that turn input faces over (elk.off, always flipping), the tool writes the common
+// subdivision: the input's vertices first and unchanged, new ones on input faces at their
+// barycentric coordinates, and no face turned over in the texture.
+TEST(Cli, FlipsThatTurnInputFacesDeliverTheCommonSubdivision) {
+  const ricci::CompactMesh mesh = ricci::test::cgal_mesh("elk.off");
+  const std::string out = temp("elk-subdivision.ply");
+  const CliRun r = ricci_flow(cgal("elk.off") + " -o " + out + " --flips always");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Common subdivision: "), std::string::npos) << r.out;
+  const ricci::test::PlyData ply = ricci::test::read_ply(out);
+  const std::vector<double>&x = ply.vertex.at("x"), &y = ply.vertex.at("y"),
+        &z = ply.vertex.at("z");
+  const size_t nv = static_cast<size_t>(mesh.num_vertices());
+  ASSERT_GT(x.size(), nv);
+  for (size_t v = 0; v < nv; ++v) {
+    ASSERT_EQ(Eigen::Vector3d(x[v], y[v], z[v]), mesh.positions()[v]) << v;
+  }
+  ASSERT_TRUE(ply.has_vertex("ricci_input_face"));
+  for (size_t v = nv; v < x.size(); ++v) {
+    const int f = static_cast<int>(ply.vertex.at("ricci_input_face")[v]);
+    ASSERT_GE(f, 0);
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+      p += ply.vertex.at("ricci_bary_" + std::to_string(k))[v] *
+           mesh.positions()[mesh.face_vertex(f, k)];
+    }
+    EXPECT_LE((p - Eigen::Vector3d(x[v], y[v], z[v])).norm(), 1e-9) << v;
+  }
+  ASSERT_EQ(ply.face_texcoords.size(), ply.faces.size());
+  int turned = 0;
+  for (const auto& t : ply.face_texcoords) {
+    const double a = (t[2] - t[0]) * (t[5] - t[1]) - (t[3] - t[1]) * (t[4] - t[0]);
+    turned += !(a > 0);
+  }
+  EXPECT_EQ(turned, 0);
+  // The input's own triangulation kept: its faces turn over, and the run says so.
+  const CliRun kept = ricci_flow(cgal("elk.off") + " -o " + temp("elk-kept.ply") +
+                                 " --flips always --keep-input-triangulation");
+  EXPECT_EQ(kept.exit_code, 1);
+  EXPECT_NE(kept.err.find("of the input's faces are turned over"), std::string::npos) << kept.err;
+}
+
 TEST(Cli, FailedRunWritesNoMesh) {
   const std::string out = temp("never.ply");
   std::remove(out.c_str());
