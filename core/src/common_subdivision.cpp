@@ -66,7 +66,6 @@ struct FacePieces {
   std::vector<int> point_vertex;              // subdivision vertex of each boundary point
   std::vector<Eigen::Vector3d> point_layout;  // its layout position in this face
   std::vector<int> point_side;                // the side (corner it starts from) of the point
-  std::vector<double> point_along;            // parameter along that side from its corner
   std::vector<std::vector<Chord>> chords;     // per boundary point
 };
 
@@ -126,10 +125,6 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
       out.vertex_input_face.push_back(f);
       out.vertex_barycentric.push_back(bary);
       new_u.push_back((1 - s) * result.u[a] + s * result.u[b]);
-      if (static_cast<int>(new_u.size()) > 4 * (mesh.num_edges() + 16) * 64) {
-        throw LayoutError("common subdivision: input edge " + std::to_string(E) +
-                          " crosses the final triangulation too often to follow");
-      }
     }
   }
   out.u.conservativeResize(static_cast<long>(out.positions.size()));
@@ -138,6 +133,7 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
   std::vector<char> laid(out.positions.size(), 0);
 
   // The input face to the left of input edge E walked forward (or backward).
+  std::vector<int> point_of(crossings.size(), -1);  // a crossing's point in the face at hand
   auto face_left_of = [&](int E, bool forward) {
     const auto& ends = mesh.edge_vertices(E);
     const int tail = forward ? ends[0] : ends[1];
@@ -155,7 +151,7 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
     // Boundary points counter-clockwise: corner 0, its side's crossings, corner 1, ...
     FacePieces P;
     std::vector<int> index_of_crossing_here;  // parallel to `here`
-    std::vector<int> here;
+    std::vector<int> here;                    // the crossings on this face's sides
     std::array<int, 3> corner_index{};
     for (int i = 0; i < 3; ++i) {
       const int v = T.face_vertex(face, i), w = T.face_vertex(face, (i + 1) % 3);
@@ -163,7 +159,6 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
       P.point_vertex.push_back(v);
       P.point_layout.push_back(layout.corners[face][i]);
       P.point_side.push_back(i);
-      P.point_along.push_back(0);
       const int edge = T.face_edge(face, (i + 2) % 3);
       std::vector<int> list = overlay.crossings_on(edge);
       if (T.edge_vertices(edge)[0] != v) std::reverse(list.begin(), list.end());
@@ -176,17 +171,12 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
         P.point_layout.push_back(
             between(g, layout.corners[face][i], layout.corners[face][(i + 1) % 3], tr));
         P.point_side.push_back(i);
-        P.point_along.push_back(t);
       }
     }
     const int m = static_cast<int>(P.point_vertex.size());
     P.chords.assign(m, {});
-    auto index_of = [&](int crossing) {
-      for (size_t i = 0; i < here.size(); ++i) {
-        if (here[i] == crossing) return index_of_crossing_here[i];
-      }
-      return -1;
-    };
+    for (size_t i = 0; i < here.size(); ++i) point_of[here[i]] = index_of_crossing_here[i];
+    auto index_of = [&](int crossing) { return point_of[crossing]; };
     auto corner_of_vertex = [&](int v) {
       for (int i = 0; i < 3; ++i) {
         if (T.face_vertex(face, i) == v) return corner_index[i];
@@ -223,19 +213,19 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
         add_chord(index_of_crossing_here[i], corner_of_vertex(mesh.edge_vertices(E)[1]), E);
       }
     }
+    for (int c : here) point_of[c] = -1;
     // The pieces: walk each region keeping it on the left, from every unused boundary arc.
     std::vector<char> arc_used(m, 0);
     for (int start = 0; start < m; ++start) {
       if (arc_used[start]) continue;
       std::vector<int> polygon = {start};
       int input_face = -1;
-      auto note_step = [&](int p, int q, int E, bool forward) {
+      auto note_step = [&](int E, bool forward) {
         const int f = face_left_of(E, forward);
         if (f < 0 || (input_face >= 0 && input_face != f)) {
           fail("a piece lies in two input faces");
         }
         input_face = f;
-        (void)p, (void)q;
       };
       // A boundary arc from point p to p + 1 along a side that is an input edge.
       auto arc_step = [&](int p) {
@@ -244,7 +234,7 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
         const int E = overlay.coincident_input_edge(edge);
         if (E < 0) return;
         const int v = T.face_vertex(face, side);
-        note_step(p, (p + 1) % m, E, mesh.edge_vertices(E)[0] == v);
+        note_step(E, mesh.edge_vertices(E)[0] == v);
       };
       arc_used[start] = 1;
       arc_step(start);
@@ -261,7 +251,7 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
           if (off < back && off > best_offset) best = ch.to, best_offset = off, via = &ch;
         }
         if (via) {
-          note_step(cur, best, via->input_edge, via->forward);
+          note_step(via->input_edge, via->forward);
         } else {
           if (arc_used[cur]) fail("a boundary arc is walked twice");
           arc_used[cur] = 1;

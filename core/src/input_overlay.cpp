@@ -100,26 +100,20 @@ int InputOverlay::add_crossing(const Crossing& c) {
 
 std::vector<InputOverlay::Strand> InputOverlay::strands_through(const Quad& q) const {
   std::vector<Strand> strands;
-  auto before = [&](int c) {
+  // The point before (after) crossing c along its input edge: a crossing, or the edge's end.
+  auto neighbour = [&](int c, bool after) {
     const Crossing& x = crossings_[c];
+    const int next = after ? x.next : x.prev;
     Point p;
-    if (x.prev >= 0) {
-      p.crossing = x.prev;
+    if (next >= 0) {
+      p.crossing = next;
     } else {
-      p.vertex = input_.edge_vertices(x.input_edge)[0];
+      p.vertex = input_.edge_vertices(x.input_edge)[after ? 1 : 0];
     }
     return p;
   };
-  auto after = [&](int c) {
-    const Crossing& x = crossings_[c];
-    Point p;
-    if (x.next >= 0) {
-      p.crossing = x.next;
-    } else {
-      p.vertex = input_.edge_vertices(x.input_edge)[1];
-    }
-    return p;
-  };
+  auto before = [&](int c) { return neighbour(c, false); };
+  auto after = [&](int c) { return neighbour(c, true); };
   for (int c : on_edge_[q.e]) strands.push_back({crossings_[c].input_edge, before(c), after(c), c});
   for (int side : {q.e_ka, q.e_al, q.e_lb, q.e_bk}) {
     for (int c : on_edge_[side]) {
