@@ -98,6 +98,7 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
   o.flow.linear_solver = settings.linear_solver;
   o.flow.max_step_halvings = settings.max_step_halvings;
   o.edge_flips = settings.edge_flips ? EdgeFlips::WhenNeeded : EdgeFlips::Never;
+  o.keep_input_triangulation = settings.keep_input_triangulation;
   o.flow.progress = progress;
   FilterComputation c;
   c.run = uniformize_mesh(input.repaired, o);

@@ -162,6 +162,16 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "vertices are repaired in ways that keep the surface (the log says what was done; the "
        "mesh's faces are rebuilt then), and every connected component is mapped by its own "
        "topology. On: such a mesh is refused and left as it was."},
+      {"keepInputTriangulation",
+       Kind::Bool,
+       d.keep_input_triangulation ? 1.0 : 0.0,
+       {},
+       "Keep the mesh's own triangulation",
+       "Off (default): when edge flips were needed and the mesh's own faces, drawn by their "
+       "corners, would turn over, the mesh is replaced by the common subdivision (its faces cut "
+       "along the flipped triangulation's edges; its vertices first and unchanged, new vertices on "
+       "its edges), whose layout turns no face over. On: keep the mesh's faces; the filter then "
+       "fails with the count of turned faces."},
       {"layoutLayer",
        Kind::Bool,
        d.add_layout_layer ? 1.0 : 0.0,
@@ -211,6 +221,7 @@ FilterSettings settings_from_values(const ParameterValues& values) {
   s.write_quality = number(values, "writeQuality") != 0;
   s.add_layout_layer = number(values, "layoutLayer") != 0;
   s.strict = number(values, "strictMesh") != 0;
+  s.keep_input_triangulation = number(values, "keepInputTriangulation") != 0;
   return s;
 }
 

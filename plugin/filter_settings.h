@@ -38,6 +38,8 @@ struct FilterSettings {
   bool write_quality = true;
   bool add_layout_layer = false;
   bool strict = false;  //!< refuse a mesh that needs repairs instead of repairing it
+  //! lay out the mesh's own faces even where flips turn them over (no common subdivision)
+  bool keep_input_triangulation = UniformizationOptions{}.keep_input_triangulation;
 };
 
 //! One dialog parameter.

@@ -175,6 +175,31 @@ TEST(MeshlabServer, DirtyMeshIsRepairedAndMapped) {
   }
 }
 
+TEST(MeshlabServer, FlipsThatTurnInputFacesGiveTheCommonSubdivision) {
+  // elk.off (a torus scan) needs edge flips, and some of its faces drawn by their corners would
+  // turn over: the mesh written is the input cut along the flipped triangulation, its vertices
+  // first, with wedge texture coordinates that turn no face over.
+  const ricci::CompactMesh mesh = ricci::test::cgal_mesh("elk.off");
+  const std::string out = temp("elk.ply");
+  const ServerRun r =
+      meshlabserver(ricci::test::cgal_mesh_path("elk.off"), out, script("ricci_flow_auto.mlx"));
+  ASSERT_EQ(r.exit_code, 0) << r.log;
+  EXPECT_NE(r.log.find("Common subdivision: "), std::string::npos) << r.log;
+  const ricci::test::PlyData ply = ricci::test::read_ply(out);
+  const auto &x = ply.vertex.at("x"), &y = ply.vertex.at("y"), &z = ply.vertex.at("z");
+  ASSERT_GT(x.size(), static_cast<size_t>(mesh.num_vertices()));
+  for (int v = 0; v < mesh.num_vertices(); ++v) {  // MeshLab keeps positions in float
+    const Eigen::Vector3d p(x[v], y[v], z[v]);
+    ASSERT_LE((p - mesh.positions()[v]).norm(), 1e-6 * (1 + mesh.positions()[v].norm())) << v;
+  }
+  ASSERT_EQ(ply.face_texcoords.size(), ply.faces.size());
+  int turned = 0;
+  for (const auto& t : ply.face_texcoords) {
+    turned += !((t[2] - t[0]) * (t[5] - t[1]) - (t[3] - t[1]) * (t[4] - t[0]) > 0);
+  }
+  EXPECT_EQ(turned, 0);
+}
+
 TEST(MeshlabServer, BadMeshFailsWithTheReasonAndNoOutput) {
   const std::string bowtie = temp("bowtie.off");
   std::ofstream(bowtie) << "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n";

@@ -193,3 +193,28 @@ def test_a_dirty_mesh_is_repaired_and_mapped():
     with pytest.raises(pymeshlab.PyMeshLabException) as error:
         strict.apply_filter(FILTER, strict_mesh=True)
     assert "duplicate faces" in str(error.value)
+
+
+def test_flips_that_turn_input_faces_give_the_common_subdivision():
+    # elk.off (a torus scan) needs edge flips, and 67 of its faces drawn by their corners would
+    # turn over: the layer's mesh becomes the input cut along the flipped triangulation.
+    ms = mesh_set("elk.off")
+    before = ms.current_mesh().vertex_matrix().copy()
+    area_before = ms.apply_filter("get_geometric_measures")["surface_area"]
+    out = ms.apply_filter(FILTER)
+    assert out["input_faces_turned_over"] > 0
+    assert out["new_vertices"] > 0
+    assert out["flipped_faces"] == 0
+    m = ms.current_mesh()
+    assert m.vertex_number() == len(before) + out["new_vertices"]
+    assert np.array_equal(m.vertex_matrix()[: len(before)], before)
+    assert math.isclose(ms.apply_filter("get_geometric_measures")["surface_area"], area_before, rel_tol=1e-5)
+    wedges = m.wedge_tex_coord_matrix().reshape(-1, 3, 2)
+    assert len(wedges) == m.face_number()
+    d, e = wedges[:, 1] - wedges[:, 0], wedges[:, 2] - wedges[:, 0]
+    assert np.all(d[:, 0] * e[:, 1] - d[:, 1] * e[:, 0] > 0)
+    kept = mesh_set("elk.off")
+    with pytest.raises(pymeshlab.PyMeshLabException) as error:
+        kept.apply_filter(FILTER, keep_input_triangulation=True)
+    assert "of the input's faces are turned over" in str(error.value)
+    assert np.array_equal(kept.current_mesh().vertex_matrix(), before)
