@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include "ricci/atlas.h"
 #include "ricci/errors.h"
+#include "ricci/mesh_io.h"
 #include "test_meshes.h"
 
 namespace ricci {
@@ -314,6 +316,29 @@ TEST(Uniformize, RequestsThatCannotBeMetAreRefused) {
   } catch (const InvalidArgumentError& e) {
     EXPECT_NE(std::string(e.what()).find("lies on the boundary"), std::string::npos) << e.what();
   }
+}
+
+// A genus-6 machine part (gmsh's t13 lever, from the real-mesh set) in H2: the layout is grown
+// from a central face along shortest paths, so no corner lies far out in the Poincare disk, where
+// double precision runs out (from face 0 by breadth first it reached hyperbolic distance 10.5 and
+// the surface group relations failed by 4e-4).
+TEST(Uniformize, PoincareDiskLayoutStaysNearTheCentre) {
+  const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/gmsh-lever.stl");
+  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  ASSERT_EQ(repaired.components.size(), 1u);
+  const CompactMesh& mesh = repaired.components[0].mesh;
+  ASSERT_EQ(mesh.genus(), 6);
+  const Uniformization run = uniformize(mesh, UniformizationOptions());
+  ASSERT_TRUE(run.converged()) << run.result.failure;
+  ASSERT_EQ(run.geometry, Geometry::Hyperbolic);
+  double farthest = 0;
+  for (const auto& face : run.layout.corners) {
+    for (const auto& p : face) farthest = std::max(farthest, 2 * std::atanh(p.head<2>().norm()));
+  }
+  EXPECT_LT(farthest, 8.0);
+  EXPECT_LT(run.layout.relation_error, 1e-6);
+  EXPECT_LT(run.layout.closure_error, 1e-9);
+  EXPECT_TRUE(run.valid()) << run.layout_failure;
 }
 
 }  // namespace

@@ -1,7 +1,10 @@
 #include "ricci/cut_graph.h"
 
 #include <algorithm>
+#include <functional>
+#include <limits>
 #include <queue>
+#include <utility>
 
 namespace ricci {
 
@@ -27,6 +30,40 @@ std::vector<char> dual_tree_complement(const Triangulation& mesh) {
   }
   for (int e = 0; e < ne; ++e) cut[e] = !mesh.is_boundary_edge(e) && !in_tree[e];
   return cut;
+}
+
+// Shortest distances over the dual graph from face `from` (a step between two faces weighs their
+// mean side), and the edge each face was reached across (-1 at the root).
+std::pair<std::vector<double>, std::vector<int>> dual_distances(const Triangulation& mesh,
+                                                                const std::vector<double>& lengths,
+                                                                int from) {
+  const int nf = mesh.num_faces();
+  std::vector<double> mean_side(nf), distance(nf, std::numeric_limits<double>::infinity());
+  for (int f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) mean_side[f] += lengths[mesh.face_edge(f, c)] / 3;
+  }
+  std::vector<int> reached_by(nf, -1);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  distance[from] = 0;
+  queue.push({0, from});
+  while (!queue.empty()) {
+    const auto [d, f] = queue.top();
+    queue.pop();
+    if (d > distance[f]) continue;
+    for (int c = 0; c < 3; ++c) {
+      const int t = mesh.twin(3 * f + c);
+      if (t < 0) continue;
+      const int g = t / 3;
+      const double via = d + 0.5 * (mean_side[f] + mean_side[g]);
+      if (via < distance[g]) {
+        distance[g] = via;
+        reached_by[g] = mesh.face_edge(f, c);
+        queue.push({via, g});
+      }
+    }
+  }
+  return {distance, reached_by};
 }
 
 // Glues back every cut edge with an end where no other cut or boundary edge meets, until none is
@@ -107,17 +144,45 @@ std::vector<CutPath> split_into_paths(const Triangulation& mesh, const std::vect
   return paths;
 }
 
-}  // namespace
-
-CutGraph cut_to_disk(const Triangulation& mesh) {
+// The cut from `cut` (a dual tree's complement): pruned and split into paths.
+CutGraph finish(const Triangulation& mesh, std::vector<char> cut, int root) {
   CutGraph g;
   g.num_generators = 2 * mesh.genus() + std::max(0, mesh.num_boundary_loops() - 1);
-  g.cut.assign(mesh.num_edges(), 0);
-  if (mesh.num_faces() == 0) return g;
-  g.cut = dual_tree_complement(mesh);
+  g.root = root;
+  g.cut = std::move(cut);
   const std::vector<int> degree = prune(mesh, g.cut);
   g.paths = split_into_paths(mesh, g.cut, degree);
   return g;
+}
+
+}  // namespace
+
+CutGraph cut_to_disk(const Triangulation& mesh) {
+  if (mesh.num_faces() == 0) return finish(mesh, std::vector<char>(mesh.num_edges(), 0), 0);
+  return finish(mesh, dual_tree_complement(mesh), 0);
+}
+
+CutGraph cut_to_disk(const Triangulation& mesh, const std::vector<double>& lengths) {
+  if (mesh.num_faces() == 0) return finish(mesh, std::vector<char>(mesh.num_edges(), 0), 0);
+  const auto farthest = [](const std::vector<double>& d) {
+    return static_cast<int>(std::max_element(d.begin(), d.end()) - d.begin());
+  };
+  // Two sweeps: a face far from face 0, then the face farthest from it; the root is the face
+  // nearest to both ends' midpoint (least max(d_a, d_b)).
+  const int a = farthest(dual_distances(mesh, lengths, 0).first);
+  const std::vector<double> from_a = dual_distances(mesh, lengths, a).first;
+  const std::vector<double> from_b = dual_distances(mesh, lengths, farthest(from_a)).first;
+  int root = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    if (std::max(from_a[f], from_b[f]) < std::max(from_a[root], from_b[root])) root = f;
+  }
+  const std::vector<int> reached_by = dual_distances(mesh, lengths, root).second;
+  std::vector<char> in_tree(mesh.num_edges(), 0), cut(mesh.num_edges(), 0);
+  for (int e : reached_by) {
+    if (e >= 0) in_tree[e] = 1;
+  }
+  for (int e = 0; e < mesh.num_edges(); ++e) cut[e] = !mesh.is_boundary_edge(e) && !in_tree[e];
+  return finish(mesh, std::move(cut), root);
 }
 
 }  // namespace ricci

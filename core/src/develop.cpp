@@ -79,10 +79,13 @@ Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<d
   const std::vector<std::array<double, 3>> angles = face_angles(mesh, geometry, lengths);
   Layout layout;
   layout.geometry = geometry;
-  layout.cut = cut_to_disk(mesh);
+  // H2: the cut of shortest paths from a central face, developed from that face, keeps the
+  // layout near the Poincare disk's centre (precision); S2 keeps the combinatorial cut.
+  layout.cut = geometry == Geometry::Hyperbolic ? cut_to_disk(mesh, lengths) : cut_to_disk(mesh);
   layout.corners.assign(nf, {});
   if (nf == 0) return layout;
-  const int seed = deepest_face(mesh, layout.cut.cut);
+  const int seed =
+      geometry == Geometry::Hyperbolic ? layout.cut.root : deepest_face(mesh, layout.cut.cut);
 
   // --- the seed face, then breadth-first across uncut edges
   const auto edge_length_at = [&](int f, int corner) { return lengths[mesh.face_edge(f, corner)]; };

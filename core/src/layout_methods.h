@@ -20,7 +20,8 @@ int corner_of(const Triangulation& mesh, int f, int v);
 Layout plane_layout(const Triangulation& mesh, const std::vector<double>& lengths,
                     LinearSolverKind solver);
 
-//! Any geometry: triangle by triangle from the face deepest inside the cut disk.
+//! Any geometry: triangle by triangle; H2 from a central face with a cut of shortest paths from it,
+//! otherwise from the face deepest inside the cut disk.
 Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths);
 
 //! Fills the deck transformations (E2, H2), the closure error and the flipped-face count of a

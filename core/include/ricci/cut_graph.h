@@ -20,6 +20,7 @@ struct CutPath {
 
 struct CutGraph {
   std::vector<char> cut;       //!< per edge: 1 where the surface is cut open (never boundary)
+  int root = 0;                //!< the face the dual spanning tree grows from
   std::vector<CutPath> paths;  //!< the cut edges, grouped into paths between nodes
   int num_generators = 0;      //!< 2 genus + (boundary loops - 1): the homology the cut kills
 };
@@ -30,5 +31,12 @@ struct CutGraph {
 //! a graph with 2g independent cycles for a closed genus-g surface, and on surfaces with several
 //! boundaries also paths joining the boundary loops.
 CutGraph cut_to_disk(const Triangulation& mesh);
+
+//! The same with the dual tree of shortest paths in a metric (`lengths` per edge; a step between
+//! two faces weighs their mean side), grown from a face central in that metric (the middle of the
+//! longest of two sweeps), so the cut disk is as round as the surface allows: a developed layout
+//! then reaches no farther from its root than the surface's radius (far from the origin the
+//! Poincare disk has no precision left).
+CutGraph cut_to_disk(const Triangulation& mesh, const std::vector<double>& lengths);
 
 }  // namespace ricci
