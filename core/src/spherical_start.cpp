@@ -1,5 +1,7 @@
 #include "spherical_start.h"
 
+#include "metric.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -252,8 +254,21 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
                                    int p) {
   const Punctured punctured = puncture(mesh, p);
   const CompactMesh& disk = punctured.disk;
-  RicciFlowSolver solver(disk, flat_structure(mesh, structure, punctured, p));
-  const FlowResult r = solver.solve(TargetCurvature::free_boundary(disk));
+  ConformalStructure flat = flat_structure(mesh, structure, punctured, p);
+  // The shifted u can leave triangles of the input's triangulation invalid (a sliver in the
+  // puncture's link): the flow then starts from the unshifted u, whose metric is the input's,
+  // and walks to the shifted one with edge flips before Newton.
+  const Eigen::VectorXd shifted = flat.u0;
+  const bool walk = !evaluate_metric(disk, flat, shifted).valid();
+  if (walk) {
+    for (int v = 0; v < disk.num_vertices(); ++v) {
+      flat.u0[v] = std::log(
+          radius_from_conformal_factor(Geometry::Spherical, structure.u0[punctured.original[v]]));
+    }
+  }
+  RicciFlowSolver solver(disk, flat);
+  const FlowResult r =
+      solver.solve(TargetCurvature::free_boundary(disk), walk ? &shifted : nullptr);
   if (!r.converged) {
     throw ConvergenceError("spherical start: the punctured mesh did not flatten: " + r.failure,
                            r.iterations, r.residual);
