@@ -31,7 +31,7 @@ struct FlipReport {
   int flips = 0;                   //!< edges flipped
   std::vector<EdgeFlip> sequence;  //!< the flipped edges, in order
   int blocked = 0;  //!< non-Delaunay edges that could not be flipped (non-convex quadrilateral,
-                    //!< a loop as the new diagonal, eta <= 0 or an invalid triangle after)
+                    //!< the new diagonal already an edge, eta <= 0 or an invalid triangle after)
 };
 
 //! Flips non-Delaunay edges until none is left (or max_flips is reached), updating the flipped

@@ -59,7 +59,7 @@ class Triangulation {
  protected:
   //! Replaces interior edge e, the diagonal of the quadrilateral of its two faces, by the other
   //! diagonal. Returns false (and changes nothing) for a boundary edge or when both opposite
-  //! vertices coincide (a loop). The new diagonal may join the same two vertices as another edge.
+  //! vertices coincide. \pre the caller has checked that the new diagonal is not an edge yet.
   //! (Public in IntrinsicTriangulation only: a CompactMesh's input lengths belong to its edges.)
   bool flip(int e);
 
