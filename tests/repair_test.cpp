@@ -104,6 +104,19 @@ TEST(Repair, CapsAreRemovedBySplittingTheirNeighbour) {
   EXPECT_EQ(in_face_0, 2);
 }
 
+TEST(Repair, NearCapsWhoseSidesMakeNoTriangleAreCaps) {
+  // Vertex 4 lies 1e-9 off the edge (1, 2): twice the area is 1.4e-9 of the longest side squared
+  // (above CompactMesh's 1e-12), but the sides' slack a + b - c is below double precision, so no
+  // metric starts from that face. It is repaired like a cap.
+  const Points p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5 + 1e-9, 0.5 + 1e-9, 0}};
+  const Faces near_cap = {{0, 1, 2}, {2, 1, 4}, {3, 2, 4}, {1, 3, 4}};
+  EXPECT_NO_THROW(CompactMesh(p, near_cap));
+  const RepairedMesh r = repair_mesh(p, near_cap);
+  ASSERT_NE(entry(r, "zero-area faces removed"), nullptr);
+  ASSERT_EQ(r.components.size(), 1u);
+  EXPECT_EQ(r.components[0].mesh.num_faces(), 4);
+}
+
 TEST(Repair, NonManifoldEdgeKeepsOnePairGlued) {
   const Points p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}};
   const RepairedMesh r = repair_mesh(p, {{0, 1, 2}, {0, 2, 3}, {2, 0, 4}});

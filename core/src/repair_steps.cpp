@@ -167,8 +167,11 @@ int cap_corner(const std::vector<Eigen::Vector3d>& p, const Face& f) {
                                           e1.squaredNorm()};
   const int c =
       static_cast<int>(std::max_element(opposite.begin(), opposite.end()) - opposite.begin());
-  // The same test as CompactMesh's: twice the area against the longest edge squared.
-  return e1.cross(e2).norm() > 1e-12 * opposite[c] ? -1 : c;
+  // The same test as CompactMesh's: twice the area against the longest edge squared; or side
+  // lengths that make no triangle in double precision (the metric the flow starts from).
+  const double longest = std::sqrt(opposite[c]);
+  const double others = std::sqrt(opposite[(c + 1) % 3]) + std::sqrt(opposite[(c + 2) % 3]);
+  return e1.cross(e2).norm() > 1e-12 * opposite[c] && others > longest * (1 + 1e-14) ? -1 : c;
 }
 
 }  // namespace

@@ -5,7 +5,9 @@
 //   - the orientation of each component made consistent (the majority's kept);
 //   - non-manifold edges cut open (their faces are not glued across them);
 //   - zero-area faces with a vertex inside their longest edge ("caps") removed, the face across
-//     that edge split at the vertex (the same triangles of the same plane);
+//     that edge split at the vertex (the same triangles of the same plane); zero area: twice the
+//     area under 1e-12 of the longest side squared, or sides whose slack a + b - c is under 1e-14
+//     of c (no metric starts from such a face in double precision);
 //   - non-manifold vertices split into one copy per fan of faces (copies come after the input's
 //     vertices).
 // Unreferenced vertices stay where they are and belong to no component.
