@@ -23,7 +23,7 @@ void BM_YamabeFlowToConvergence(benchmark::State& state) {
   const CompactMesh& mesh = lion_head(static_cast<int>(state.range(0)));
   const TargetCurvature target = TargetCurvature::free_boundary(mesh);
   FlowOptions options;
-  options.edge_flips = state.range(1) != 0;
+  options.edge_flips = state.range(1) != 0 ? EdgeFlips::Always : EdgeFlips::Never;
   FlowResult last;
   for (auto _ : state) {
     last = compute_ricci_flow(mesh, Geometry::Euclidean, yamabe(), target, options);

@@ -157,18 +157,19 @@ const std::vector<Flag>& flags() {
        }},
       {{"--flips"},
        "WHEN",
-       "edge flips that keep the triangulation (power) Delaunay: when-needed (run on the input's "
-       "triangulation, again with flips where that does not converge), always, never",
-       [](const O& o) { return to_string(o.request.edge_flips); },
+       "edge flips that keep the triangulation (power) Delaunay: when-needed (on the input's "
+       "triangulation until the flow cannot go on there, then with flips from where it stopped), "
+       "always, never",
+       [](const O& o) { return to_string(o.request.flow.edge_flips); },
        [](O& o, const std::string&, const std::string& v) {
-         o.request.edge_flips = edge_flips_from_string(v);
+         o.request.flow.edge_flips = edge_flips_from_string(v);
        }},
       {{"--no-flips"},
        "",
        "the same as --flips never: keep the input's triangulation",
        nullptr,
        [](O& o, const std::string&, const std::string&) {
-         o.request.edge_flips = EdgeFlips::Never;
+         o.request.flow.edge_flips = EdgeFlips::Never;
        }},
       {{"--keep-input-triangulation"},
        "",

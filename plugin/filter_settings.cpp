@@ -137,9 +137,15 @@ const std::vector<ParameterSpec>& parameter_specs() {
        d.edge_flips ? 1.0 : 0.0,
        {},
        "Edge flips (keep the triangulation Delaunay)",
-       "On: flip edges to keep the triangulation (power) Delaunay where the flow does not converge "
-       "on the mesh's own triangulation (the mesh is first tried without flips). Off: never "
-       "flip."},
+       "On: flip edges to keep the triangulation (power) Delaunay once the flow cannot go on on the "
+       "mesh's own triangulation, from where it stopped. Off: never flip."},
+      {"alwaysFlip",
+       Kind::Bool,
+       d.always_flip ? 1.0 : 0.0,
+       {},
+       "Always flip (Delaunay from the start)",
+       "With edge flips on: keep the triangulation (power) Delaunay from the first step, even where "
+       "the mesh's own triangulation would converge."},
       {"writeUV",
        Kind::Bool,
        d.write_texture_coordinates ? 1.0 : 0.0,
@@ -217,6 +223,7 @@ FilterSettings settings_from_values(const ParameterValues& values) {
   s.linear_solver = enum_index(values, spec("linearSolver")) == 0 ? LinearSolverKind::Cholmod
                                                                   : LinearSolverKind::Ldlt;
   s.edge_flips = number(values, "edgeFlips") != 0;
+  s.always_flip = number(values, "alwaysFlip") != 0;
   s.write_texture_coordinates = number(values, "writeUV") != 0;
   s.write_quality = number(values, "writeQuality") != 0;
   s.add_layout_layer = number(values, "layoutLayer") != 0;

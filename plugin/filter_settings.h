@@ -33,7 +33,8 @@ struct FilterSettings {
   int max_iterations = FlowOptions{}.max_iterations;
   LinearSolverKind linear_solver = FlowOptions{}.linear_solver;
   int max_step_halvings = FlowOptions{}.max_step_halvings;
-  bool edge_flips = FlowOptions{}.edge_flips;
+  bool edge_flips = FlowOptions{}.edge_flips != EdgeFlips::Never;
+  bool always_flip = FlowOptions{}.edge_flips == EdgeFlips::Always;  //!< with edge_flips
   bool write_texture_coordinates = true;
   bool write_quality = true;
   bool add_layout_layer = false;

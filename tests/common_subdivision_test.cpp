@@ -48,7 +48,7 @@ TEST_P(CommonSubdivisionTest, IsTheInputSurfaceLaidOutWithoutTurnedFaces) {
   o.preset = c.preset;
   o.geometry = c.geometry;
   o.scheme.scheme = c.scheme;
-  o.edge_flips = EdgeFlips::Always;
+  o.flow.edge_flips = EdgeFlips::Always;
   const Uniformization run = uniformize(mesh, o);
   ASSERT_TRUE(run.converged()) << run.result.failure;
   ASSERT_GT(run.totals.edge_flips, 0);

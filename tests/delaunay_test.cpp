@@ -101,8 +101,10 @@ TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInput) {
     const CompactMesh mesh = test::cgal_mesh(name);
     SchemeOptions options;
     options.scheme = Scheme::Yamabe;
+    FlowOptions always;
+    always.edge_flips = EdgeFlips::Always;
     const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options,
-                                            TargetCurvature::free_boundary_or_zero(mesh));
+                                            TargetCurvature::free_boundary_or_zero(mesh), always);
     ASSERT_TRUE(r.converged);
     ASSERT_GT(r.num_flips, 100) << name;
     // Replay the flips on the input's lambda-lengths (u = 0: lambda = input length) with

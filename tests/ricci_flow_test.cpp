@@ -120,7 +120,7 @@ TEST(RicciFlow, EverySchemeConvergesOnGenusZeroInS2) {
 
 FlowOptions without_flips() {
   FlowOptions o;
-  o.edge_flips = false;
+  o.edge_flips = EdgeFlips::Never;
   return o;
 }
 
@@ -260,13 +260,15 @@ TEST(RicciFlow, SolverResumesFromItsLastResult) {
   const int outer = outer_boundary_loop(mesh, mesh.input_lengths());
   const TargetCurvature target1 = circle_boundary_target(mesh, mesh.input_lengths(), outer);
   const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target1);
-  RicciFlowSolver solver(mesh, s);
+  FlowOptions always;
+  always.edge_flips = EdgeFlips::Always;
+  RicciFlowSolver solver(mesh, s, always);
   const FlowResult first = solver.solve(target1);
   ASSERT_TRUE(first.converged);
   ASSERT_GT(first.num_flips, 0);
   const TargetCurvature target2 =
       circle_boundary_target(result_triangulation(mesh, first), first.edge_lengths, outer);
-  const FlowResult cold = run_ricci_flow(mesh, s, target2);
+  const FlowResult cold = run_ricci_flow(mesh, s, target2, always);
   const FlowResult warm = solver.solve(target2);
   ASSERT_TRUE(cold.converged) << cold.failure;
   ASSERT_TRUE(warm.converged) << warm.failure;

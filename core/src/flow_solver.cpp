@@ -23,6 +23,7 @@ struct RicciFlowSolver::State {
         triangulation(m),
         structure(s),
         u(s.u0),
+        flipping(options.edge_flips == EdgeFlips::Always),
         steps(options.linear_solver) {}
 
   const CompactMesh& mesh;
@@ -33,6 +34,7 @@ struct RicciFlowSolver::State {
   IntrinsicTriangulation triangulation;  // the input's, then as flipped
   ConformalStructure structure;          // eta changes with flips
   Eigen::VectorXd u;
+  bool flipping;  // edge flips are on (EdgeFlips::WhenNeeded: once the input's were not enough)
   std::vector<EdgeFlip> flip_sequence;
   std::vector<int> free_index;  // of the pattern the step solver holds
   bool pattern_current = false;
@@ -47,6 +49,10 @@ struct RicciFlowSolver::State {
   detail::StallWindow stall;
 
   bool spherical() const { return structure.geometry == Geometry::Spherical; }
+  bool may_start_flipping() const {
+    return !flipping && options.edge_flips == EdgeFlips::WhenNeeded;
+  }
+  void start_flipping(int iteration, const std::string& why);
   void use_free_vertices(const TargetCurvature& target);
   void keep_delaunay();
   void walk_to(const Eigen::VectorXd& start);
@@ -67,7 +73,7 @@ void RicciFlowSolver::State::use_free_vertices(const TargetCurvature& target) {
 
 // Flips to (power) Delaunay; a changed connectivity needs a new Hessian pattern and analysis.
 void RicciFlowSolver::State::keep_delaunay() {
-  if (!options.edge_flips) return;
+  if (!flipping) return;
   const auto t = Clock::now();
   const FlipReport flips =
       make_delaunay(triangulation, structure, u, metric, 10 * mesh.num_edges());
@@ -80,7 +86,19 @@ void RicciFlowSolver::State::keep_delaunay() {
   times.flips += seconds_since(t);
 }
 
-// Moves u towards `start` in the longest valid steps, flipping to Delaunay after each.
+// EdgeFlips::WhenNeeded: flips from here on, starting from the current u.
+void RicciFlowSolver::State::start_flipping(int iteration, const std::string& why) {
+  flipping = true;
+  result.flips_from_iteration = iteration;
+  result.without_flips = why;
+  stall = detail::StallWindow();
+  lm_weight = 1;
+  keep_delaunay();
+  k = curvature(triangulation, metric);
+}
+
+// Moves u towards `start` in the longest valid steps, flipping to Delaunay after each when flips
+// are on (when needed: once no step of 1e-6 of the way is valid on this triangulation).
 void RicciFlowSolver::State::walk_to(const Eigen::VectorXd& start) {
   if (!start.allFinite()) return;
   for (int step = 0; step < 200; ++step) {
@@ -91,7 +109,12 @@ void RicciFlowSolver::State::walk_to(const Eigen::VectorXd& start) {
       trial = evaluate_metric(triangulation, structure, u + alpha * d);
       if (trial.valid()) break;
     }
-    if (!trial.valid()) return;
+    if (!trial.valid()) {
+      if (!may_start_flipping()) return;
+      start_flipping(0, "the walk to the stereographic start was blocked by triangles "
+                        "degenerating");
+      continue;
+    }
     u += alpha * d;
     metric = std::move(trial);
     keep_delaunay();
@@ -123,7 +146,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   detail::LineSearch step = detail::search_line(triangulation, structure, target, free_index, u, du,
                                                 0.5 * r.squaredNorm(), options.max_step_halvings);
   times.line_search += seconds_since(t);
-  const char* flips_help = options.edge_flips ? "" : " on this triangulation (edge flips help)";
+  const char* flips_help = flipping ? "" : " on this triangulation (edge flips help)";
   // Kbar = 0 on a closed surface is its uniformization: the metric exists, only the flow missed it.
   const bool exists =
       mesh.is_closed() && target.num_fixed() == 0 && target.curvature.cwiseAbs().maxCoeff() == 0;
@@ -138,7 +161,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
     if (exists) {
       s << exists_note;
     } else {
-      s << "; the solution may not exist" << (options.edge_flips ? " for this mesh" : flips_help)
+      s << "; the solution may not exist" << (flipping ? " for this mesh" : flips_help)
         << ", or try another scheme";
     }
     return s.str();
@@ -153,7 +176,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
       s << exists_note;
     } else {
       s << "; the target is not reachable"
-        << (options.edge_flips ? " even with edge flips" : flips_help)
+        << (flipping ? " even with edge flips" : flips_help)
         << ", or try the tangential scheme, whose triangles are always valid";
     }
     return s.str();
@@ -268,8 +291,16 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
         r.stop = FlowStop::IterationLimit;
         break;
       }
-      r.failure = s.iterate(target, it);
-      if (!r.failure.empty()) {
+      const std::string stop = s.iterate(target, it);
+      if (!stop.empty() && s.may_start_flipping()) {
+        // The step that was not taken is taken again on the flipped triangulation.
+        s.start_flipping(it, stop);
+        r.residual_history.pop_back();
+        --it;
+        continue;
+      }
+      if (!stop.empty()) {
+        r.failure = stop;
         r.stop = FlowStop::Stalled;
         break;
       }

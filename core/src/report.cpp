@@ -192,7 +192,10 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
   line("Converged in ", t.newton_iterations, " Newton iterations with ", t.edge_flips,
        " edge flips: max |K - Kbar| = ", run.quality.max_curvature_error, ", mean ",
        run.quality.mean_curvature_error, " (", t.times.total, " s)");
-  if (run.edge_flips_needed) line("Edge flips were needed: without them, ", run.without_flips);
+  if (t.flips_from_iteration >= 0) {
+    line("Edge flips were needed from iteration ", t.flips_from_iteration,
+         " on: on the input's triangulation, ", t.without_flips);
+  }
   if (run.preset == TargetPreset::UnitDisk) {
     line("Boundary loops on circles after ", t.flows, " flows: circle error ", run.circle_error);
   }
@@ -267,9 +270,11 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
   j << "  \"converged\": " << (result.converged ? "true" : "false") << ",\n";
   j << "  \"failure\": " << (result.converged ? "null" : quoted(result.failure)) << ",\n";
   j << "  \"residual\": " << number(result.residual) << ",\n";
-  j << "  \"edge_flips_needed\": " << (run.edge_flips_needed ? "true" : "false") << ",\n";
-  j << "  \"without_flips\": " << (run.edge_flips_needed ? quoted(run.without_flips) : "null")
-    << ",\n";
+  const bool needed = totals.flips_from_iteration >= 0;
+  j << "  \"edge_flips_needed\": " << (needed ? "true" : "false") << ",\n";
+  j << "  \"flips_from_iteration\": "
+    << (needed ? std::to_string(totals.flips_from_iteration) : "null") << ",\n";
+  j << "  \"without_flips\": " << (needed ? quoted(totals.without_flips) : "null") << ",\n";
   j << "  \"flows\": " << totals.flows << ",\n";
   j << "  \"iterations\": " << totals.newton_iterations << ",\n";
   j << "  \"edge_flips\": " << totals.edge_flips << ",\n";

@@ -184,6 +184,10 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
 
 void FlowTotals::add(const FlowResult& r) {
   FlowTotals one;
+  if (r.flips_from_iteration >= 0) {
+    one.flips_from_iteration = r.flips_from_iteration;
+    one.without_flips = r.without_flips;
+  }
   one.flows = 1;
   one.newton_iterations = r.iterations;
   one.edge_flips = r.num_flips;
@@ -194,6 +198,10 @@ void FlowTotals::add(const FlowResult& r) {
 }
 
 void FlowTotals::add(const FlowTotals& o) {
+  if (flips_from_iteration < 0 && o.flips_from_iteration >= 0) {
+    flips_from_iteration = newton_iterations + o.flips_from_iteration;
+    without_flips = o.without_flips;
+  }
   flows += o.flows;
   newton_iterations += o.newton_iterations;
   edge_flips += o.edge_flips;
@@ -219,26 +227,6 @@ void Uniformization::require_valid(const std::string& subject) const {
   if (!layout_failure.empty()) {
     throw LayoutError("layout" + (subject.empty() ? "" : " of " + subject) + ": " + layout_failure);
   }
-}
-
-std::string to_string(EdgeFlips f) {
-  switch (f) {
-    case EdgeFlips::WhenNeeded:
-      return "when-needed";
-    case EdgeFlips::Always:
-      return "always";
-    case EdgeFlips::Never:
-      return "never";
-  }
-  return "?";
-}
-
-EdgeFlips edge_flips_from_string(const std::string& name) {
-  for (EdgeFlips f : {EdgeFlips::WhenNeeded, EdgeFlips::Always, EdgeFlips::Never}) {
-    if (to_string(f) == name) return f;
-  }
-  throw InvalidArgumentError("unknown edge flip choice '" + name +
-                             "'; choose when-needed, always or never");
 }
 
 std::string to_string(LayoutKind k) {
@@ -354,17 +342,7 @@ std::string layout_failure(const Uniformization& run) {
 
 }  // namespace
 
-namespace {
-
-// The stereographic start is the same for every attempt of one request: computed once.
-struct StartCache {
-  bool computed = false;
-  std::optional<Eigen::VectorXd> start;
-};
-
-// One uniformization with the flow's edge flips as options.flow.edge_flips says.
-Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOptions& request,
-                               StartCache& cache) {
+Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
   const UniformizationOptions o = with_cone_values(mesh, request);
   Uniformization run;
   std::tie(run.preset, run.geometry) = resolve_request(mesh, o);
@@ -378,9 +356,8 @@ Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOpti
   if (run.preset == TargetPreset::UnitDisk) {
     detail::fit_boundary_to_circles(solver, mesh, outer, target, o, run);
   } else {
-    if (!cache.computed) cache.start = flow_start(mesh, run.structure, target, o.flow);
-    cache.computed = true;
-    run.result = solver.solve(target, cache.start ? &*cache.start : nullptr);
+    const std::optional<Eigen::VectorXd> start = flow_start(mesh, run.structure, target, o.flow);
+    run.result = solver.solve(target, start ? &*start : nullptr);
     run.totals.add(run.result);
   }
   if (run.result.converged) lay_out_result(mesh, o, outer, run);
@@ -392,31 +369,6 @@ Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOpti
   }
   if (run.result.converged) run.layout_failure = layout_failure(run);
   return run;
-}
-
-}  // namespace
-
-Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
-  StartCache cache;
-  UniformizationOptions o = request;
-  if (request.edge_flips != EdgeFlips::WhenNeeded) {
-    o.flow.edge_flips = request.edge_flips == EdgeFlips::Always;
-    return uniformize_once(mesh, o, cache);
-  }
-  o.flow.edge_flips = false;
-  Uniformization plain = uniformize_once(mesh, o, cache);
-  // Flips help only a flow that ran and got stuck on this triangulation; a flow that never
-  // started, or was cancelled, ends here.
-  const FlowStop stop = plain.result.stop;
-  if (plain.converged() || (stop != FlowStop::Stalled && stop != FlowStop::IterationLimit)) {
-    return plain;
-  }
-  o.flow.edge_flips = true;
-  Uniformization flipped = uniformize_once(mesh, o, cache);
-  flipped.edge_flips_needed = true;
-  flipped.without_flips = plain.result.failure;
-  flipped.totals.add(plain.totals);
-  return flipped;
 }
 
 }  // namespace ricci

@@ -34,14 +34,26 @@ struct FlowProgress {
   double residual = 0;  //!< max |K - Kbar| over the vertices with a curvature target
 };
 
+//! When the flow flips edges to keep the triangulation (power) Delaunay (delaunay.h):
+//! - WhenNeeded: on the input's triangulation until the flow cannot go on there (Newton stalls:
+//!   no step reduces the residual, or steps cut short to keep triangles valid stop making
+//!   progress; or the walk to a stereographic start is blocked), then with flips from where it
+//!   stopped, within the same iteration limit;
+//! - Always: before the first step and after every step;
+//! - Never: the result stays on the input's triangulation.
+enum class EdgeFlips { WhenNeeded, Always, Never };
+//! "when-needed", "always", "never".
+std::string to_string(EdgeFlips f);
+//! Inverse of to_string. \throws InvalidArgumentError naming the choices.
+EdgeFlips edge_flips_from_string(const std::string& name);
+
 struct FlowOptions {
   double tolerance = 1e-10;  //!< converged when max |K - Kbar| <= tolerance
   int max_iterations = 100;  //!< Newton iterations
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
   int max_step_halvings = 40;  //!< line search: smallest step is 2^-max_step_halvings
-  //! Keep the triangulation (power) Delaunay by edge flips, before the first and after every
-  //! step (delaunay.h). The result then may live on another triangulation of the same vertices.
-  bool edge_flips = true;
+  //! Edge flips; after flips the result lives on another triangulation of the same vertices.
+  EdgeFlips edge_flips = EdgeFlips::WhenNeeded;
   //! S2 on a closed genus-0 surface (run_ricci_flow, compute_ricci_flow): first walk to the
   //! stereographic lift of the flattened punctured mesh (spherical_start.h).
   bool stereographic_start = true;
@@ -85,6 +97,11 @@ struct FlowResult {
   Eigen::VectorXd target;            //!< Kbar; NaN where u was held fixed
   std::vector<double> edge_lengths;  //!< per edge of result_triangulation()
   int num_flips = 0;                 //!< edge flips done during this solve
+  //! EdgeFlips::WhenNeeded: the iteration of this solve from which edge flips were on (0 when
+  //! the walk to the start needed them), and why the input's triangulation was not enough; -1
+  //! and "" when this solve did not turn them on.
+  int flips_from_iteration = -1;
+  std::string without_flips;
   int connectivity_changes = 0;      //!< flip rounds of this solve that changed the triangulation
   //! Every flipped edge since the input triangulation, in order (replays the flips), over every
   //! solve of the solver so far.

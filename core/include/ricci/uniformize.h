@@ -45,14 +45,6 @@ enum class LayoutKind {
 //! "none", "plane", "plane-cut", "poincare-disk", "sphere".
 std::string to_string(LayoutKind k);
 
-//! When the flow flips edges: only when it cannot converge on the input's triangulation (then the
-//! whole uniformization is run again with flips), always, or never.
-enum class EdgeFlips { WhenNeeded, Always, Never };
-//! "when-needed", "always", "never".
-std::string to_string(EdgeFlips f);
-//! Inverse of to_string. \throws InvalidArgumentError naming the choices.
-EdgeFlips edge_flips_from_string(const std::string& name);
-
 struct UniformizationOptions {
   TargetPreset preset = TargetPreset::Automatic;
   //! The geometry; empty: the preset's (preset_geometry), or for Values the one Gauss-Bonnet
@@ -64,9 +56,8 @@ struct UniformizationOptions {
   //! preset is Values and `values` is ignored.
   std::vector<Cone> cones;
   SchemeOptions scheme;
-  //! The flow's options; its edge_flips is set by `edge_flips` below.
+  //! The flow's options, edge flips among them (when needed by default).
   FlowOptions flow;
-  EdgeFlips edge_flips = EdgeFlips::WhenNeeded;
   //! Disk preset: the vertex mapped to the centre of the unit disk, and the one mapped onto the
   //! positive real axis (-1: none).
   int center_vertex = -1, axis_vertex = -1;
@@ -86,6 +77,10 @@ struct FlowTotals {
   int edge_flips = 0;
   int symbolic_analyses = 0;
   int numeric_factorizations = 0;
+  //! EdgeFlips::WhenNeeded: the Newton iteration, counted over the flows, from which edge flips
+  //! were on, and why the input's triangulation was not enough; -1 and "": never needed.
+  int flips_from_iteration = -1;
+  std::string without_flips;
   FlowTimes times;
   void add(const FlowResult& r);
   void add(const FlowTotals& other);
@@ -123,9 +118,6 @@ struct Uniformization {
   //! transformations; |Im(conj(w0) w1)| is the torus's area.
   std::vector<std::complex<double>> periods;
   LayoutQuality quality;  //!< of the delivered mesh's layout
-  //! EdgeFlips::WhenNeeded: the run without flips did not converge, this one flipped; why not.
-  bool edge_flips_needed = false;
-  std::string without_flips;
   //! Why the layout is not a valid map (faces turned over, boundary off its circles), or "".
   std::string layout_failure;
 
