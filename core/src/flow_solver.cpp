@@ -189,6 +189,11 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   const int flips_before = result.num_flips;
   keep_delaunay();
   k = result.num_flips > flips_before ? curvature(triangulation, metric) : std::move(step.k);
+  if (may_start_flipping() && stall.short_steps() >= detail::StallWindow::kLengthBeforeFlips) {
+    s << "the steps of iterations " << it + 1 - stall.short_steps() << " to " << it
+      << " were cut below 1/64 to keep triangles from degenerating";
+    start_flipping(it + 1, s.str());
+  }
   return "";
 }
 

@@ -84,8 +84,14 @@ LineSearch search_line(const Triangulation& mesh, const ConformalStructure& stru
 class StallWindow {
  public:
   static constexpr int kLength = 10;
+  //! Without flips, this many short steps in a row already call for them (EdgeFlips::WhenNeeded):
+  //! on real meshes whose own triangulation converges, a step cut below 1/64 was never followed
+  //! by another (scripts/compare_flip_modes.py).
+  static constexpr int kLengthBeforeFlips = 2;
   //! Records an accepted step; true when the flow has stalled.
   bool stalled(const LineSearch& step, const std::vector<double>& residual_history);
+  //! The number of short steps in a row so far.
+  int short_steps() const { return short_steps_; }
 
  private:
   int short_steps_ = 0;
