@@ -1,19 +1,12 @@
 #include "delaunay.h"
 
 #include <cmath>
-#include <unordered_set>
 
 #include "hessian.h"
 
 namespace ricci {
 
 namespace {
-
-std::uint64_t pair_key(int a, int b) {
-  const auto lo = static_cast<std::uint64_t>(std::min(a, b)),
-             hi = static_cast<std::uint64_t>(std::max(a, b));
-  return (hi << 32) | lo;
-}
 
 int corner_of(const Triangulation& mesh, int f, int v) {
   for (int c = 0; c < 3; ++c) {
@@ -59,7 +52,7 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
                          const Eigen::VectorXd& u, MetricState& state, int max_flips) {
   FlipReport report;
   // Only the edges that are not Delaunay now start the queue (usually few after the first
-  // round), and the set of vertex pairs is built only when there is something to flip.
+  // round).
   std::vector<int> stack;
   std::vector<char> queued(mesh.num_edges(), 0);
   for (int e = mesh.num_edges() - 1; e >= 0; --e) {
@@ -69,11 +62,6 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     }
   }
   if (stack.empty()) return report;
-  std::unordered_set<std::uint64_t> edges;
-  edges.reserve(2 * static_cast<size_t>(mesh.num_edges()));
-  for (int e = 0; e < mesh.num_edges(); ++e) {
-    edges.insert(pair_key(mesh.edge_vertices(e)[0], mesh.edge_vertices(e)[1]));
-  }
   const Geometry g = structure.geometry;
   while (!stack.empty() && report.flips < max_flips) {
     const int e = stack.back();
@@ -87,7 +75,9 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     // The quadrilateral k, a, l, b must be convex at a and b for the new diagonal k-l.
     const double angle_a = state.faces[f].angle[(c + 1) % 3] + state.faces[fg].angle[(d + 2) % 3];
     const double angle_b = state.faces[f].angle[(c + 2) % 3] + state.faces[fg].angle[(d + 1) % 3];
-    if (k == l || edges.count(pair_key(k, l)) || !(angle_a < kPi) || !(angle_b < kPi)) {
+    // k-l may already be an edge: intrinsic Delaunay triangulations can need two edges between
+    // one pair of vertices (both sides of a thin ear). Only a self-loop is refused.
+    if (k == l || !(angle_a < kPi) || !(angle_b < kPi)) {
       ++report.blocked;
       continue;
     }
@@ -132,8 +122,6 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
       ++report.blocked;
       continue;
     }
-    edges.erase(pair_key(a, b));
-    edges.insert(pair_key(k, l));
     ++report.flips;
     report.sequence.push_back(record);
     for (int side : {e_bk, e_ka, e_al, e_lb}) {

@@ -9,6 +9,10 @@
 // (Yamabe), the lambda-lengths lambda = sqrt(2 eta) follow Ptolemy's relation, which keeps the
 // discrete conformal class (Penner coordinates); otherwise eta solves the length law for the
 // current length of the new diagonal, which keeps the metric.
+//
+// A new diagonal may join two vertices that another edge already joins: intrinsic triangulations
+// can need such multi-edges (both sides of a thin ear). Everything downstream works per edge
+// index, halfedge or face corner, never by vertex pair.
 #pragma once
 
 #include <vector>
@@ -31,7 +35,7 @@ struct FlipReport {
   int flips = 0;                   //!< edges flipped
   std::vector<EdgeFlip> sequence;  //!< the flipped edges, in order
   int blocked = 0;  //!< non-Delaunay edges that could not be flipped (non-convex quadrilateral,
-                    //!< the new diagonal already an edge, eta <= 0 or an invalid triangle after)
+                    //!< both opposite vertices one, eta <= 0 or an invalid triangle after)
 };
 
 //! Flips non-Delaunay edges until none is left (or max_flips is reached), updating the flipped

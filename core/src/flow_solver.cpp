@@ -98,9 +98,11 @@ void RicciFlowSolver::State::start_flipping(int iteration, const std::string& wh
 }
 
 // Moves u towards `start` in the longest valid steps, flipping to Delaunay after each when flips
-// are on (when needed: once no step of 1e-6 of the way is valid on this triangulation).
+// are on. When needed: once no step of 1e-6 of the way is valid on this triangulation, the walk
+// starts over with flips (it costs no factorization), as it would with flips always.
 void RicciFlowSolver::State::walk_to(const Eigen::VectorXd& start) {
   if (!start.allFinite()) return;
+  const Eigen::VectorXd origin = u;
   for (int step = 0; step < 200; ++step) {
     const Eigen::VectorXd d = start - u;
     double alpha = 1;
@@ -111,8 +113,11 @@ void RicciFlowSolver::State::walk_to(const Eigen::VectorXd& start) {
     }
     if (!trial.valid()) {
       if (!may_start_flipping()) return;
-      start_flipping(0, "the walk to the stereographic start was blocked by triangles "
-                        "degenerating");
+      u = origin;
+      metric = evaluate_metric(triangulation, structure, u);
+      start_flipping(0,
+                     "the walk to the stereographic start was blocked by triangles "
+                     "degenerating");
       continue;
     }
     u += alpha * d;
@@ -175,8 +180,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
     if (exists) {
       s << exists_note;
     } else {
-      s << "; the target is not reachable"
-        << (flipping ? " even with edge flips" : flips_help)
+      s << "; the target is not reachable" << (flipping ? " even with edge flips" : flips_help)
         << ", or try the tangential scheme, whose triangles are always valid";
     }
     return s.str();

@@ -72,19 +72,28 @@ std::vector<Eigen::Vector3d> vertex_positions(const Triangulation& mesh, const L
 std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid_out,
                                                        const Layout& layout,
                                                        const Triangulation& other) {
-  std::map<std::array<int, 3>, int> face_of;  // sorted vertices -> face of laid_out
+  // Flips keep edge indices: a face of `other` is a face of laid_out when its three edges bound
+  // one, each still between its ends in `other` (vertex triples are not enough: after flips two
+  // faces can have the same three vertices).
+  std::map<std::array<int, 3>, int> face_of;  // sorted edges -> face of laid_out
   std::vector<std::vector<Eigen::Vector3d>> wedges(laid_out.num_vertices());
   for (int f = 0; f < laid_out.num_faces(); ++f) {
-    std::array<int, 3> key = laid_out.faces()[f];
+    std::array<int, 3> key = laid_out.face_edges(f);
     std::sort(key.begin(), key.end());
     face_of[key] = f;
     for (int c = 0; c < 3; ++c) wedges[laid_out.face_vertex(f, c)].push_back(layout.corners[f][c]);
   }
+  const bool same_edges = laid_out.num_edges() == other.num_edges();
   std::vector<std::array<Eigen::Vector3d, 3>> corners(other.num_faces());
   for (int f = 0; f < other.num_faces(); ++f) {
-    std::array<int, 3> key = other.faces()[f];
+    std::array<int, 3> key = other.face_edges(f);
     std::sort(key.begin(), key.end());
-    const auto same = face_of.find(key);
+    auto same = same_edges ? face_of.find(key) : face_of.end();
+    if (same != face_of.end()) {
+      for (int e : key) {
+        if (laid_out.edge_vertices(e) != other.edge_vertices(e)) same = face_of.end();
+      }
+    }
     for (int c = 0; c < 3; ++c) {
       const int v = other.face_vertex(f, c);
       if (same != face_of.end()) {

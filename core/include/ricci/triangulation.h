@@ -24,6 +24,7 @@ class Triangulation {
 
   //! Edge opposite corner c of face f.
   int face_edge(int f, int corner) const { return face_edges_[f][corner]; }
+  const std::array<int, 3>& face_edges(int f) const { return face_edges_[f]; }
   //! Endpoints of edge e (smaller index first).
   const std::array<int, 2>& edge_vertices(int e) const { return edge_vertices_[e]; }
   //! The halfedge of edge e's other face, or -1 on the boundary.
@@ -59,7 +60,7 @@ class Triangulation {
  protected:
   //! Replaces interior edge e, the diagonal of the quadrilateral of its two faces, by the other
   //! diagonal. Returns false (and changes nothing) for a boundary edge or when both opposite
-  //! vertices coincide. \pre the caller has checked that the new diagonal is not an edge yet.
+  //! vertices coincide. The new diagonal may join vertices another edge joins already.
   //! (Public in IntrinsicTriangulation only: a CompactMesh's input lengths belong to its edges.)
   bool flip(int e);
 
