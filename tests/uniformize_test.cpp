@@ -104,13 +104,14 @@ TEST(Uniformize, SquareOntoTheDiskConvergesToTheConformalMap) {
 
 TEST(Uniformize, EdgeFlipsOnlyWhereTheFlowStalls) {
   // hand.off: the round sphere's Yamabe flow cannot walk to its stereographic start on the input's
-  // triangulation; by default it goes on from there with flips, and the report says why.
+  // triangulation, and Newton gets stuck there; by default the walk is made again with flips,
+  // and the report says from which iteration and why.
   const CompactMesh hand = test::cgal_mesh("hand.off");
   UniformizationOptions o;
   const Uniformization run = uniformize(hand, o);
   ASSERT_TRUE(run.valid()) << run.result.failure << run.layout_failure;
-  EXPECT_EQ(run.totals.flips_from_iteration, 0);
-  EXPECT_NE(run.totals.without_flips.find("blocked"), std::string::npos)
+  EXPECT_GT(run.totals.flips_from_iteration, 0);
+  EXPECT_NE(run.totals.without_flips.find("iteration"), std::string::npos)
       << run.totals.without_flips;
   EXPECT_GT(run.totals.edge_flips, 0);
   const Uniformization sphere = uniformize(test::ellipsoid(2, 1, 1, 2), o);

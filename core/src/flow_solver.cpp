@@ -2,7 +2,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include "delaunay.h"
 #include "flow_steps.h"
@@ -35,6 +37,9 @@ struct RicciFlowSolver::State {
   ConformalStructure structure;          // eta changes with flips
   Eigen::VectorXd u;
   bool flipping;  // edge flips are on (EdgeFlips::WhenNeeded: once the input's were not enough)
+  // EdgeFlips::WhenNeeded: a walk to a start that the input's triangulation blocked, from where
+  // and to where; when flips start, the walk is made again with them.
+  std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> blocked_walk;
   std::vector<EdgeFlip> flip_sequence;
   std::vector<int> free_index;  // of the pattern the step solver holds
   bool pattern_current = false;
@@ -93,16 +98,28 @@ void RicciFlowSolver::State::start_flipping(int iteration, const std::string& wh
   result.without_flips = why;
   stall = detail::StallWindow();
   lm_weight = 1;
-  keep_delaunay();
+  if (blocked_walk) {
+    // Newton got stuck after a blocked walk: the walk again from its origin, with flips, as it
+    // goes with flips always (it costs no factorization).
+    u = blocked_walk->first;
+    metric = evaluate_metric(triangulation, structure, u);
+    keep_delaunay();
+    const Eigen::VectorXd start = std::move(blocked_walk->second);
+    blocked_walk.reset();
+    walk_to(start);
+  } else {
+    keep_delaunay();
+  }
   k = curvature(triangulation, metric);
 }
 
 // Moves u towards `start` in the longest valid steps, flipping to Delaunay after each when flips
-// are on. When needed: once no step of 1e-6 of the way is valid on this triangulation, the walk
-// starts over with flips (it costs no factorization), as it would with flips always.
+// are on. Without them, the walk ends where no step of 1e-6 of the way is valid; when needed,
+// that is remembered, and made again with flips if Newton gets stuck on this triangulation.
 void RicciFlowSolver::State::walk_to(const Eigen::VectorXd& start) {
   if (!start.allFinite()) return;
   const Eigen::VectorXd origin = u;
+  int short_steps = 0;
   for (int step = 0; step < 200; ++step) {
     const Eigen::VectorXd d = start - u;
     double alpha = 1;
@@ -111,14 +128,11 @@ void RicciFlowSolver::State::walk_to(const Eigen::VectorXd& start) {
       trial = evaluate_metric(triangulation, structure, u + alpha * d);
       if (trial.valid()) break;
     }
-    if (!trial.valid()) {
-      if (!may_start_flipping()) return;
-      u = origin;
-      metric = evaluate_metric(triangulation, structure, u);
-      start_flipping(0,
-                     "the walk to the stereographic start was blocked by triangles "
-                     "degenerating");
-      continue;
+    // Without flips, steps that stay short only creep along the valid set's boundary.
+    short_steps = alpha <= 1.0 / 64 ? short_steps + 1 : 0;
+    if (!trial.valid() || (!flipping && short_steps > detail::StallWindow::kLengthBeforeFlips)) {
+      if (may_start_flipping()) blocked_walk.emplace(origin, start);
+      return;
     }
     u += alpha * d;
     metric = std::move(trial);
@@ -265,6 +279,7 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
   s.times = FlowTimes();
   s.lm_weight = 1;
   s.stall = detail::StallWindow();
+  s.blocked_walk.reset();
   s.use_free_vertices(target);
   s.metric = evaluate_metric(s.triangulation, s.structure, s.u);
   s.times.setup = seconds_since(begin);

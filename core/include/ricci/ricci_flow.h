@@ -35,10 +35,11 @@ struct FlowProgress {
 };
 
 //! When the flow flips edges to keep the triangulation (power) Delaunay (delaunay.h):
-//! - WhenNeeded: on the input's triangulation until the flow cannot go on there (Newton stalls:
-//!   no step reduces the residual, or steps cut short to keep triangles valid stop making
-//!   progress; or the walk to a stereographic start is blocked), then with flips from where it
-//!   stopped, within the same iteration limit;
+//! - WhenNeeded: on the input's triangulation, exactly as Never, until Newton cannot go on there
+//!   (no step reduces the residual, or two steps in a row are cut below 1/64 to keep triangles
+//!   valid), then with flips from where it stopped, within the same iteration limit (after a
+//!   walk to a stereographic start that the triangulation blocked, from the walk made again with
+//!   flips);
 //! - Always: before the first step and after every step;
 //! - Never: the result stays on the input's triangulation.
 enum class EdgeFlips { WhenNeeded, Always, Never };
@@ -97,12 +98,11 @@ struct FlowResult {
   Eigen::VectorXd target;            //!< Kbar; NaN where u was held fixed
   std::vector<double> edge_lengths;  //!< per edge of result_triangulation()
   int num_flips = 0;                 //!< edge flips done during this solve
-  //! EdgeFlips::WhenNeeded: the iteration of this solve from which edge flips were on (0 when
-  //! the walk to the start needed them), and why the input's triangulation was not enough; -1
-  //! and "" when this solve did not turn them on.
+  //! EdgeFlips::WhenNeeded: the iteration of this solve from which edge flips were on, and why
+  //! the input's triangulation was not enough; -1 and "" when this solve did not turn them on.
   int flips_from_iteration = -1;
   std::string without_flips;
-  int connectivity_changes = 0;      //!< flip rounds of this solve that changed the triangulation
+  int connectivity_changes = 0;  //!< flip rounds of this solve that changed the triangulation
   //! Every flipped edge since the input triangulation, in order (replays the flips), over every
   //! solve of the solver so far.
   std::vector<EdgeFlip> flip_sequence;
