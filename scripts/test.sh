@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set up, check formatting, build with warnings as errors, and run every test: once in a Release
-# build, once more in a build with the address and undefined-behaviour sanitizers, and the plugin
-# built for MeshLab 2025.07 loaded into pymeshlab (pytest).
+# build, once more in a build with the address and undefined-behaviour sanitizers, the plugin
+# built for MeshLab 2025.07 loaded into pymeshlab (pytest), and the Python wheel installed into a
+# fresh venv (pytest).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 bash "$root/scripts/setup.sh"
@@ -26,3 +27,8 @@ bash "$root/scripts/build.sh" pymeshlab -DCMAKE_BUILD_TYPE=Release -DRICCI_WARNI
   -DRICCI_MESHLAB_SOURCE="$root/third_party/meshlab-2025.07/source" \
   -DRICCI_PYMESHLAB_PYTHON="$root/third_party/pymeshlab-venv/bin/python"
 ctest --test-dir "$root/build/pymeshlab" --output-on-failure --verbose -R Pymeshlab
+
+echo "== Python wheel: built into dist/, installed into a fresh venv, tested there (pytest)"
+bash "$root/scripts/wheel.sh"
+(cd "$root/build" && "$root/build/wheel-venv/bin/python" -m pytest -q -p no:cacheprovider \
+  "$root/python/tests")

@@ -1,0 +1,147 @@
+// The ricci-flow command: parse, read and repair, uniformize, write; exit codes 0, 1 (the run
+// failed), 2 (usage).
+#include "app.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+
+#include <Eigen/Core>
+
+#include "options.h"
+#include "picture.h"
+#include "result_ply.h"
+#include "ricci/atlas.h"
+#include "ricci/errors.h"
+#include "ricci/mesh_io.h"
+#include "ricci/repair.h"
+#include "ricci/report.h"
+#include "ricci/uniformize.h"
+
+namespace {
+
+using namespace ricci;
+
+// --target cones:FILE or FILE: the per-vertex target, read once the mesh is known.
+void read_target_file(const cli::Options& o, UniformizationOptions& r) {
+  if (o.target_file.empty()) return;
+  if (o.target_is_cones) {
+    for (const auto& [vertex, degrees] : cli::read_cones(o.target_file)) {
+      r.cones.push_back({vertex, degrees * kPi / 180});
+    }
+    return;
+  }
+  const std::vector<double> values = cli::read_numbers(o.target_file);
+  r.values = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<long>(values.size()));
+}
+
+std::vector<int> read_eps(const std::string& path, int num_vertices) {
+  const std::vector<double> values = cli::read_numbers(path);
+  if (static_cast<int>(values.size()) != num_vertices) {
+    throw InvalidArgumentError("--eps " + path + ": " + std::to_string(values.size()) +
+                               " values for " + std::to_string(num_vertices) +
+                               " vertices; give one of +1, 0, -1 per vertex");
+  }
+  std::vector<int> eps(values.size());
+  for (size_t v = 0; v < values.size(); ++v) {
+    if (values[v] != 1 && values[v] != 0 && values[v] != -1) {
+      throw InvalidArgumentError("--eps " + path + ": vertex " + std::to_string(v) + " has " +
+                                 std::to_string(values[v]) + "; each value must be +1, 0 or -1");
+    }
+    eps[v] = static_cast<int>(values[v]);
+  }
+  return eps;
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  if (!out) throw IoError("cannot write '" + path + "'");
+  out << text;
+  if (!out) throw IoError("writing '" + path + "' failed");
+}
+
+}  // namespace
+
+namespace ricci::cli {
+
+UniformizationOptions request_for(const Options& o, int num_input_vertices) {
+  UniformizationOptions request = o.request;
+  read_target_file(o, request);
+  if (!o.eps_file.empty()) request.scheme.eps = read_eps(o.eps_file, num_input_vertices);
+  return request;
+}
+
+void run(const Options& o) {
+  const bool show_progress = !o.quiet && isatty(fileno(stderr));
+  const auto read_start = std::chrono::steady_clock::now();
+  const MeshFile file = read_mesh_file(o.input);
+  RepairedMesh repaired = [&] {
+    try {
+      return repair_mesh(file.positions, file.triangles, {o.strict});
+    } catch (const InvalidMeshError& e) {
+      throw InvalidMeshError(o.input + ": " + e.what());
+    }
+  }();
+  RunContext context{o.input, o.target, 0};
+  context.read_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
+
+  UniformizationOptions request = request_for(o, repaired.num_input_vertices);
+  if (show_progress) {
+    request.flow.progress = [](const FlowProgress& p) {
+      std::fprintf(stderr, "\riteration %3d   max |K - Kbar| = %.3e ", p.iteration, p.residual);
+      return true;
+    };
+  }
+  if (!o.picture.empty()) {
+    for (const LayoutKind kind : planned_layouts(repaired, request)) {
+      if (kind == LayoutKind::Plane) continue;
+      throw InvalidArgumentError(
+          "--picture needs a layout in the plane (a disk, or a circle domain with --target "
+          "disk); this run is laid out as " +
+          to_string(kind));
+    }
+  }
+  const MeshUniformization run = uniformize_mesh(std::move(repaired), request);
+  if (show_progress) std::fprintf(stderr, "\n");
+  if (!o.report.empty()) write_text(o.report, json_report(run, context));
+  run.require_valid(o.input);
+  write_result_ply(o.output, run, o.ascii);
+  if (!o.picture.empty()) write_layout_png(o.picture, run.faces, run.texture.vertex, run.u);
+  if (!o.quiet) {
+    for (const std::string& line : summary_lines(run, context)) std::printf("%s\n", line.c_str());
+    for (const std::string& path : {o.output, o.picture, o.report}) {
+      if (!path.empty()) std::printf("wrote %s\n", path.c_str());
+    }
+  }
+}
+
+
+int run_command_line(int argc, const char* const* argv) {
+  Options options;
+  try {
+    options = parse_options(argc, argv);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "ricci-flow: error: %s\n", e.what());
+    return 2;
+  }
+  if (options.help) {
+    std::fputs(usage().c_str(), stdout);
+    return 0;
+  }
+  if (options.version) {
+    std::puts("ricci-flow 0.1.0");
+    return 0;
+  }
+  try {
+    run(options);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ricci-flow: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace ricci::cli

@@ -1,0 +1,281 @@
+// ricci_flow._ricci_flow: the compiled part of the Python package. NumPy arrays in and out; the
+// options are the command line tool's flags (parsed by its own table), so both take the same
+// names, values and defaults. The Python layer (ricci_flow/__init__.py) turns keyword arguments
+// into flags and the dicts returned here into result objects.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include "app.h"
+#include "options.h"
+#include "ricci/atlas.h"
+#include "ricci/errors.h"
+#include "ricci/mesh_io.h"
+#include "ricci/repair.h"
+#include "ricci/report.h"
+#include "ricci/ricci_flow.h"
+
+namespace nb = nanobind;
+
+namespace {
+
+using namespace ricci;
+
+using Points = nb::ndarray<const double, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using Triangles = nb::ndarray<const std::int64_t, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+using Values = nb::ndarray<const double, nb::shape<-1>, nb::c_contig, nb::device::cpu>;
+
+// A NumPy array owning `data` (moved to the heap, freed with the array).
+template <class T>
+nb::object numpy(std::vector<T>&& data, std::initializer_list<size_t> shape) {
+  auto* owned = new std::vector<T>(std::move(data));
+  nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
+  return nb::cast(nb::ndarray<nb::numpy, T>(owned->data(), shape, owner));
+}
+
+nb::object points(const std::vector<Eigen::Vector3d>& p) {
+  std::vector<double> flat;
+  flat.reserve(3 * p.size());
+  for (const auto& x : p) flat.insert(flat.end(), {x.x(), x.y(), x.z()});
+  return numpy(std::move(flat), {p.size(), 3});
+}
+
+nb::object triangles(const std::vector<std::array<int, 3>>& faces) {
+  std::vector<std::int64_t> flat;
+  flat.reserve(3 * faces.size());
+  for (const auto& f : faces) flat.insert(flat.end(), {f[0], f[1], f[2]});
+  return numpy(std::move(flat), {faces.size(), 3});
+}
+
+nb::object vector(const Eigen::VectorXd& v) {
+  return numpy(std::vector<double>(v.data(), v.data() + v.size()), {static_cast<size_t>(v.size())});
+}
+
+nb::object indices(const std::vector<int>& v) {
+  return numpy(std::vector<std::int64_t>(v.begin(), v.end()), {v.size()});
+}
+
+std::vector<Eigen::Vector3d> to_points(const Points& a) {
+  std::vector<Eigen::Vector3d> p(a.shape(0));
+  for (size_t i = 0; i < p.size(); ++i) p[i] = {a(i, 0), a(i, 1), a(i, 2)};
+  return p;
+}
+
+std::vector<std::array<int, 3>> to_triangles(const Triangles& a) {
+  std::vector<std::array<int, 3>> f(a.shape(0));
+  for (size_t i = 0; i < f.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const std::int64_t v = a(i, static_cast<size_t>(c));
+      if (v < 0 || v > std::numeric_limits<int>::max()) {
+        throw InvalidMeshError("face " + std::to_string(i) + " has vertex index " +
+                               std::to_string(v) + ", out of range");
+      }
+      f[i][c] = static_cast<int>(v);
+    }
+  }
+  return f;
+}
+
+cli::Options parse(const std::string& caller, std::vector<std::string> flags) {
+  flags.insert(flags.begin(), {caller, "<arrays>", "-o", "<arrays>.ply"});
+  std::vector<const char*> argv;
+  for (const std::string& f : flags) argv.push_back(f.c_str());
+  return cli::parse_options(static_cast<int>(argv.size()), argv.data());
+}
+
+// Positions per delivered face corner, component after component; None unless every component
+// has a layout.
+nb::object corner_layout(const MeshUniformization& run) {
+  std::vector<double> flat;
+  flat.reserve(9 * run.faces.size());
+  for (const Uniformization& c : run.components) {
+    for (const auto& face : c.corners) {
+      for (const auto& p : face) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
+    }
+  }
+  if (flat.size() != 9 * run.faces.size()) return nb::none();
+  return numpy(std::move(flat), {run.faces.size(), 3, 3});
+}
+
+nb::dict uniformize_arrays(const Points& v, const Triangles& f, std::vector<std::string> flags) {
+  const cli::Options o = parse("ricci_flow.uniformize", std::move(flags));
+  std::vector<Eigen::Vector3d> positions = to_points(v);
+  std::vector<std::array<int, 3>> faces = to_triangles(f);
+  MeshUniformization run;
+  std::string report, failure;
+  {
+    nb::gil_scoped_release released;
+    RepairedMesh repaired = repair_mesh(positions, faces, {o.strict});
+    const UniformizationOptions request = cli::request_for(o, repaired.num_input_vertices);
+    run = uniformize_mesh(std::move(repaired), request);
+    report = json_report(run, RunContext{"<arrays>", o.target, 0});
+    try {
+      run.require_valid();
+    } catch (const Error& e) {
+      failure = e.what();
+    }
+  }
+  nb::dict d;
+  d["failure"] = failure;
+  d["report"] = report;
+  d["vertices"] = points(run.positions);
+  d["faces"] = triangles(run.faces);
+  d["input_face"] = indices(run.input_face);
+  d["vertex_input_face"] = indices(run.vertex_input_face);
+  d["vertex_barycentric"] = points(run.vertex_barycentric);
+  d["u"] = vector(run.u);
+  d["radius"] = vector(run.radius);
+  d["curvature"] = vector(run.curvature);
+  d["target"] = vector(run.target);
+  d["position"] = run.position.empty() ? nb::none() : points(run.position);
+  d["corner_layout"] = corner_layout(run);
+  std::vector<std::string> kinds;
+  for (const Uniformization& c : run.components) kinds.push_back(to_string(c.layout_kind));
+  d["layout_kinds"] = kinds;
+  if (!run.texture.vertex.empty()) {
+    std::vector<double> flat;
+    for (const auto& t : run.texture.vertex) flat.insert(flat.end(), {t.x(), t.y()});
+    d["texcoord"] = numpy(std::move(flat), {run.texture.vertex.size(), 2});
+  } else if (!run.texture.wedge.empty()) {
+    std::vector<double> flat;
+    for (const auto& face : run.texture.wedge) {
+      for (const auto& t : face) flat.insert(flat.end(), {t.x(), t.y()});
+    }
+    d["texcoord"] = numpy(std::move(flat), {run.texture.wedge.size(), 3, 2});
+  } else {
+    d["texcoord"] = nb::none();
+  }
+  return d;
+}
+
+nb::tuple read_mesh_arrays(const std::string& path) {
+  MeshFile file;
+  {
+    nb::gil_scoped_release released;
+    file = read_mesh_file(path);
+  }
+  return nb::make_tuple(points(file.positions), triangles(file.triangles));
+}
+
+// The command on one file with flags; "" when it wrote its result, else the error it would print.
+std::string run_file(const std::vector<std::string>& args) {
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  const cli::Options o = cli::parse_options(static_cast<int>(argv.size()), argv.data());
+  nb::gil_scoped_release released;
+  try {
+    cli::run(o);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+int run_command_line(const std::vector<std::string>& args) {
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  nb::gil_scoped_release released;
+  return cli::run_command_line(static_cast<int>(argv.size()), argv.data());
+}
+
+// One clean mesh (one component, no repairs) and its flow, kept between solves: the
+// triangulation as flipped, u, the Hessian's pattern and symbolic analysis.
+class Solver {
+ public:
+  Solver(const Points& v, const Triangles& f, std::vector<std::string> flags)
+      : mesh_(to_points(v), to_triangles(f)) {
+    const cli::Options o = parse("ricci_flow.Solver", std::move(flags));
+    if (o.request.preset == TargetPreset::Values || !o.request.cones.empty() ||
+        o.request.preset == TargetPreset::UnitDisk) {
+      throw InvalidArgumentError(
+          "a Solver is made with a geometry and a scheme; give targets to solve()");
+    }
+    geometry_ = o.request.geometry.value_or(automatic_preset(mesh_).second);
+    options_ = o.request.flow;
+    scheme_ = o.request.scheme;
+    structure_ = prepare_flow(mesh_, geometry_, scheme_, TargetCurvature::free_boundary_or_zero(mesh_));
+    solver_ = std::make_unique<RicciFlowSolver>(mesh_, structure_, options_);
+  }
+
+  nb::dict solve(const Values& values) {
+    if (values.shape(0) != static_cast<size_t>(mesh_.num_vertices())) {
+      throw InvalidArgumentError("solve: " + std::to_string(values.shape(0)) + " values for " +
+                                 std::to_string(mesh_.num_vertices()) + " vertices");
+    }
+    Eigen::VectorXd kbar(mesh_.num_vertices());
+    for (int i = 0; i < kbar.size(); ++i) kbar[i] = values(static_cast<size_t>(i));
+    const TargetCurvature target = TargetCurvature::from_values(mesh_, kbar);
+    FlowResult r;
+    {
+      nb::gil_scoped_release released;
+      r = solver_->solve(target);
+    }
+    nb::dict d;
+    d["converged"] = r.converged;
+    d["failure"] = r.failure;
+    d["u"] = vector(r.u);
+    d["curvature"] = vector(r.curvature);
+    d["iterations"] = r.iterations;
+    d["residual"] = r.residual;
+    d["edge_flips"] = r.num_flips;
+    d["symbolic_analyses"] = r.num_analyses;
+    d["numeric_factorizations"] = r.num_factorizations;
+    return d;
+  }
+
+  int num_vertices() const { return mesh_.num_vertices(); }
+  std::string geometry() const { return to_string(geometry_); }
+
+ private:
+  CompactMesh mesh_;
+  Geometry geometry_ = Geometry::Euclidean;
+  SchemeOptions scheme_;
+  FlowOptions options_;
+  ConformalStructure structure_;
+  std::unique_ptr<RicciFlowSolver> solver_;
+};
+
+}  // namespace
+
+NB_MODULE(_ricci_flow, m) {
+  m.doc() = "Unified discrete surface Ricci flow (compiled part of ricci_flow)";
+  static nb::exception<ricci::Error> error(m, "RicciFlowError", PyExc_RuntimeError);
+  nb::register_exception_translator([](const std::exception_ptr& p, void*) {
+    try {
+      std::rethrow_exception(p);
+    } catch (const ricci::InvalidArgumentError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const ricci::InvalidTargetError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const ricci::InvalidMeshError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const ricci::IoError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    }
+  });
+  m.def("run_command_line", &run_command_line, nb::arg("args"),
+        "Runs the ricci-flow command with args (args[0] the program's name); returns its exit "
+        "code.");
+  m.def("run_file", &run_file, nb::arg("args"),
+        "Runs the ricci-flow command on one file (args as for run_command_line); returns \"\" when "
+        "it wrote its result, else its error message. Usage errors raise ValueError.");
+  m.def("read_mesh", &read_mesh_arrays, nb::arg("path"),
+        "Vertices (n, 3) and triangles (m, 3) of a mesh file (.off .obj .ply .stl), polygons "
+        "split as fans from their first corner.");
+  m.def("uniformize", &uniformize_arrays, nb::arg("vertices"), nb::arg("faces"),
+        nb::arg("flags"), "The uniformization of arrays with the command line tool's flags.");
+  nb::class_<Solver>(m, "Solver")
+      .def(nb::init<const Points&, const Triangles&, std::vector<std::string>>(),
+           nb::arg("vertices"), nb::arg("faces"), nb::arg("flags"))
+      .def("solve", &Solver::solve, nb::arg("target"))
+      .def_prop_ro("num_vertices", &Solver::num_vertices)
+      .def_prop_ro("geometry", &Solver::geometry);
+}

@@ -1,0 +1,197 @@
+"""Unified discrete surface Ricci flow (Zhang, Guo, Zeng, Luo, Yau, Gu) on NumPy arrays.
+
+    import ricci_flow
+    V, F = ricci_flow.read_mesh("face.off")
+    r = ricci_flow.uniformize(V, F)               # target "auto": by topology
+    r.layout, r.u, r.quality["quasi_conformal"]
+
+The options are the command line tool's (`ricci-flow --help`), by name with `_` for `-`, with
+the same defaults: geometry, scheme, angle, target, center, axis, tolerance, max_iterations,
+solver, flips, no_flips, keep_input_triangulation, strict; `eps` (mixed scheme) and a `target`
+of per-vertex values or `cones` as arrays. Dirty meshes are repaired as the tool does (several
+components, duplicate, degenerate and misoriented faces, non-manifold edges and vertices).
+"""
+import json
+import os
+import tempfile
+
+import numpy as np
+
+from . import _ricci_flow
+from ._ricci_flow import RicciFlowError
+
+__all__ = ["uniformize", "read_mesh", "Result", "Solver", "RicciFlowError"]
+__version__ = "0.1.0"
+
+_SWITCHES = ("no_flips", "keep_input_triangulation", "strict")
+_VALUES = ("geometry", "scheme", "angle", "target", "center", "axis", "tolerance",
+           "max_iterations", "solver", "flips")
+_PLANAR = ("plane", "plane-cut", "poincare-disk")
+
+
+def _write_numbers(folder, name, rows):
+    path = os.path.join(folder, name)
+    with open(path, "w") as f:
+        for row in rows:
+            f.write(" ".join(repr(float(x)) if not isinstance(x, (int, np.integer)) else str(int(x))
+                             for x in (row if isinstance(row, (tuple, list)) else (row,))))
+            f.write("\n")
+    return path
+
+
+def _flags(options, folder):
+    """The command line flags of keyword options (files for array options go into folder)."""
+    flags = []
+    for name, value in options.items():
+        if value is None:
+            continue
+        if name in _SWITCHES:
+            if value:
+                flags.append("--" + name.replace("_", "-"))
+        elif name == "eps":
+            flags += ["--eps", _write_numbers(folder, "eps.txt", [int(e) for e in value])]
+        elif name == "cones":
+            rows = [(int(v), float(degrees)) for v, degrees in value]
+            flags += ["--target", "cones:" + _write_numbers(folder, "cones.txt", rows)]
+        elif name == "target" and not isinstance(value, str):
+            values = np.asarray(value, dtype=np.float64).ravel()
+            flags += ["--target", _write_numbers(folder, "target.txt", values)]
+        elif name in _VALUES:
+            text = repr(float(value)) if isinstance(value, float) else str(value)
+            flags += ["--" + name.replace("_", "-"), text]
+        else:
+            raise TypeError("unknown option %r; the options are %s, eps, cones"
+                            % (name, ", ".join(_VALUES + _SWITCHES)))
+    return flags
+
+
+def _arrays(vertices, faces):
+    v = np.ascontiguousarray(vertices, dtype=np.float64)
+    f = np.ascontiguousarray(faces, dtype=np.int64)
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise ValueError("vertices must have shape (n, 3), not %s" % (v.shape,))
+    if f.ndim != 2 or f.shape[1] != 3:
+        raise ValueError("faces must have shape (m, 3) (triangles), not %s" % (f.shape,))
+    return v, f
+
+
+class Result:
+    """What uniformize delivers.
+
+    vertices, faces: the delivered mesh: the input's (its vertices first and in order, copies made
+        by repairs after them), or, where edge flips would turn input faces over, the common
+        subdivision (new vertices on input edges after the input's; `vertex_input_face` and
+        `vertex_barycentric` place each on the input, `input_face` gives each face's input face).
+    layout: (n, 2) positions in the plane or (n, 3) on the unit sphere, one per vertex, when every
+        component's layout has one point per vertex; else None.
+    corner_layout: per face corner, (m, 3, 2) in the plane or the Poincare disk, (m, 3, 3) when a
+        component lies on the sphere; None where a component has no layout.
+    layout_kinds: per component: "plane", "plane-cut", "poincare-disk", "sphere" or "none".
+    texcoord: the texture atlas in [0, 1]^2, per vertex (n, 2) or per corner (m, 3, 2).
+    u, radius, curvature, target: per vertex (NaN where a vertex is in no face; target NaN where
+        u was held fixed).
+    quality: the layout's quality (flipped and collapsed faces, quasi-conformal ratio, area ratio,
+        circle error, ...) as in the JSON report; a list with one entry per component when there
+        are several.
+    deck_transformations: the layout's deck transformations (cut-open layouts), likewise.
+    report: the JSON report as a dict.
+    """
+
+    def __init__(self, d):
+        self.report = json.loads(d["report"])
+        self.vertices = d["vertices"]
+        self.faces = d["faces"]
+        self.input_face = d["input_face"]
+        self.vertex_input_face = d["vertex_input_face"]
+        self.vertex_barycentric = d["vertex_barycentric"]
+        self.u, self.radius = d["u"], d["radius"]
+        self.curvature, self.target = d["curvature"], d["target"]
+        self.layout_kinds = list(d["layout_kinds"])
+        self.texcoord = d["texcoord"]
+        planar = all(k in _PLANAR for k in self.layout_kinds)
+        corners = d["corner_layout"]
+        self.corner_layout = None if corners is None else (corners[:, :, :2] if planar else corners)
+        per_vertex = all(k in ("plane", "sphere") for k in self.layout_kinds)
+        position = d["position"]
+        self.layout = None
+        if per_vertex and position is not None:
+            self.layout = position[:, :2] if planar else position
+        parts = self.report.get("components") or [self.report]
+        layouts = [p.get("layout") or {} for p in parts]
+        self.quality = layouts[0] if len(layouts) == 1 else layouts
+        decks = [l.get("deck_transformations", []) for l in layouts]
+        self.deck_transformations = decks[0] if len(decks) == 1 else decks
+
+    @property
+    def converged(self):
+        return bool(self.report.get("converged"))
+
+    def __repr__(self):
+        return "<ricci_flow.Result: %d vertices, %d faces, layouts %s>" % (
+            len(self.vertices), len(self.faces), ", ".join(self.layout_kinds))
+
+
+def uniformize(vertices, faces, **options):
+    """The metric of the target curvature conformal to the mesh (vertices (n, 3) float, faces
+    (m, 3) int), and its layout. Options as the command line tool's, by name (see the module's
+    help). Raises ValueError for bad input or options, RicciFlowError (with `.report`, the JSON
+    report as a dict) when the flow does not converge or the layout is not a valid map."""
+    v, f = _arrays(vertices, faces)
+    with tempfile.TemporaryDirectory(prefix="ricci-flow-") as folder:
+        d = _ricci_flow.uniformize(v, f, _flags(options, folder))
+    if d["failure"]:
+        error = RicciFlowError(d["failure"])
+        error.report = json.loads(d["report"])
+        raise error
+    return Result(d)
+
+
+def read_mesh(path):
+    """Vertices (n, 3) and triangles (m, 3) of a .off, .obj, .ply or .stl file, as the command
+    line tool reads them (polygons split as fans from their first corner); repairs happen in
+    uniformize."""
+    return _ricci_flow.read_mesh(os.fspath(path))
+
+
+class Solver:
+    """Repeated flows on one clean mesh (one component, no repairs), keeping the triangulation as
+    flipped, u, and the Hessian's symbolic factorization from one solve to the next: other
+    targets and cones cost few Newton iterations and no new analysis.
+
+        s = ricci_flow.Solver(V, F, geometry="euclidean")
+        first = s.solve("free-boundary")
+        second = s.solve(kbar)                    # per-vertex curvature, NaN where u stays
+    """
+
+    def __init__(self, vertices, faces, **options):
+        v, f = _arrays(vertices, faces)
+        self._faces = f
+        with tempfile.TemporaryDirectory(prefix="ricci-flow-") as folder:
+            self._solver = _ricci_flow.Solver(v, f, _flags(options, folder))
+
+    @property
+    def geometry(self):
+        return self._solver.geometry
+
+    def boundary_vertices(self):
+        edges = np.sort(np.concatenate([self._faces[:, [0, 1]], self._faces[:, [1, 2]],
+                                        self._faces[:, [2, 0]]]), axis=1)
+        unique, counts = np.unique(edges, axis=0, return_counts=True)
+        return np.unique(unique[counts == 1])
+
+    def solve(self, target="zero"):
+        """Runs the flow to `target`: "zero" (flat or constant curvature everywhere),
+        "free-boundary" (zero inside, u = 0 held on the boundary) or per-vertex values (NaN
+        where u is held). Returns a dict: converged, failure, u, curvature, iterations, residual,
+        edge_flips, symbolic_analyses, numeric_factorizations."""
+        n = self._solver.num_vertices
+        if isinstance(target, str):
+            values = np.zeros(n)
+            if target == "free-boundary":
+                values[self.boundary_vertices()] = np.nan
+            elif target != "zero":
+                raise ValueError("target %r: give zero, free-boundary or per-vertex values"
+                                 % target)
+        else:
+            values = np.ascontiguousarray(target, dtype=np.float64).ravel()
+        return self._solver.solve(values)

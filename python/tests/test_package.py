@@ -1,0 +1,202 @@
+"""The installed ricci-flow wheel, in a fresh virtual environment (scripts/wheel.sh makes both):
+arrays in and out on every topology, checked from the arrays themselves (angle sums of the
+layout, Gauss-Bonnet, no face turned over, Yamabe's length cross-ratios where nothing flipped),
+errors with the tool's message, the solver that keeps its factorization, the console script,
+the pymeshlab plugin from the wheel, and the README's examples as written.
+"""
+import math
+import os
+import re
+import subprocess
+import sys
+import sysconfig
+
+import numpy as np
+import pytest
+
+import ricci_flow
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+MESHES = os.path.join(ROOT, "meshes")
+
+
+def mesh(name):
+    return ricci_flow.read_mesh(os.path.join(MESHES, name))
+
+
+def test_the_package_is_the_installed_wheel_not_the_source_tree():
+    site = sysconfig.get_paths()["purelib"]
+    assert os.path.dirname(os.path.abspath(ricci_flow.__file__)) == os.path.join(site, "ricci_flow")
+
+
+def corner_angles(corners):
+    """Euclidean angles of each layout triangle at its corners (m, 3)."""
+    angles = np.empty(corners.shape[:2])
+    for c in range(3):
+        a, b, d = corners[:, c], corners[:, (c + 1) % 3], corners[:, (c + 2) % 3]
+        u, v = b - a, d - a
+        cos = np.sum(u * v, axis=1) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
+        angles[:, c] = np.arccos(np.clip(cos, -1, 1))
+    return angles
+
+
+def signed_areas(corners):
+    a, b, c = corners[:, 0], corners[:, 1], corners[:, 2]
+    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+
+def boundary_vertices(faces):
+    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    return np.unique(unique[counts == 1])
+
+
+def test_disk_in_the_plane_from_arrays():
+    V, F = mesh("nefertiti.off")
+    r = ricci_flow.uniformize(V, F, target="free-boundary", flips="never")
+    assert r.layout_kinds == ["plane"]
+    assert r.layout.shape == (len(V), 2) and r.corner_layout.shape == (len(F), 3, 2)
+    np.testing.assert_array_equal(r.faces, F)
+    assert np.all(signed_areas(r.corner_layout) > 0)
+    # Flat inside: the layout's own angles around each interior vertex sum to 2 pi.
+    sums = np.zeros(len(V))
+    np.add.at(sums, F, corner_angles(r.corner_layout))
+    interior = np.setdiff1d(np.arange(len(V)), boundary_vertices(F))
+    assert np.max(np.abs(sums[interior] - 2 * math.pi)) < 1e-8
+    # Yamabe without flips: every edge's length is its input length times e^((u_i + u_j) / 2),
+    # times one scale.
+    edges = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    flat = np.linalg.norm(r.layout[edges[:, 0]] - r.layout[edges[:, 1]], axis=1)
+    given = np.linalg.norm(V[edges[:, 0]] - V[edges[:, 1]], axis=1)
+    ratio = flat / (given * np.exp((r.u[edges[:, 0]] + r.u[edges[:, 1]]) / 2))
+    assert np.max(np.abs(ratio / ratio.mean() - 1)) < 1e-8
+    assert r.report["edge_flips"] == 0 and r.quality["flipped_faces"] == 0
+
+
+def test_every_topology_gauss_bonnet_and_no_face_turned():
+    for name, kind, background in (("nefertiti.off", "plane", 0), ("pipe.off", "plane-cut", 0),
+                                   ("eight.off", "poincare-disk", -1), ("sphere.off", "sphere", 1)):
+        V, F = mesh(name)
+        r = ricci_flow.uniformize(V, F)
+        assert r.layout_kinds == [kind], name
+        chi = len(V) - len(np.unique(np.sort(np.concatenate(
+            [F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1), axis=0)) + len(F)
+        inside = ~np.isnan(r.target)
+        assert np.max(np.abs(r.curvature[inside] - r.target[inside])) <= 1e-9, name
+        total = np.nansum(r.curvature) + background * r.report["area"]
+        assert abs(total - 2 * math.pi * chi) < 1e-7, name
+        c = r.corner_layout
+        if kind == "sphere":
+            assert c.shape == (len(r.faces), 3, 3)
+            assert np.allclose(np.linalg.norm(r.layout, axis=1), 1)
+            assert np.all(np.einsum("ij,ij->i", c[:, 0], np.cross(c[:, 1], c[:, 2])) > 0)
+        else:
+            assert np.all(signed_areas(c) > 0), name
+        if kind == "poincare-disk":
+            assert np.max(np.linalg.norm(c.reshape(-1, 2), axis=1)) < 1
+            assert len(r.deck_transformations) > 0
+
+
+def test_flips_that_turn_input_faces_give_the_common_subdivision():
+    V, F = mesh("pipe.off")
+    r = ricci_flow.uniformize(V, F, flips="always")
+    assert r.quality["input_faces_turned_over"] > 0
+    n = len(V)
+    assert len(r.vertices) > n
+    np.testing.assert_array_equal(r.vertices[:n], V)
+    new = np.arange(n, len(r.vertices))
+    # A new vertex is the point of its input face at its barycentric coordinates.
+    at = np.einsum("ij,ijk->ik", r.vertex_barycentric[new], V[F[r.vertex_input_face[new]]])
+    assert np.max(np.abs(at - r.vertices[new])) < 1e-9
+    assert np.all(signed_areas(r.corner_layout) > 0)
+
+
+def test_dirty_input_is_repaired_and_reported():
+    V, F = mesh("nefertiti.off")
+    V2 = np.vstack([V, [[9.0, 9.0, 9.0]]])                  # an unreferenced vertex
+    F2 = np.vstack([F, F[:1]])                              # a duplicate face
+    r = ricci_flow.uniformize(V2, F2)
+    assert len(r.report["repairs"]) >= 2
+    assert np.isnan(r.u[len(V)])
+    with pytest.raises(ValueError, match="unreferenced vertices"):
+        ricci_flow.uniformize(V2, F2, strict=True)
+
+
+def test_errors_carry_the_tools_message():
+    V, F = mesh("nefertiti.off")
+    with pytest.raises(ValueError, match="unknown scheme 'nonsense'"):
+        ricci_flow.uniformize(V, F, scheme="nonsense")
+    with pytest.raises(ValueError, match="does not exist"):
+        ricci_flow.uniformize(V, F + len(V))
+    with pytest.raises(TypeError, match="unknown option"):
+        ricci_flow.uniformize(V, F, colour="red")
+    with pytest.raises(ricci_flow.RicciFlowError, match="no convergence in 1 iterations") as e:
+        ricci_flow.uniformize(V, F, max_iterations=1)
+    assert e.value.report["converged"] is False
+    with pytest.raises(OSError, match="cannot open"):
+        ricci_flow.read_mesh("/nonexistent/mesh.off")
+
+
+def test_the_solver_keeps_its_factorization():
+    V, F = mesh("nefertiti.off")
+    s = ricci_flow.Solver(V, F, geometry="euclidean", flips="never")
+    first = s.solve("free-boundary")
+    assert first["converged"] and first["symbolic_analyses"] == 1
+    # A cone of pi/2 at an interior vertex, the boundary held: no new analysis, few iterations.
+    target = np.zeros(len(V))
+    target[boundary_vertices(F)] = np.nan
+    interior = np.flatnonzero(~np.isnan(target))[0]
+    target[interior] = math.pi / 2
+    second = s.solve(target)
+    assert second["converged"], second["failure"]
+    assert second["symbolic_analyses"] == 0
+    assert second["iterations"] <= first["iterations"] + 2
+    assert abs(second["curvature"][interior] - math.pi / 2) < 1e-9
+
+
+def test_console_script(tmp_path):
+    script = os.path.join(os.path.dirname(sys.executable), "ricci-flow")
+    out = tmp_path / "n.ply"
+    done = subprocess.run([script, os.path.join(MESHES, "nefertiti.off"), "-o", str(out)],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert "Converged" in done.stdout and out.stat().st_size > 0
+    bad = subprocess.run([script, os.path.join(MESHES, "nefertiti.off"), "-o", str(out),
+                          "--max-iterations", "1"], capture_output=True, text=True)
+    assert bad.returncode == 1 and "no convergence in 1 iterations" in bad.stderr
+    usage = subprocess.run([script, "--frobnicate"], capture_output=True, text=True)
+    assert usage.returncode == 2 and "unknown option" in usage.stderr
+
+
+def test_pymeshlab_plugin_from_the_wheel():
+    pymeshlab = pytest.importorskip("pymeshlab")
+    import ricci_flow.meshlab
+    path = ricci_flow.meshlab.load_plugin()
+    assert path.startswith(os.path.dirname(ricci_flow.__file__))
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(os.path.join(MESHES, "nefertiti.off"))
+    stats = ms.apply_filter(ricci_flow.meshlab.FILTER, target=4)  # the unit disk
+    assert stats["circle_error"] < 1e-9 and stats["flipped_faces"] == 0
+    assert ms.current_mesh().has_vertex_tex_coord()
+    # The plugin runs with pymeshlab's Qt and MeshLab, and this wheel's sparse Cholesky: none of
+    # them comes from the system.
+    loaded = {line.split()[-1] for line in open("/proc/self/maps") if ".so" in line}
+    names = ("libQt5", "libmeshlab-common", "libcholmod", "libsuitesparseconfig", "liblapack",
+             "libblas", "libopenblas")
+    outside = [p for p in loaded if os.path.basename(p).startswith(names)
+               and not p.startswith(sys.prefix)]
+    assert outside == []
+
+
+def readme_examples():
+    text = open(os.path.join(ROOT, "README.md")).read()
+    return re.findall(r"<!-- python example -->\s*```python\n(.*?)```", text, re.S)
+
+
+def test_readme_examples_run_as_written(tmp_path):
+    examples = readme_examples()
+    assert len(examples) >= 2
+    for code in examples:
+        done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                              text=True, env=dict(os.environ, RICCI_FLOW_OUT=str(tmp_path)))
+        assert done.returncode == 0, code + done.stderr
