@@ -29,6 +29,10 @@ TEST(PluginSettings, DefaultsAreTheCoreDefaults) {
   EXPECT_FALSE(s.add_layout_layer);
   EXPECT_EQ(s.center_vertex, -1);
   EXPECT_EQ(s.axis_vertex, -1);
+  // Edge flips when needed, as the core's default.
+  EXPECT_TRUE(s.edge_flips);
+  EXPECT_FALSE(s.always_flip);
+  EXPECT_TRUE(settings_from_values({{"alwaysFlip", 1}}).always_flip);
 }
 
 TEST(PluginSettings, EveryEnumChoiceTranslates) {

@@ -52,7 +52,7 @@ def test_the_filter_is_listed_with_snake_case_parameters():
     assert FILTER in pymeshlab.filter_list()
     defaults = mesh_set("pipe.off").filter_parameter_values(FILTER)
     for name in ("geometry", "scheme", "thurston_angle", "target", "tolerance", "max_iterations",
-                 "edge_flips", "write_uv", "layout_layer"):
+                 "edge_flips", "always_flip", "write_uv", "layout_layer"):
         assert name in defaults, name
 
 
