@@ -118,7 +118,6 @@ void run(const Options& o) {
   }
 }
 
-
 int run_command_line(int argc, const char* const* argv) {
   Options options;
   try {

@@ -97,7 +97,7 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
   o.flow.max_iterations = settings.max_iterations;
   o.flow.linear_solver = settings.linear_solver;
   o.flow.max_step_halvings = settings.max_step_halvings;
-  o.flow.edge_flips = !settings.edge_flips ? EdgeFlips::Never
+  o.flow.edge_flips = !settings.edge_flips   ? EdgeFlips::Never
                       : settings.always_flip ? EdgeFlips::Always
                                              : EdgeFlips::WhenNeeded;
   o.keep_input_triangulation = settings.keep_input_triangulation;

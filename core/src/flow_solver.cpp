@@ -114,8 +114,9 @@ void RicciFlowSolver::State::start_flipping(int iteration, const std::string& wh
 }
 
 // Moves u towards `start` in the longest valid steps, flipping to Delaunay after each when flips
-// are on. Without them, the walk ends where no step of 1e-6 of the way is valid; when needed,
-// that is remembered, and made again with flips if Newton gets stuck on this triangulation.
+// are on. Without them, the walk ends where no step of 1e-6 of the way is valid, or after three
+// steps in a row of at most 1/64 of the way; when needed, that is remembered, and the walk made
+// again with flips once Newton gets stuck on this triangulation.
 void RicciFlowSolver::State::walk_to(const Eigen::VectorXd& start) {
   if (!start.allFinite()) return;
   const Eigen::VectorXd origin = u;
@@ -129,7 +130,7 @@ void RicciFlowSolver::State::walk_to(const Eigen::VectorXd& start) {
       if (trial.valid()) break;
     }
     // Without flips, steps that stay short only creep along the valid set's boundary.
-    short_steps = alpha <= 1.0 / 64 ? short_steps + 1 : 0;
+    short_steps = alpha <= detail::kShortStep ? short_steps + 1 : 0;
     if (!trial.valid() || (!flipping && short_steps > detail::StallWindow::kLengthBeforeFlips)) {
       if (may_start_flipping()) blocked_walk.emplace(origin, start);
       return;
@@ -209,7 +210,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   k = result.num_flips > flips_before ? curvature(triangulation, metric) : std::move(step.k);
   if (may_start_flipping() && stall.short_steps() >= detail::StallWindow::kLengthBeforeFlips) {
     s << "the steps of iterations " << it + 1 - stall.short_steps() << " to " << it
-      << " were cut below 1/64 to keep triangles from degenerating";
+      << " were cut to at most 1/64 to keep triangles from degenerating";
     start_flipping(it + 1, s.str());
   }
   return "";
@@ -266,6 +267,8 @@ void RicciFlowSolver::restart() {
   s.triangulation = IntrinsicTriangulation(s.mesh);
   s.structure = s.input_structure;
   s.u = s.input_structure.u0;
+  s.flipping = s.options.edge_flips == EdgeFlips::Always;
+  s.blocked_walk.reset();
   s.flip_sequence.clear();
   s.pattern_current = false;
 }
@@ -291,6 +294,11 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
   } else {
     s.keep_delaunay();
     if (start) s.walk_to(*start);
+    // With u held at some vertices, Newton converges from wherever the walk stopped, to another
+    // metric than the start's: the walk is made again with flips at once.
+    if (s.blocked_walk && target.num_fixed() > 0) {
+      s.start_flipping(0, "the walk to the start was blocked by degenerating triangles");
+    }
     s.k = curvature(s.triangulation, s.metric);
     for (int it = 0;; ++it) {
       r.residual = detail::max_residual(s.k, target);

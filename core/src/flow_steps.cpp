@@ -124,7 +124,7 @@ LineSearch search_line(const Triangulation& mesh, const ConformalStructure& stru
 }
 
 bool StallWindow::stalled(const LineSearch& step, const std::vector<double>& residual_history) {
-  short_steps_ = (step.blocked_by_validity && step.alpha <= 1.0 / 64) ? short_steps_ + 1 : 0;
+  short_steps_ = (step.blocked_by_validity && step.alpha <= kShortStep) ? short_steps_ + 1 : 0;
   const size_t n = residual_history.size();
   return short_steps_ >= kLength && residual_history[n - 1] > 0.5 * residual_history[n - kLength];
 }

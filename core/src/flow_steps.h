@@ -79,6 +79,9 @@ LineSearch search_line(const Triangulation& mesh, const ConformalStructure& stru
                        const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
                        int max_halvings);
 
+//! A step of at most this length, cut by degenerating triangles, is a short step.
+inline constexpr double kShortStep = 1.0 / 64;
+
 //! Steps cut short by degenerating triangles for many iterations with little progress: the flow
 //! is running into the boundary of the valid set, where no solution lies.
 class StallWindow {

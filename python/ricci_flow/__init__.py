@@ -180,9 +180,10 @@ class Solver:
         return np.unique(unique[counts == 1])
 
     def solve(self, target="zero"):
-        """Runs the flow to `target`: "zero" (flat or constant curvature everywhere),
-        "free-boundary" (zero inside, u = 0 held on the boundary) or per-vertex values (NaN
-        where u is held). Returns a dict: converged, failure, u, curvature, iterations, residual,
+        """Runs the flow to `target`, from where the last solve ended: "zero" (flat or constant
+        curvature everywhere), "free-boundary" (zero inside, u held on the boundary at its
+        current value) or per-vertex values (NaN where u is held). Not for several threads at
+        once. Returns a dict: converged, failure, u, curvature, iterations, residual,
         edge_flips, symbolic_analyses, numeric_factorizations."""
         n = self._solver.num_vertices
         if isinstance(target, str):

@@ -29,15 +29,49 @@ COLUMNS = ["mesh", "status", "message", "topology", "components", "vertices", "f
            "quasi_conformal_median", "quasi_conformal_p95", "output"]
 
 
-def _output_stem(path, out_dir):
-    return os.path.join(out_dir, os.path.splitext(os.path.basename(path))[0])
+def output_stems(paths, out_dir):
+    """Per path, out_dir/NAME without extension: the file's stem, made unique with the file's
+    extension and then a number where stems repeat (a.obj, a.stl, x/a.obj)."""
+    stems = [os.path.splitext(os.path.basename(p))[0] for p in paths]
+    if len(set(stems)) < len(stems):
+        stems = [os.path.basename(p).replace(".", "-") for p in paths]
+    seen = {}
+    unique = []
+    for stem in stems:
+        seen[stem] = seen.get(stem, 0) + 1
+        unique.append(stem if seen[stem] == 1 else "%s-%d" % (stem, seen[stem]))
+    return [os.path.join(out_dir, stem) for stem in unique]
 
 
-def process(path, out_dir, flags=()):
-    """One mesh: the tool's run with the flags; the table's row (never raises)."""
-    stem = _output_stem(path, out_dir)
+def _summarize(report, row):
+    """The row's columns from the tool's JSON report."""
+    parts = report.get("components") or [report]
+    row["components"] = len(parts)
+    row["topology"] = ", ".join(p.get("mesh", {}).get("topology", "?") for p in parts)
+    row["vertices"] = sum(p.get("mesh", {}).get("vertices", 0) for p in parts)
+    row["faces"] = sum(p.get("mesh", {}).get("faces", 0) for p in parts)
+    row["iterations"] = sum(p.get("iterations") or 0 for p in parts)
+    row["edge_flips"] = sum(p.get("edge_flips") or 0 for p in parts)
+    errors = [(p.get("errors") or {}).get("max_abs_curvature_error") for p in parts]
+    errors = [e for e in errors if e is not None]
+    row["max_curvature_error"] = max(errors) if errors else None
+    layouts = [p.get("layout") or {} for p in parts]
+    row["flipped_faces"] = sum(lay.get("flipped_faces") or 0 for lay in layouts)
+    qc = [lay.get("quasi_conformal") or {} for lay in layouts]
+    medians = [q["median"] for q in qc if q.get("median") is not None]
+    p95 = [q["p95"] for q in qc if q.get("p95") is not None]
+    row["quasi_conformal_median"] = max(medians) if medians else None
+    row["quasi_conformal_p95"] = max(p95) if p95 else None
+
+
+def process(path, stem, flags=()):
+    """One mesh: the tool's run with the flags, writing stem.ply and stem.json; the table's row
+    (never raises)."""
     row = dict.fromkeys(COLUMNS)
     row.update(mesh=os.path.basename(path), output=stem + ".ply")
+    for old in (stem + ".ply", stem + ".json"):
+        if os.path.exists(old):
+            os.remove(old)
     start = time.perf_counter()
     try:
         message = _ricci_flow.run_file(["ricci-flow", os.fspath(path), "-o", stem + ".ply",
@@ -49,25 +83,11 @@ def process(path, out_dir, flags=()):
     row["message"] = message
     if message:
         row["output"] = None
-    if os.path.exists(stem + ".json"):
-        report = json.load(open(stem + ".json"))
-        parts = report.get("components") or [report]
-        row["components"] = len(parts)
-        row["topology"] = ", ".join(p.get("mesh", {}).get("topology", "?") for p in parts)
-        row["vertices"] = sum(p.get("mesh", {}).get("vertices", 0) for p in parts)
-        row["faces"] = sum(p.get("mesh", {}).get("faces", 0) for p in parts)
-        row["iterations"] = sum(p.get("iterations") or 0 for p in parts)
-        row["edge_flips"] = sum(p.get("edge_flips") or 0 for p in parts)
-        errors = [(p.get("errors") or {}).get("max_abs_curvature_error") for p in parts]
-        errors = [e for e in errors if e is not None]
-        row["max_curvature_error"] = max(errors) if errors else None
-        layouts = [p.get("layout") or {} for p in parts]
-        row["flipped_faces"] = sum(l.get("flipped_faces") or 0 for l in layouts)
-        qc = [l.get("quasi_conformal") or {} for l in layouts]
-        medians = [q["median"] for q in qc if q.get("median") is not None]
-        p95 = [q["p95"] for q in qc if q.get("p95") is not None]
-        row["quasi_conformal_median"] = max(medians) if medians else None
-        row["quasi_conformal_p95"] = max(p95) if p95 else None
+    try:
+        with open(stem + ".json") as f:
+            _summarize(json.load(f), row)
+    except (OSError, ValueError):
+        pass  # no report: the mesh was not read
     return row
 
 
@@ -85,7 +105,8 @@ def _run(paths, out_dir, client, workers, table, progress, flags):
                                dashboard_address=None)
         client = Client(cluster)
     try:
-        futures = client.map(process, paths, out_dir=out_dir, flags=list(flags), pure=False)
+        futures = client.map(process, paths, output_stems(paths, out_dir), flags=list(flags),
+                             pure=False)
         if progress:
             show_progress(futures)
             print(file=sys.stderr)

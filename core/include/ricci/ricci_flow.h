@@ -138,7 +138,9 @@ class RicciFlowSolver {
   RicciFlowSolver& operator=(const RicciFlowSolver&) = delete;
 
   //! Runs the flow to `target` from the current state. With `start`, first walks u towards it in
-  //! the longest valid steps with flips (Ptolemy flips keep the conformal class), then Newton.
+  //! the longest valid steps (with flips when they are on; Ptolemy flips keep the conformal
+  //! class), then Newton. With flips when needed, the progress callback may see the iteration at
+  //! which flips began twice (before and after them).
   //! Never throws for non-convergence: the result says why.
   //! \throws InvalidTargetError for a target that admits no flow.
   FlowResult solve(const TargetCurvature& target, const Eigen::VectorXd* start = nullptr);
