@@ -252,6 +252,35 @@ TEST(RicciFlow, ResultHasHistoryAndTimings) {
   EXPECT_GE(r.times.total, r.times.factorization);
 }
 
+TEST(RicciFlow, AToleranceBelowDoublePrecisionConvergesAtTheAttainableFloor) {
+  // 1e-18 is below what the angle sums' round-off allows on a real scan: the flow goes on until
+  // no step reduces the residual, and counts as converged there, saying within what.
+  const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
+  const TargetCurvature target = TargetCurvature::free_boundary(mesh);
+  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target);
+  FlowOptions tight;
+  tight.tolerance = 1e-18;
+  const FlowResult r = run_ricci_flow(mesh, s, target, tight);
+  ASSERT_TRUE(r.converged) << r.failure;
+  EXPECT_GT(r.attainable_residual, tight.tolerance);
+  EXPECT_LT(r.attainable_residual, 1e-11);
+  EXPECT_LE(r.residual, r.attainable_residual);
+  // At the usual tolerance, the tolerance itself is reached.
+  const FlowResult usual = run_ricci_flow(mesh, s, target);
+  ASSERT_TRUE(usual.converged);
+  EXPECT_EQ(usual.attainable_residual, 0);
+  // A genuine stall is no floor: the input's triangulation of a scan (elk.off, a torus) without
+  // flips stops far above it.
+  const CompactMesh elk = test::cgal_mesh("elk.off");
+  FlowOptions fixed;
+  fixed.edge_flips = EdgeFlips::Never;
+  const TargetCurvature zero = TargetCurvature::zero(elk);
+  const FlowResult stalled =
+      run_ricci_flow(elk, prepare_flow(elk, Geometry::Euclidean, {}, zero), zero, fixed);
+  EXPECT_FALSE(stalled.converged);
+  EXPECT_EQ(stalled.attainable_residual, 0);
+}
+
 TEST(RicciFlow, SolverResumesFromItsLastResult) {
   // The disk target's second flow (presets.h): boundary curvature refitted to circles through the
   // first result's boundary chords, a target near the first. Resumed from the first result (a real

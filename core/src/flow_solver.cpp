@@ -174,6 +174,13 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
       "; a metric of this target exists for every closed surface (uniformization), this flow did "
       "not reach it: try the tangential scheme";
   if (!step.accepted) {
+    // A tolerance below what double precision allows here: the floor is convergence.
+    const double floor =
+        detail::kRoundOffMargin * curvature_round_off(triangulation, metric).maxCoeff();
+    if (result.residual <= floor) {
+      result.attainable_residual = floor;
+      return "";
+    }
     s << "stalled at iteration " << it << " with max |K - Kbar| = " << result.residual
       << ": no step of length >= 2^-" << options.max_step_halvings << " reduces the residual";
     if (!step.state.valid())
@@ -324,6 +331,11 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
         break;
       }
       const std::string stop = s.iterate(target, it);
+      if (r.attainable_residual > 0) {
+        r.converged = true;
+        r.stop = FlowStop::Converged;
+        break;
+      }
       if (!stop.empty() && s.may_start_flipping()) {
         // The step that was not taken is taken again on the flipped triangulation.
         s.start_flipping(it, stop);

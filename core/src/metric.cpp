@@ -1,5 +1,11 @@
 #include "metric.h"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <limits>
+
 namespace ricci {
 
 namespace {
@@ -59,6 +65,21 @@ Eigen::VectorXd curvature(const Triangulation& mesh, const MetricState& state) {
     for (int c = 0; c < 3; ++c) k[mesh.face_vertex(f, c)] -= state.faces[f].angle[c];
   }
   return k;
+}
+
+Eigen::VectorXd curvature_round_off(const Triangulation& mesh, const MetricState& state) {
+  Eigen::VectorXd noise = Eigen::VectorXd::Zero(mesh.num_vertices());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    std::array<double, 3> l = face_lengths(mesh, state, f);
+    std::sort(l.begin(), l.end(), std::greater<double>());
+    const double a = l[0], b = l[1], c = l[2];
+    const double area4 =
+        std::sqrt(std::max(0.0, (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c))));
+    const double e = std::numeric_limits<double>::epsilon() * (a * a + b * b + c * c) /
+                     std::max(area4, std::numeric_limits<double>::min());
+    for (int corner = 0; corner < 3; ++corner) noise[mesh.face_vertex(f, corner)] += e;
+  }
+  return noise;
 }
 
 double total_area(const Triangulation& mesh, Geometry geometry, const MetricState& state) {

@@ -36,6 +36,12 @@ void update_metric_at_edge(const Triangulation& mesh, const ConformalStructure& 
 //! \pre state.valid()
 Eigen::VectorXd curvature(const Triangulation& mesh, const MetricState& state);
 
+//! The round-off in the curvature of each vertex's angle sum: unit round-off times, over its
+//! faces, (a^2 + b^2 + c^2) / (4 area), the condition of the law of cosines (the Euclidean area
+//! of the side lengths, from Kahan's formula, in every geometry). Its maximum is what a residual
+//! can be brought down to. \pre state.valid()
+Eigen::VectorXd curvature_round_off(const Triangulation& mesh, const MetricState& state);
+
 //! Total area of the metric in its background geometry. \pre state.valid()
 double total_area(const Triangulation& mesh, Geometry geometry, const MetricState& state);
 

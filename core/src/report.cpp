@@ -192,6 +192,11 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
   line("Converged in ", t.newton_iterations, " Newton iterations with ", t.edge_flips,
        " edge flips: max |K - Kbar| = ", run.quality.max_curvature_error, ", mean ",
        run.quality.mean_curvature_error, " (", t.times.total, " s)");
+  if (t.attainable_residual > 0) {
+    line("The tolerance ", run.tolerance, " is below what double precision allows on this metric: ",
+         "converged where no step reduced the residual, within ", t.attainable_residual,
+         " (10 times the angle sums' round-off)");
+  }
   if (t.flips_from_iteration >= 0) {
     line("Edge flips were needed from iteration ", t.flips_from_iteration,
          " on: on the input's triangulation, ", t.without_flips);
@@ -270,6 +275,8 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
   j << "  \"converged\": " << (result.converged ? "true" : "false") << ",\n";
   j << "  \"failure\": " << (result.converged ? "null" : quoted(result.failure)) << ",\n";
   j << "  \"residual\": " << number(result.residual) << ",\n";
+  j << "  \"attainable_residual\": "
+    << (totals.attainable_residual > 0 ? number(totals.attainable_residual) : "null") << ",\n";
   const bool needed = totals.flips_from_iteration >= 0;
   j << "  \"edge_flips_needed\": " << (needed ? "true" : "false") << ",\n";
   j << "  \"flips_from_iteration\": "

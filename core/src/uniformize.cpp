@@ -1,5 +1,6 @@
 #include "ricci/uniformize.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <sstream>
@@ -188,6 +189,7 @@ void FlowTotals::add(const FlowResult& r) {
     one.flips_from_iteration = r.flips_from_iteration;
     one.without_flips = r.without_flips;
   }
+  one.attainable_residual = r.attainable_residual;
   one.flows = 1;
   one.newton_iterations = r.iterations;
   one.edge_flips = r.num_flips;
@@ -198,6 +200,7 @@ void FlowTotals::add(const FlowResult& r) {
 }
 
 void FlowTotals::add(const FlowTotals& o) {
+  attainable_residual = std::max(attainable_residual, o.attainable_residual);
   if (flips_from_iteration < 0 && o.flips_from_iteration >= 0) {
     flips_from_iteration = newton_iterations + o.flips_from_iteration;
     without_flips = o.without_flips;

@@ -81,6 +81,8 @@ struct FlowTotals {
   //! were on, and why the input's triangulation was not enough; -1 and "": never needed.
   int flips_from_iteration = -1;
   std::string without_flips;
+  //! The largest FlowResult::attainable_residual of the flows: 0 when each reached the tolerance.
+  double attainable_residual = 0;
   FlowTimes times;
   void add(const FlowResult& r);
   void add(const FlowTotals& other);
