@@ -144,7 +144,8 @@ def default_meshes():
     return meshes
 
 
-def main():
+def parse_arguments():
+    """TOOL OUT_DIR [--timeout S] [MESH ...], with OUT_DIR made."""
     parser = argparse.ArgumentParser()
     parser.add_argument("tool")
     parser.add_argument("out")
@@ -152,6 +153,11 @@ def main():
     parser.add_argument("meshes", nargs="*")
     args = parser.parse_intermixed_args()
     os.makedirs(args.out, exist_ok=True)
+    return args
+
+
+def main():
+    args = parse_arguments()
     meshes = [(m, "") for m in args.meshes] or default_meshes()
     rows = []
     for path, category in meshes:

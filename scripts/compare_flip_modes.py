@@ -9,7 +9,6 @@ difference of u between when-needed and never (where both converged without flip
 Without meshes: the real-mesh set (meshes/real-meshes.tsv) and CGAL's scans. Writes
 OUT_DIR/flip-modes.tsv and prints a summary.
 """
-import argparse
 import json
 import os
 import subprocess
@@ -19,7 +18,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from check_real_meshes import ROOT, default_meshes, read_ply  # noqa: E402
+from check_real_meshes import ROOT, default_meshes, parse_arguments, read_ply  # noqa: E402
 
 MODES = ("never", "always", "when-needed")
 CGAL_SCANS = ("lion-head", "bunny00", "elk", "mannequin-devil", "femur", "camel", "cow",
@@ -62,13 +61,7 @@ def run(tool, path, mode, out_dir, timeout):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("tool")
-    parser.add_argument("out")
-    parser.add_argument("--timeout", type=float, default=120)
-    parser.add_argument("meshes", nargs="*")
-    args = parser.parse_intermixed_args()
-    os.makedirs(args.out, exist_ok=True)
+    args = parse_arguments()
     meshes = args.meshes or [m for m, _ in default_meshes()] + cgal_meshes()
     lines = ["mesh\t" + "\t".join("%s_%s" % (m, c) for m in MODES
                                   for c in ("status", "seconds", "flips", "iterations")) +
@@ -86,7 +79,8 @@ def main():
         diff = "-"
         if w["u"] is not None and n["u"] is not None and w.get("flips") == 0:
             k = min(len(w["u"]), len(n["u"]))
-            diff = "%.1e" % float(np.max(np.abs(w["u"][:k] - n["u"][:k]))) if k else "-"
+            # NaN where a vertex is in no face, in both.
+            diff = "%.1e" % float(np.nanmax(np.abs(w["u"][:k] - n["u"][:k]))) if k else "-"
         cells.append(diff)
         ratio = "-"
         if w["code"] == 0 and a["code"] == 0 and n["code"] != 0:
