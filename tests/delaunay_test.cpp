@@ -77,6 +77,46 @@ TEST(Delaunay, FlipsOfThePackingSchemesKeepTheMetric) {
   }
 }
 
+TEST(Delaunay, PtolemyFlipsFromLengthsMakeEveryTriangleValid) {
+  // Euclidean Yamabe on a closed scan, at a conformal factor far from the input's: many
+  // triangles violate the triangle inequality; flipping by the lengths alone must end with every
+  // triangle valid and every edge Delaunay (Springborn 2020). (Steeper factors need Delaunay
+  // triangulations with self-loops, which are refused: then triangles can stay invalid.)
+  const CompactMesh mesh = test::cgal_mesh("elephant.off");
+  SchemeOptions options;
+  options.scheme = Scheme::Yamabe;
+  ConformalStructure s = initialize_scheme(mesh, Geometry::Euclidean, options, 1.0);
+  ASSERT_TRUE(all_ptolemy(s));
+  Eigen::VectorXd u(mesh.num_vertices());
+  // A smooth factor, as the flow's: u = 2 sin(15 x), x across the elephant.
+  double lo = 1e300, hi = -1e300;
+  for (const auto& p : mesh.positions()) lo = std::min(lo, p.x()), hi = std::max(hi, p.x());
+  for (int v = 0; v < u.size(); ++v)
+    u[v] = 2 * std::sin(15 * (mesh.positions()[v].x() - lo) / (hi - lo));
+  IntrinsicTriangulation t(mesh);
+  MetricState state = evaluate_metric(t, s, u);
+  ASSERT_GE(state.num_invalid_faces, 10);  // 22
+  const FlipReport report = make_delaunay(t, s, u, state, 100 * t.num_edges());
+  EXPECT_GT(report.flips, 0);
+  EXPECT_EQ(report.blocked, 0);
+  expect_valid_triangulation(t);
+  const MetricState fresh = evaluate_metric(t, s, u);
+  ASSERT_TRUE(fresh.valid()) << fresh.num_invalid_faces << " invalid triangles left";
+  EXPECT_TRUE(state.valid());
+  for (int e = 0; e < t.num_edges(); ++e) {
+    EXPECT_TRUE(is_delaunay(t, fresh, e, 1e-8)) << "edge " << e;
+    EXPECT_NEAR(fresh.edges[e].length, state.edges[e].length, 1e-12 * state.edges[e].length);
+  }
+  // The packing schemes keep the metric through a flip and cannot flip from lengths alone: an
+  // invalid state is left as it is.
+  options.scheme = Scheme::Tangential;
+  ConformalStructure tangential = initialize_scheme(mesh, Geometry::Euclidean, options, 1.0);
+  EXPECT_FALSE(all_ptolemy(tangential));
+  IntrinsicTriangulation t2(mesh);
+  MetricState invalid = evaluate_metric(t2, s, u);
+  EXPECT_EQ(make_delaunay(t2, tangential, u, invalid, 100).flips, 0);
+}
+
 TEST(Delaunay, FlipTwiceRestoresTheTriangulation) {
   const CompactMesh mesh = test::torus(10, 6);
   IntrinsicTriangulation t(mesh);

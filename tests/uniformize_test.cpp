@@ -104,15 +104,18 @@ TEST(Uniformize, SquareOntoTheDiskConvergesToTheConformalMap) {
 
 TEST(Uniformize, EdgeFlipsOnlyWhereTheFlowStalls) {
   // hand.off: the round sphere's Yamabe flow cannot walk to its stereographic start on the input's
-  // triangulation, and Newton gets stuck there; by default the walk is made again with flips,
+  // triangulation, and Newton gets stuck there or creeps; by default the walk is made again with flips,
   // and the report says from which iteration and why.
   const CompactMesh hand = test::cgal_mesh("hand.off");
   UniformizationOptions o;
   const Uniformization run = uniformize(hand, o);
   ASSERT_TRUE(run.valid()) << run.result.failure << run.layout_failure;
   ASSERT_GT(run.totals.flips_from_iteration, 0);
-  EXPECT_NE(run.totals.without_flips.find("no step of length"), std::string::npos)
-      << run.totals.without_flips;
+  // Newton stalls, or its steps are cut short, on the input's triangulation.
+  const std::string& why = run.totals.without_flips;
+  EXPECT_TRUE(why.find("no step of length") != std::string::npos ||
+              why.find("were cut to at most 1/64") != std::string::npos)
+      << why;
   EXPECT_LE(run.totals.newton_iterations - run.totals.flips_from_iteration, 10);
   EXPECT_GT(run.totals.edge_flips, 0);
   const Uniformization sphere = uniformize(test::ellipsoid(2, 1, 1, 2), o);

@@ -1,5 +1,6 @@
 #include "delaunay.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "hessian.h"
@@ -33,7 +34,30 @@ double chord(Geometry g, double l) {
   }
 }
 
+// Twice the cosine of the angle opposite side c in the triangle of sides a, b, c: defined for any
+// positive lengths, also where they violate the triangle inequality (then beyond [-2, 2]).
+double twice_cosine(double a, double b, double c) {
+  return a / b + b / a - (c / a) * (c / b);
+}
+
 }  // namespace
+
+bool all_ptolemy(const ConformalStructure& structure) {
+  return structure.geometry == Geometry::Euclidean &&
+         std::all_of(structure.eps.begin(), structure.eps.end(), [](int e) { return e == 0; });
+}
+
+bool is_ptolemy_delaunay(const Triangulation& mesh, const MetricState& state, int e,
+                         double tolerance) {
+  if (mesh.is_boundary_edge(e)) return true;
+  const auto length = [&](int f, int c) { return state.edges[mesh.face_edge(f, c)].length; };
+  double sum = 0;
+  for (int h : {mesh.edge_halfedge(e), mesh.twin(mesh.edge_halfedge(e))}) {
+    const int f = h / 3, c = h % 3;  // c: the corner opposite e in f
+    sum += twice_cosine(length(f, (c + 1) % 3), length(f, (c + 2) % 3), length(f, c));
+  }
+  return sum >= -tolerance;
+}
 
 bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, double tolerance) {
   if (mesh.is_boundary_edge(e)) return true;
@@ -51,12 +75,19 @@ bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, dou
 FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
                          const Eigen::VectorXd& u, MetricState& state, int max_flips) {
   FlipReport report;
+  // Triangles that violate the triangle inequality have no angles: only Euclidean Ptolemy flips
+  // can be decided and made from the lengths alone (and they end in valid triangles).
+  const bool from_lengths = !state.valid();
+  if (from_lengths && !all_ptolemy(structure)) return report;
+  const auto delaunay = [&](int e) {
+    return from_lengths ? is_ptolemy_delaunay(mesh, state, e) : is_delaunay(mesh, state, e);
+  };
   // Only the edges that are not Delaunay now start the queue (usually few after the first
   // round).
   std::vector<int> stack;
   std::vector<char> queued(mesh.num_edges(), 0);
   for (int e = mesh.num_edges() - 1; e >= 0; --e) {
-    if (!is_delaunay(mesh, state, e)) {
+    if (!delaunay(e)) {
       stack.push_back(e);
       queued[e] = 1;
     }
@@ -67,7 +98,7 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     const int e = stack.back();
     stack.pop_back();
     queued[e] = 0;
-    if (is_delaunay(mesh, state, e)) continue;
+    if (delaunay(e)) continue;
     const int h = mesh.edge_halfedge(e), t = mesh.twin(h);
     const int f = h / 3, c = h % 3, fg = t / 3, d = t % 3;
     const int k = mesh.face_vertex(f, c), a = mesh.face_vertex(f, (c + 1) % 3),
@@ -77,7 +108,8 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     const double angle_b = state.faces[f].angle[(c + 2) % 3] + state.faces[fg].angle[(d + 1) % 3];
     // k-l may already be an edge: intrinsic Delaunay triangulations can need two edges between
     // one pair of vertices (both sides of a thin ear). Only a self-loop is refused.
-    if (k == l || !(angle_a < kPi) || !(angle_b < kPi)) {
+    // (A quadrilateral whose Ptolemy diagonal is not Delaunay is convex.)
+    if (k == l || (!from_lengths && !(angle_a < kPi && angle_b < kPi))) {
       ++report.blocked;
       continue;
     }
@@ -115,7 +147,7 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     update_metric_at_edge(mesh, structure, u, e, state);
     // The other diagonal must be Delaunay: otherwise both are not (no proper weighted Delaunay
     // triangulation exists for this quad) and flipping would only cycle.
-    if (!state.valid() || !is_delaunay(mesh, state, e)) {
+    if ((!from_lengths && !state.valid()) || !delaunay(e)) {
       mesh.flip(e);  // back to a-b
       structure.eta[e] = old_eta;
       update_metric_at_edge(mesh, structure, u, e, state);

@@ -31,6 +31,18 @@ namespace ricci {
 bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e,
                  double tolerance = 1e-10);
 
+//! Euclidean Yamabe: every vertex has eps = 0, every flip is a Ptolemy flip, and a triangulation
+//! that is Delaunay by is_ptolemy_delaunay() has only valid triangles, whatever u (Springborn
+//! 2020, through the decorated ideal hyperbolic surface of the lambda-lengths).
+bool all_ptolemy(const ConformalStructure& structure);
+
+//! The Delaunay criterion from the lengths alone: the cosines of the two angles opposite e, by
+//! the law of cosines, sum to at least -tolerance. On valid triangles this is alpha + beta <= pi,
+//! is_delaunay() for Euclidean Yamabe; it is also defined where lengths violate the triangle
+//! inequality, as the Delaunay criterion of the decorated ideal triangulation.
+bool is_ptolemy_delaunay(const Triangulation& mesh, const MetricState& state, int e,
+                         double tolerance = 1e-10);
+
 struct FlipReport {
   int flips = 0;                   //!< edges flipped
   std::vector<EdgeFlip> sequence;  //!< the flipped edges, in order
@@ -39,8 +51,11 @@ struct FlipReport {
 };
 
 //! Flips non-Delaunay edges until none is left (or max_flips is reached), updating the flipped
-//! edges' eta in `structure` and the lengths and angles in `state`.
-//! \pre state == evaluate_metric(mesh, structure, u) and state.valid()
+//! edges' eta in `structure` and the lengths and angles in `state`. A state with invalid
+//! triangles is flipped by is_ptolemy_delaunay() when all_ptolemy(structure), and left as it is
+//! otherwise; it ends valid unless a flip that would make a self-loop was refused (blocked), or
+//! an invalid triangle has a boundary edge (which no flip removes). \pre state ==
+//! evaluate_metric(mesh, structure, u)
 FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
                          const Eigen::VectorXd& u, MetricState& state, int max_flips);
 

@@ -60,6 +60,7 @@ struct RicciFlowSolver::State {
   void start_flipping(int iteration, const std::string& why);
   void use_free_vertices(const TargetCurvature& target);
   void keep_delaunay();
+  void adopt_flips(detail::LineSearch& step);
   void walk_to(const Eigen::VectorXd& start);
   std::string precondition_failure(const TargetCurvature& target);
   std::string iterate(const TargetCurvature& target, int it);
@@ -89,6 +90,16 @@ void RicciFlowSolver::State::keep_delaunay() {
     steps.set_pattern(triangulation, free_index);
   }
   times.flips += seconds_since(t);
+}
+
+// The triangulation a line search flipped to reach its accepted point.
+void RicciFlowSolver::State::adopt_flips(detail::LineSearch& step) {
+  triangulation = std::move(*step.flipped);
+  structure.eta = std::move(step.flipped_eta);
+  result.num_flips += step.flips.flips;
+  flip_sequence.insert(flip_sequence.end(), step.flips.sequence.begin(), step.flips.sequence.end());
+  ++result.connectivity_changes;
+  steps.set_pattern(triangulation, free_index);
 }
 
 // EdgeFlips::WhenNeeded: flips from here on, starting from the current u.
@@ -163,8 +174,9 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
     return s.str();
   }
   const auto t = Clock::now();
-  detail::LineSearch step = detail::search_line(triangulation, structure, target, free_index, u, du,
-                                                0.5 * r.squaredNorm(), options.max_step_halvings);
+  detail::LineSearch step =
+      detail::search_line(triangulation, structure, target, free_index, u, du,
+                          0.5 * r.squaredNorm(), options.max_step_halvings, flipping);
   times.line_search += seconds_since(t);
   const char* flips_help = flipping ? "" : " on this triangulation (edge flips help)";
   // Kbar = 0 on a closed surface is its uniformization: the metric exists, only the flow missed it.
@@ -213,8 +225,10 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   u = std::move(step.u);
   metric = std::move(step.state);
   const int flips_before = result.num_flips;
+  if (step.flipped) adopt_flips(step);
   keep_delaunay();
-  k = result.num_flips > flips_before ? curvature(triangulation, metric) : std::move(step.k);
+  k = result.num_flips > flips_before + step.flips.flips ? curvature(triangulation, metric)
+                                                         : std::move(step.k);
   if (may_start_flipping() && stall.short_steps() >= detail::StallWindow::kLengthBeforeFlips) {
     s << "the steps of iterations " << it + 1 - stall.short_steps() << " to " << it
       << " were cut to at most 1/64 to keep triangles from degenerating";

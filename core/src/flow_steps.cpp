@@ -97,23 +97,32 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
 
 // === The line search
 
-LineSearch search_line(const Triangulation& mesh, const ConformalStructure& structure,
+LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                        const TargetCurvature& target, const std::vector<int>& free_index,
                        const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
-                       int max_halvings) {
+                       int max_halvings, bool flip_invalid) {
   LineSearch s;
   s.u = u;
   const int n = static_cast<int>(du.size());
+  flip_invalid = flip_invalid && all_ptolemy(structure);
   for (int halving = 0; halving <= max_halvings; ++halving, s.alpha *= 0.5) {
     for (int v = 0; v < u.size(); ++v) {
       if (free_index[v] >= 0) s.u[v] = u[v] + s.alpha * du[free_index[v]];
     }
     s.state = evaluate_metric(mesh, structure, s.u);
+    s.flipped.reset();
+    s.flips = FlipReport();
+    if (!s.state.valid() && flip_invalid) {
+      s.flipped.emplace(mesh);
+      ConformalStructure flipped_structure = structure;
+      s.flips = make_delaunay(*s.flipped, flipped_structure, s.u, s.state, 10 * mesh.num_edges());
+      s.flipped_eta = std::move(flipped_structure.eta);
+    }
     if (!s.state.valid()) {
       s.blocked_by_validity = true;
       continue;
     }
-    s.k = curvature(mesh, s.state);
+    s.k = curvature(s.flipped ? *s.flipped : mesh, s.state);
     const double trial_phi = 0.5 * free_residual(s.k, target, free_index, n).squaredNorm();
     if (trial_phi <= (1 - 1e-4 * s.alpha) * phi) {
       s.accepted = true;

@@ -5,11 +5,13 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "delaunay.h"
 #include "hessian.h"
 #include "metric.h"
 #include "ricci/linear_solver.h"
@@ -70,14 +72,21 @@ struct LineSearch {
   double alpha = 1;
   Eigen::VectorXd u, k;  //!< accepted point and its curvature
   MetricState state;     //!< the accepted state, or the last one tried
+  //! When the accepted point needed Ptolemy flips: its triangulation, eta and the flips.
+  std::optional<IntrinsicTriangulation> flipped;
+  std::vector<double> flipped_eta;
+  FlipReport flips;
 };
 
 //! Armijo backtracking on |Kbar - K|^2 / 2 from u along du, halving at most max_halvings times,
-//! never accepting a point where a triangle is invalid.
-LineSearch search_line(const Triangulation& mesh, const ConformalStructure& structure,
+//! never accepting a point where a triangle is invalid. With flip_invalid, a trial point whose
+//! triangles are invalid is first flipped to Delaunay on a copy when every flip is a Euclidean
+//! Ptolemy flip (all_ptolemy): the Delaunay triangulation of any u is valid there, so the search
+//! follows the flow's energy across triangulations instead of stopping at the first one's edge.
+LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                        const TargetCurvature& target, const std::vector<int>& free_index,
                        const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
-                       int max_halvings);
+                       int max_halvings, bool flip_invalid);
 
 //! A flow whose residual is within this factor of the angle sums' round-off (curvature_round_off)
 //! and that no step reduces has converged as far as double precision allows (on real meshes, such
