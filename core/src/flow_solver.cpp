@@ -185,6 +185,12 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   const char* exists_note =
       "; a metric of this target exists for every closed surface (uniformization), this flow did "
       "not reach it: try the tangential scheme";
+  // Euclidean Yamabe flips to a valid triangulation at every u, except across the boundary.
+  const char* boundary_note =
+      "; triangles at the boundary degenerate, and no edge flip removes a boundary edge (flips "
+      "across the boundary, on the surface doubled along it, are not built): try the tangential "
+      "scheme, whose triangles are always valid";
+  const bool at_boundary = flipping && step.blocked_at_boundary;
   if (!step.accepted) {
     // A tolerance below what double precision allows here: the floor is convergence.
     const double floor =
@@ -199,6 +205,8 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
       s << " while keeping every triangle valid (" << detail::describe_invalid(step.state) << ")";
     if (exists) {
       s << exists_note;
+    } else if (at_boundary) {
+      s << boundary_note;
     } else {
       s << "; the solution may not exist" << (flipping ? " for this mesh" : flips_help)
         << ", or try another scheme";
@@ -213,6 +221,8 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
       << history[history.size() - detail::StallWindow::kLength] << " to " << result.residual;
     if (exists) {
       s << exists_note;
+    } else if (at_boundary) {
+      s << boundary_note;
     } else {
       s << "; the target is not reachable" << (flipping ? " even with edge flips" : flips_help)
         << ", or try the tangential scheme, whose triangles are always valid";

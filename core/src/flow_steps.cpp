@@ -97,6 +97,20 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
 
 // === The line search
 
+namespace {
+
+bool invalid_at_boundary(const Triangulation& mesh, const MetricState& state) {
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    if (state.faces[f].valid) continue;
+    for (int e : mesh.face_edges(f)) {
+      if (mesh.is_boundary_edge(e)) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                        const TargetCurvature& target, const std::vector<int>& free_index,
                        const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
@@ -120,6 +134,8 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
     }
     if (!s.state.valid()) {
       s.blocked_by_validity = true;
+      s.blocked_at_boundary =
+          s.blocked_at_boundary || invalid_at_boundary(s.flipped ? *s.flipped : mesh, s.state);
       continue;
     }
     s.k = curvature(s.flipped ? *s.flipped : mesh, s.state);

@@ -69,6 +69,8 @@ class StepSolver {
 struct LineSearch {
   bool accepted = false;
   bool blocked_by_validity = false;  //!< a longer step left the set of valid triangles
+  //! ... and a triangle it left invalid has a boundary edge, which no flip removes
+  bool blocked_at_boundary = false;
   double alpha = 1;
   Eigen::VectorXd u, k;  //!< accepted point and its curvature
   MetricState state;     //!< the accepted state, or the last one tried
