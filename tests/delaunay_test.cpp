@@ -1,6 +1,7 @@
 // Edge flips: the flip routine on its own (Delaunay afterwards, metric kept, a valid
 // triangulation), and Yamabe with flips, whose result is discretely conformal to the input in
-// the Ptolemy sense, checked by replaying the flips with an independent Ptolemy rule.
+// the Ptolemy sense, checked by replaying the flips with an independent Ptolemy rule; Ptolemy
+// flips from lengths that violate the triangle inequality, and the line search that uses them.
 #include "delaunay.h"
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "flow_steps.h"
 #include "metric.h"
 #include "ricci/ricci_flow.h"
 #include "test_meshes.h"
@@ -115,6 +117,53 @@ TEST(Delaunay, PtolemyFlipsFromLengthsMakeEveryTriangleValid) {
   IntrinsicTriangulation t2(mesh);
   MetricState invalid = evaluate_metric(t2, s, u);
   EXPECT_EQ(make_delaunay(t2, tangential, u, invalid, 100).flips, 0);
+}
+
+TEST(Delaunay, LineSearchFlipsAcrossInvalidTriangles) {
+  // From u = 0 towards the factor of the test above, whose curvature on its Delaunay
+  // triangulation is the target: the full step leaves triangles of the input's triangulation
+  // invalid. With flips the search takes it (on the flipped triangulation, residual 0); without,
+  // it halves to where the input's triangles are still valid.
+  const CompactMesh mesh = test::cgal_mesh("elephant.off");
+  SchemeOptions options;
+  options.scheme = Scheme::Yamabe;
+  const ConformalStructure s = initialize_scheme(mesh, Geometry::Euclidean, options, 1.0);
+  double lo = 1e300, hi = -1e300;
+  for (const auto& p : mesh.positions()) lo = std::min(lo, p.x()), hi = std::max(hi, p.x());
+  Eigen::VectorXd goal(mesh.num_vertices());
+  for (int v = 0; v < goal.size(); ++v)
+    goal[v] = 2 * std::sin(15 * (mesh.positions()[v].x() - lo) / (hi - lo));
+  goal.array() -= goal[0];  // vertex 0 is pinned against the scaling
+  IntrinsicTriangulation flipped(mesh);
+  ConformalStructure flipped_structure = s;
+  MetricState at_goal = evaluate_metric(flipped, s, goal);
+  ASSERT_FALSE(at_goal.valid());
+  make_delaunay(flipped, flipped_structure, goal, at_goal, 100 * flipped.num_edges());
+  ASSERT_TRUE(at_goal.valid());
+  const TargetCurvature target = TargetCurvature::from_values(mesh, curvature(flipped, at_goal));
+  const std::vector<int> free_index =
+      detail::free_vertex_index(mesh.num_vertices(), Geometry::Euclidean, target);
+  Eigen::VectorXd du(mesh.num_vertices() - 1);
+  for (int v = 1; v < mesh.num_vertices(); ++v) du[free_index[v]] = goal[v];
+  const IntrinsicTriangulation input(mesh);
+  const Eigen::VectorXd u0 = Eigen::VectorXd::Zero(mesh.num_vertices());
+  const MetricState start = evaluate_metric(input, s, u0);
+  const double phi = 0.5 * detail::free_residual(curvature(input, start), target, free_index,
+                                                 static_cast<int>(du.size()))
+                               .squaredNorm();
+  const detail::LineSearch with =
+      detail::search_line(input, s, target, free_index, u0, du, phi, 40, true);
+  ASSERT_TRUE(with.accepted);
+  EXPECT_EQ(with.alpha, 1);
+  ASSERT_TRUE(with.flipped.has_value());
+  EXPECT_GT(with.flips.flips, 0);
+  EXPECT_EQ(static_cast<int>(with.flips.sequence.size()), with.flips.flips);
+  EXPECT_LE(detail::max_residual(with.k, target), 1e-9);
+  const detail::LineSearch without =
+      detail::search_line(input, s, target, free_index, u0, du, phi, 40, false);
+  EXPECT_TRUE(without.blocked_by_validity);
+  EXPECT_FALSE(without.flipped.has_value());
+  EXPECT_LT(without.alpha, 1);
 }
 
 TEST(Delaunay, FlipTwiceRestoresTheTriangulation) {
