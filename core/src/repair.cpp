@@ -15,8 +15,8 @@
 namespace ricci {
 
 using detail::edge_key;
-using detail::edge_uses;
 using detail::EdgeMap;
+using detail::EdgeUses;
 using detail::Face;
 using detail::glued_pairs;
 using detail::Reporter;
@@ -48,7 +48,9 @@ std::vector<std::array<int, 3>> split_fans(const std::vector<Face>& faces, const
     return 3 * f + static_cast<int>(std::find(faces[f].v.begin(), faces[f].v.end(), v) -
                                     faces[f].v.begin());
   };
-  for (const auto& [key, uses] : edges) {
+  for (size_t e = 0; e < edges.num_edges(); ++e) {
+    const std::uint64_t key = edges.key(e);
+    const EdgeUses uses = edges.uses(e);
     if (uses.size() > 2) reporter.add("non-manifold edges cut open", "edge", uses[0].from);
     if (cut_all.count(key)) continue;
     for (const auto& [first, second] : glued_pairs(uses)) {
@@ -86,7 +88,7 @@ std::vector<std::array<int, 3>> split_fans(const std::vector<Face>& faces, const
 void split_fans_and_components(const std::vector<Face>& faces, RepairedMesh& out,
                                Reporter& reporter) {
   const int nf = static_cast<int>(faces.size());
-  const EdgeMap edges = edge_uses(faces);
+  const EdgeMap edges(faces);
   const size_t input_vertices = out.positions.size();
   std::unordered_set<std::uint64_t> cut_all;
   std::vector<std::array<int, 3>> split;
@@ -97,14 +99,13 @@ void split_fans_and_components(const std::vector<Face>& faces, RepairedMesh& out
     components = UnionFind(nf);
     Reporter attempt_reporter;
     split = split_fans(faces, edges, cut_all, out, components, attempt_reporter);
-    std::unordered_map<std::uint64_t, int> faces_at;
-    for (const auto& t : split) {
-      for (int c = 0; c < 3; ++c) ++faces_at[edge_key(t[c], t[(c + 1) % 3])];
-    }
+    std::vector<Face> split_faces(nf);
+    for (int f = 0; f < nf; ++f) split_faces[f] = {split[f], faces[f].input};
+    const EdgeMap split_edges(split_faces);
     const size_t before = cut_all.size();
     for (int f = 0; f < nf; ++f) {
       for (int c = 0; c < 3; ++c) {
-        if (faces_at[edge_key(split[f][c], split[f][(c + 1) % 3])] > 2) {
+        if (split_edges.uses(split_edges.edge_of(f, c)).size() > 2) {
           cut_all.insert(edge_key(faces[f].v[c], faces[f].v[(c + 1) % 3]));
         }
       }

@@ -36,17 +36,29 @@ std::uint64_t edge_key(int a, int b) {
   return lo << 32 | hi;
 }
 
-EdgeMap edge_uses(const std::vector<Face>& faces) {
-  EdgeMap edges;
-  edges.reserve(3 * faces.size());
-  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+EdgeMap::EdgeMap(const std::vector<Face>& faces) {
+  const size_t n = 3 * faces.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(n);  // (key, use), use = 3 f + c
+  for (size_t f = 0; f < faces.size(); ++f) {
     const auto& v = faces[f].v;
-    for (int c = 0; c < 3; ++c) edges[edge_key(v[c], v[(c + 1) % 3])].push_back({f, v[c]});
+    for (int c = 0; c < 3; ++c)
+      order[3 * f + c] = {edge_key(v[c], v[(c + 1) % 3]), static_cast<std::uint32_t>(3 * f + c)};
   }
-  return edges;
+  std::sort(order.begin(), order.end());  // by key, then in face order
+  keys_.resize(n);
+  uses_.resize(n);
+  edge_of_use_.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    keys_[i] = order[i].first;
+    const int f = static_cast<int>(order[i].second / 3), c = static_cast<int>(order[i].second % 3);
+    uses_[i] = {f, faces[f].v[c]};
+    if (i == 0 || keys_[i] != keys_[i - 1]) start_.push_back(i);
+    edge_of_use_[order[i].second] = start_.size() - 1;
+  }
+  start_.push_back(n);
 }
 
-std::vector<std::pair<EdgeUse, EdgeUse>> glued_pairs(const std::vector<EdgeUse>& uses) {
+std::vector<std::pair<EdgeUse, EdgeUse>> glued_pairs(const EdgeUses& uses) {
   std::vector<std::pair<EdgeUse, EdgeUse>> pairs;
   std::vector<char> paired(uses.size(), 0);
   for (size_t i = 0; i < uses.size(); ++i) {
@@ -109,7 +121,7 @@ std::vector<Face> drop_degenerate(const std::vector<Eigen::Vector3d>& p,
 
 void orient(std::vector<Face>& faces, Reporter& reporter) {
   const int nf = static_cast<int>(faces.size());
-  const EdgeMap edges = edge_uses(faces);
+  const EdgeMap edges(faces);
   std::vector<int> component(nf, -1);
   std::vector<char> flipped(nf, 0);
   const auto effective_from = [&](const EdgeUse& use, int a, int b) {
@@ -124,7 +136,7 @@ void orient(std::vector<Face>& faces, Reporter& reporter) {
       const int f = members[k];
       for (int c = 0; c < 3; ++c) {
         const int a = faces[f].v[c], b = faces[f].v[(c + 1) % 3];
-        const std::vector<EdgeUse>& uses = edges.at(edge_key(a, b));
+        const EdgeUses uses = edges.uses(edges.edge_of(f, c));
         if (uses.size() != 2) continue;  // boundary or non-manifold: not glued
         const EdgeUse& mine = uses[0].face == f ? uses[0] : uses[1];
         const EdgeUse& other = uses[0].face == f ? uses[1] : uses[0];
@@ -179,14 +191,14 @@ int cap_corner(const std::vector<Eigen::Vector3d>& p, const Face& f) {
 void remove_caps(const std::vector<Eigen::Vector3d>& p, std::vector<Face>& faces,
                  Reporter& reporter) {
   for (int pass = 0; pass < 20; ++pass) {
-    const EdgeMap edges = edge_uses(faces);
+    const EdgeMap edges(faces);
     std::vector<char> touched(faces.size(), 0), dropped(faces.size(), 0);
     std::vector<Face> added;
     for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
       const int c = cap_corner(p, faces[f]);
       if (c < 0 || touched[f]) continue;
       const int m = faces[f].v[c], a = faces[f].v[(c + 1) % 3], b = faces[f].v[(c + 2) % 3];
-      const std::vector<EdgeUse>& uses = edges.at(edge_key(a, b));
+      const EdgeUses uses = edges.uses(edges.edge_of(f, (c + 1) % 3));
       const EdgeUse* across = nullptr;
       for (const EdgeUse& u : uses) {
         if (u.face != f) across = &u;

@@ -35,13 +35,45 @@ struct EdgeUse {
   int face;
   int from;
 };
-using EdgeMap = std::unordered_map<std::uint64_t, std::vector<EdgeUse>>;
-EdgeMap edge_uses(const std::vector<Face>& faces);
+
+//! The uses of one edge, in face order.
+class EdgeUses {
+ public:
+  EdgeUses(const EdgeUse* first, size_t size) : first_(first), size_(size) {}
+  size_t size() const { return size_; }
+  const EdgeUse& operator[](size_t i) const { return first_[i]; }
+  const EdgeUse* begin() const { return first_; }
+  const EdgeUse* end() const { return first_ + size_; }
+
+ private:
+  const EdgeUse* first_;
+  size_t size_;
+};
+
+//! Every edge of a face list with the faces that use it: one sort of the faces' 3 F edge uses by
+//! edge_key (a hash map of vectors cost 0.4 s per build on a 267k-face scan; this 30 ms).
+class EdgeMap {
+ public:
+  explicit EdgeMap(const std::vector<Face>& faces);
+  size_t num_edges() const { return start_.size() - 1; }
+  std::uint64_t key(size_t edge) const { return keys_[start_[edge]]; }
+  EdgeUses uses(size_t edge) const {
+    return {uses_.data() + start_[edge], start_[edge + 1] - start_[edge]};
+  }
+  //! The edge that face f's corners c, c + 1 span.
+  size_t edge_of(int f, int c) const { return edge_of_use_[3 * static_cast<size_t>(f) + c]; }
+
+ private:
+  std::vector<size_t> edge_of_use_;  // per face corner 3 f + c
+  std::vector<std::uint64_t> keys_;  // per use, sorted
+  std::vector<EdgeUse> uses_;        // in the order of keys_
+  std::vector<size_t> start_;        // per edge, its first use; one past the last at the end
+};
 
 //! The pairs of faces glued across an edge: two faces that traverse it in opposite ways. Where
 //! more than two faces share the edge (non-manifold), they are paired in file order and the rest
 //! cut off.
-std::vector<std::pair<EdgeUse, EdgeUse>> glued_pairs(const std::vector<EdgeUse>& uses);
+std::vector<std::pair<EdgeUse, EdgeUse>> glued_pairs(const EdgeUses& uses);
 
 //! Collapses edges of zero length (relative to the mesh's size), drops the faces that then repeat
 //! a vertex, and exact duplicates. `represented_by` receives each vertex's surviving vertex.

@@ -1,7 +1,7 @@
 #include "ricci/triangulation.h"
 
 #include <algorithm>
-#include <map>
+#include <cstdint>
 #include <sstream>
 #include <utility>
 
@@ -25,37 +25,53 @@ void Triangulation::build_edges() {
   const int nf = num_faces();
   face_edges_.assign(nf, {-1, -1, -1});
   twin_.assign(3 * nf, -1);
-  std::map<std::pair<int, int>, int> edge_of;  // (min, max) vertex -> edge
-  std::vector<int> first_halfedge;             // first halfedge seen for each edge
-  std::vector<int> nonmanifold, misoriented;
-  for (int f = 0; f < nf; ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int h = 3 * f + c;
-      const int a = halfedge_tail(h), b = halfedge_head(h);
-      const std::pair<int, int> key(std::min(a, b), std::max(a, b));
-      auto it = edge_of.find(key);
-      if (it == edge_of.end()) {
-        const int e = num_edges();
-        edge_of.emplace(key, e);
-        edge_vertices_.push_back({key.first, key.second});
-        edge_faces_.push_back({f, -1});
-        first_halfedge.push_back(h);
-        face_edges_[f][c] = e;
-        continue;
-      }
-      const int e = it->second;
-      face_edges_[f][c] = e;
+  // Halfedges sorted by their vertex pair, then by index: one group per edge, its first halfedge
+  // first. Edges are numbered in the order their first halfedge comes (faces, then corners).
+  std::vector<std::pair<std::uint64_t, int>> by_pair(3 * static_cast<size_t>(nf));
+  for (int h = 0; h < 3 * nf; ++h) {
+    const int a = halfedge_tail(h), b = halfedge_head(h);
+    by_pair[h] = {static_cast<std::uint64_t>(std::min(a, b)) << 32 |
+                      static_cast<std::uint32_t>(std::max(a, b)),
+                  h};
+  }
+  std::sort(by_pair.begin(), by_pair.end());
+  std::vector<std::pair<int, size_t>> groups;  // (first halfedge, its position in by_pair)
+  for (size_t i = 0; i < by_pair.size(); ++i) {
+    if (i == 0 || by_pair[i].first != by_pair[i - 1].first)
+      groups.emplace_back(by_pair[i].second, i);
+  }
+  std::sort(groups.begin(), groups.end());
+  edge_vertices_.reserve(groups.size());
+  edge_faces_.reserve(groups.size());
+  std::vector<std::pair<int, int>> nonmanifold_at, misoriented_at;  // (halfedge, edge)
+  for (const auto& [first, position] : groups) {
+    const int e = num_edges();
+    const int a = halfedge_tail(first), b = halfedge_head(first);
+    edge_vertices_.push_back({std::min(a, b), std::max(a, b)});
+    edge_faces_.push_back({first / 3, -1});
+    face_edges_[first / 3][first % 3] = e;
+    for (size_t i = position + 1; i < by_pair.size() && by_pair[i].first == by_pair[position].first;
+         ++i) {
+      const int h = by_pair[i].second;
+      face_edges_[h / 3][h % 3] = e;
       if (edge_faces_[e][1] >= 0) {
-        nonmanifold.push_back(e);
+        nonmanifold_at.emplace_back(h, e);
         continue;
       }
-      const int g = first_halfedge[e];
-      if (halfedge_tail(g) == a) misoriented.push_back(e);
-      edge_faces_[e][1] = f;
-      twin_[h] = g;
-      twin_[g] = h;
+      if (halfedge_tail(first) == halfedge_tail(h)) misoriented_at.emplace_back(h, e);
+      edge_faces_[e][1] = h / 3;
+      twin_[h] = first;
+      twin_[first] = h;
     }
   }
+  // In the order the halfedges come, as a walk over the faces meets them.
+  const auto edges_of = [](std::vector<std::pair<int, int>> at) {
+    std::sort(at.begin(), at.end());
+    std::vector<int> edges;
+    for (const auto& [h, e] : at) edges.push_back(e);
+    return edges;
+  };
+  std::vector<int> nonmanifold = edges_of(nonmanifold_at), misoriented = edges_of(misoriented_at);
   auto edge_names = [&](const std::vector<int>& edges) {
     std::ostringstream s;
     s << "first: ";
@@ -133,16 +149,18 @@ void Triangulation::check_connected() {
     vertices.unite(t[0], t[1]);
     vertices.unite(t[1], t[2]);
   }
-  std::map<int, int> size_of_component;
-  for (int v = 0; v < num_vertices(); ++v) ++size_of_component[vertices.find(v)];
-  if (size_of_component.size() > 1) {
-    std::vector<int> sizes;
-    for (const auto& [root, size] : size_of_component) sizes.push_back(size);
+  std::vector<int> size_of_root(num_vertices(), 0);
+  for (int v = 0; v < num_vertices(); ++v) ++size_of_root[vertices.find(v)];
+  std::vector<int> sizes;
+  for (int size : size_of_root) {
+    if (size > 0) sizes.push_back(size);
+  }
+  if (sizes.size() > 1) {
     std::sort(sizes.rbegin(), sizes.rend());
     std::ostringstream s;
     s << "vertex counts of the largest: ";
     for (size_t i = 0; i < sizes.size() && i < 3; ++i) s << (i ? ", " : "") << sizes[i];
-    fail(std::to_string(size_of_component.size()) + " connected components", s.str(),
+    fail(std::to_string(sizes.size()) + " connected components", s.str(),
          "the flow runs on one component: keep the one you want, e.g. MeshLab's Filters > "
          "Cleaning and Repairing > Remove Isolated pieces, or split them into layers");
   }
