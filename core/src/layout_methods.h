@@ -16,7 +16,13 @@ std::vector<std::array<double, 3>> face_angles(const Triangulation& mesh, Geomet
 //! Corner of face f that holds vertex v, or -1.
 int corner_of(const Triangulation& mesh, int f, int v);
 
-//! E2, every topology: least squares over the edge vectors with one unknown per wedge.
+//! The largest relative error in an edge's length that a developed plane layout may have before
+//! plane_layout fits the edge vectors by least squares instead.
+inline constexpr double kDevelopedLengthError = 1e-8;
+
+//! E2, every topology: developed face by face, each wedge (a vertex's fan of faces on one side of
+//! the cut) at the mean of its corners; where an edge's length is then off by more than
+//! kDevelopedLengthError, least squares over the edge vectors with one unknown per wedge.
 Layout plane_layout(const Triangulation& mesh, const std::vector<double>& lengths,
                     LinearSolverKind solver);
 

@@ -1,5 +1,6 @@
-// E2 layouts of every topology: directions integrated across the faces, then the least-squares fit
-// of the edge vectors with one unknown per wedge (a vertex's fan of faces on one side of the cut).
+// E2 layouts of every topology: developed face by face with one position per wedge (a vertex's fan
+// of faces on one side of the cut); where round-off accumulated too far, directions integrated
+// across the faces and the least-squares fit of the edge vectors with one unknown per wedge.
 #include <cmath>
 #include <queue>
 
@@ -116,30 +117,49 @@ std::vector<Eigen::Vector2d> fit_edge_vectors(const Triangulation& mesh,
   return x;
 }
 
+double max_relative_length_error(const Triangulation& mesh, const std::vector<double>& lengths,
+                                 const Layout& layout) {
+  double error = 0;
+  for (int h = 0; h < mesh.num_halfedges(); ++h) {
+    const auto& p = layout.corners[h / 3];
+    const double l = lengths[mesh.face_edge(h / 3, h % 3)];
+    error = std::max(error, std::abs((p[(h % 3 + 1) % 3] - p[(h % 3 + 2) % 3]).norm() / l - 1));
+  }
+  return error;
+}
+
 }  // namespace
 
 Layout plane_layout(const Triangulation& mesh, const std::vector<double>& lengths,
                     LinearSolverKind solver) {
-  const std::vector<std::array<double, 3>> angle = face_angles(mesh, Geometry::Euclidean, lengths);
-  Layout layout;
-  layout.geometry = Geometry::Euclidean;
-  layout.cut = cut_to_disk(mesh);
   const int nf = mesh.num_faces();
+  // Developed face by face, each wedge at the mean of its corners: exact up to the round-off
+  // accumulated along the breadth-first tree, and no linear solve (on a 267k-face disk 0.3 s
+  // against 1.4 s). Where that round-off exceeds kDevelopedLengthError in some edge's length, the
+  // least-squares fit spreads it instead.
+  Layout layout = develop(mesh, Geometry::Euclidean, lengths);
   if (nf == 0) return layout;
   int num_wedges = 0;
   const std::vector<int> wedge = corner_wedges(mesh, layout.cut.cut, num_wedges);
-  const std::vector<double> direction = halfedge_directions(mesh, angle, layout.cut.cut);
-  const std::vector<Eigen::Vector2d> x =
-      fit_edge_vectors(mesh, lengths, direction, wedge, num_wedges, solver);
-  layout.corners.resize(nf);
+  std::vector<Eigen::Vector3d> x(num_wedges, Eigen::Vector3d::Zero());
+  std::vector<int> count(num_wedges, 0);
   for (int k = 0; k < 3 * nf; ++k) {
-    layout.corners[k / 3][k % 3] = Eigen::Vector3d(x[wedge[k]].x(), x[wedge[k]].y(), 0.0);
+    x[wedge[k]] += layout.corners[k / 3][k % 3];
+    ++count[wedge[k]];
   }
-  for (int h = 0; h < mesh.num_halfedges(); ++h) {
-    const auto& p = layout.corners[h / 3];
-    const double l = lengths[mesh.face_edge(h / 3, h % 3)];
-    const double err = std::abs((p[(h % 3 + 1) % 3] - p[(h % 3 + 2) % 3]).norm() / l - 1);
-    layout.max_relative_length_error = std::max(layout.max_relative_length_error, err);
+  for (int w = 0; w < num_wedges; ++w) x[w] /= std::max(count[w], 1);
+  for (int k = 0; k < 3 * nf; ++k) layout.corners[k / 3][k % 3] = x[wedge[k]];
+  layout.max_relative_length_error = max_relative_length_error(mesh, lengths, layout);
+  if (!(layout.max_relative_length_error <= kDevelopedLengthError)) {
+    const std::vector<std::array<double, 3>> angle =
+        face_angles(mesh, Geometry::Euclidean, lengths);
+    const std::vector<double> direction = halfedge_directions(mesh, angle, layout.cut.cut);
+    const std::vector<Eigen::Vector2d> fit =
+        fit_edge_vectors(mesh, lengths, direction, wedge, num_wedges, solver);
+    for (int k = 0; k < 3 * nf; ++k) {
+      layout.corners[k / 3][k % 3] = Eigen::Vector3d(fit[wedge[k]].x(), fit[wedge[k]].y(), 0.0);
+    }
+    layout.max_relative_length_error = max_relative_length_error(mesh, lengths, layout);
   }
   glue_along_cut(mesh, layout);
   return layout;
