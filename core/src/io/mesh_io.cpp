@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -25,6 +26,12 @@ std::string read_file(const std::string& path) {
 
 std::vector<std::string_view> tokens(std::string_view line) {
   std::vector<std::string_view> out;
+  split_tokens(line, out);
+  return out;
+}
+
+void split_tokens(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
   size_t i = 0;
   while (i < line.size()) {
     while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
@@ -32,7 +39,6 @@ std::vector<std::string_view> tokens(std::string_view line) {
     while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
     if (i > start) out.push_back(line.substr(start, i - start));
   }
-  return out;
 }
 
 bool LineReader::next(std::vector<std::string_view>& fields) {
@@ -44,16 +50,21 @@ bool LineReader::next(std::vector<std::string_view>& fields) {
   ++line_;
   const size_t hash = line.find('#');
   if (hash != std::string_view::npos) line = line.substr(0, hash);
-  fields = tokens(line);
+  split_tokens(line, fields);
   return true;
 }
 
 std::vector<std::string_view> LineReader::next_nonempty(const std::string& what) {
   std::vector<std::string_view> fields;
+  if (!next_nonempty(fields)) fail("the file ends before " + what);
+  return fields;
+}
+
+bool LineReader::next_nonempty(std::vector<std::string_view>& fields) {
   while (next(fields)) {
-    if (!fields.empty()) return fields;
+    if (!fields.empty()) return true;
   }
-  fail("the file ends before " + what);
+  return false;
 }
 
 void LineReader::fail(const std::string& what) const {
@@ -61,6 +72,12 @@ void LineReader::fail(const std::string& what) const {
 }
 
 double LineReader::number(std::string_view token) const {
+  // The common case without a copy; strtod's wider syntax (a leading '+', hexadecimal) after.
+  double fast = 0;
+  const auto [end_fast, error] = std::from_chars(token.data(), token.data() + token.size(), fast);
+  if (error == std::errc() && end_fast == token.data() + token.size() && !token.empty()) {
+    return fast;
+  }
   const std::string text(token);
   char* end = nullptr;
   errno = 0;
@@ -71,6 +88,11 @@ double LineReader::number(std::string_view token) const {
 }
 
 long LineReader::integer(std::string_view token) const {
+  long fast = 0;
+  const auto [end_fast, error] = std::from_chars(token.data(), token.data() + token.size(), fast);
+  if (error == std::errc() && end_fast == token.data() + token.size() && !token.empty()) {
+    return fast;
+  }
   const std::string text(token);
   char* end = nullptr;
   errno = 0;

@@ -104,15 +104,20 @@ MeshFile read_off(const std::string& path, std::string_view text) {
   const long nf = header.size() > 1 ? reader.integer(header[1]) : -1;
   if (nv < 0 || nf < 0) reader.fail("expected the vertex and face counts");
   mesh.positions.reserve(static_cast<size_t>(nv));
+  std::vector<std::string_view> f;
   for (long v = 0; v < nv; ++v) {
-    const auto f =
-        reader.next_nonempty("vertex " + std::to_string(v) + " of " + std::to_string(nv));
+    if (!reader.next_nonempty(f)) {
+      reader.fail("the file ends before vertex " + std::to_string(v) + " of " + std::to_string(nv));
+    }
     if (f.size() < 3) reader.fail("a vertex needs three coordinates");
     mesh.positions.emplace_back(reader.number(f[0]), reader.number(f[1]), reader.number(f[2]));
   }
   std::vector<int> corners;
+  mesh.triangles.reserve(static_cast<size_t>(nf));
   for (long k = 0; k < nf; ++k) {
-    const auto f = reader.next_nonempty("face " + std::to_string(k) + " of " + std::to_string(nf));
+    if (!reader.next_nonempty(f)) {
+      reader.fail("the file ends before face " + std::to_string(k) + " of " + std::to_string(nf));
+    }
     const long n = reader.integer(f[0]);
     if (n < 0 || static_cast<size_t>(n) + 1 > f.size()) {
       reader.fail("the face lists " + std::to_string(f.size() - 1) + " numbers after its count " +

@@ -17,6 +17,8 @@ std::string read_file(const std::string& path);
 
 //! Splits a line into whitespace-separated tokens.
 std::vector<std::string_view> tokens(std::string_view line);
+//! The same into `out`, reusing its storage.
+void split_tokens(std::string_view line, std::vector<std::string_view>& out);
 
 //! Walks a text file line by line; `#` starts a comment.
 class LineReader {
@@ -26,6 +28,8 @@ class LineReader {
   bool next(std::vector<std::string_view>& fields);
   //! The next line that has tokens. \throws IoError at the end of the file, naming `what`.
   std::vector<std::string_view> next_nonempty(const std::string& what);
+  //! The next line that has tokens, into `fields`; false at the end of the file.
+  bool next_nonempty(std::vector<std::string_view>& fields);
   int line_number() const { return line_; }
   [[noreturn]] void fail(const std::string& what) const;
   double number(std::string_view token) const;
