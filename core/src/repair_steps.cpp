@@ -37,23 +37,25 @@ std::uint64_t edge_key(int a, int b) {
 }
 
 EdgeMap::EdgeMap(const std::vector<Face>& faces) {
-  const size_t n = 3 * faces.size();
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(n);  // (key, use), use = 3 f + c
-  for (size_t f = 0; f < faces.size(); ++f) {
-    const auto& v = faces[f].v;
-    for (int c = 0; c < 3; ++c)
-      order[3 * f + c] = {edge_key(v[c], v[(c + 1) % 3]), static_cast<std::uint32_t>(3 * f + c)};
+  const int n = 3 * static_cast<int>(faces.size());
+  int num_vertices = 0;
+  for (const Face& f : faces) {
+    for (int v : f.v) num_vertices = std::max(num_vertices, v + 1);
   }
-  std::sort(order.begin(), order.end());  // by key, then in face order
+  const auto ends = [&](int use) {
+    const auto& v = faces[use / 3].v;
+    return std::array<int, 2>{v[use % 3], v[(use % 3 + 1) % 3]};
+  };
+  const std::vector<int> order = order_by_vertex_pair(num_vertices, n, ends);
   keys_.resize(n);
   uses_.resize(n);
   edge_of_use_.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    keys_[i] = order[i].first;
-    const int f = static_cast<int>(order[i].second / 3), c = static_cast<int>(order[i].second % 3);
+  for (int i = 0; i < n; ++i) {
+    const int use = order[i], f = use / 3, c = use % 3;
+    keys_[i] = edge_key(faces[f].v[c], faces[f].v[(c + 1) % 3]);
     uses_[i] = {f, faces[f].v[c]};
     if (i == 0 || keys_[i] != keys_[i - 1]) start_.push_back(i);
-    edge_of_use_[order[i].second] = start_.size() - 1;
+    edge_of_use_[use] = start_.size() - 1;
   }
   start_.push_back(n);
 }

@@ -11,6 +11,7 @@ namespace ricci {
 
 using detail::fail;
 using detail::first_indices;
+using detail::order_by_vertex_pair;
 using detail::UnionFind;
 
 void Triangulation::build_connectivity(int num_vertices) {
@@ -25,20 +26,19 @@ void Triangulation::build_edges() {
   const int nf = num_faces();
   face_edges_.assign(nf, {-1, -1, -1});
   twin_.assign(3 * nf, -1);
-  // Halfedges sorted by their vertex pair, then by index: one group per edge, its first halfedge
+  // Halfedges grouped by their vertex pair, each group in index order, its first halfedge
   // first. Edges are numbered in the order their first halfedge comes (faces, then corners).
-  std::vector<std::pair<std::uint64_t, int>> by_pair(3 * static_cast<size_t>(nf));
-  for (int h = 0; h < 3 * nf; ++h) {
-    const int a = halfedge_tail(h), b = halfedge_head(h);
-    by_pair[h] = {static_cast<std::uint64_t>(std::min(a, b)) << 32 |
-                      static_cast<std::uint32_t>(std::max(a, b)),
-                  h};
-  }
-  std::sort(by_pair.begin(), by_pair.end());
+  const std::vector<int> by_pair = order_by_vertex_pair(num_vertices(), 3 * nf, [&](int h) {
+    return std::array<int, 2>{halfedge_tail(h), halfedge_head(h)};
+  });
+  const auto same_pair = [&](int g, int h) {
+    const int a = halfedge_tail(g), b = halfedge_head(g), c = halfedge_tail(h),
+              d = halfedge_head(h);
+    return std::min(a, b) == std::min(c, d) && std::max(a, b) == std::max(c, d);
+  };
   std::vector<std::pair<int, size_t>> groups;  // (first halfedge, its position in by_pair)
   for (size_t i = 0; i < by_pair.size(); ++i) {
-    if (i == 0 || by_pair[i].first != by_pair[i - 1].first)
-      groups.emplace_back(by_pair[i].second, i);
+    if (i == 0 || !same_pair(by_pair[i], by_pair[i - 1])) groups.emplace_back(by_pair[i], i);
   }
   std::sort(groups.begin(), groups.end());
   edge_vertices_.reserve(groups.size());
@@ -50,9 +50,8 @@ void Triangulation::build_edges() {
     edge_vertices_.push_back({std::min(a, b), std::max(a, b)});
     edge_faces_.push_back({first / 3, -1});
     face_edges_[first / 3][first % 3] = e;
-    for (size_t i = position + 1; i < by_pair.size() && by_pair[i].first == by_pair[position].first;
-         ++i) {
-      const int h = by_pair[i].second;
+    for (size_t i = position + 1; i < by_pair.size() && same_pair(by_pair[i], first); ++i) {
+      const int h = by_pair[i];
       face_edges_[h / 3][h % 3] = e;
       if (edge_faces_[e][1] >= 0) {
         nonmanifold_at.emplace_back(h, e);
