@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "layout_methods.h"
 #include "ricci/errors.h"
 #include "ricci/ricci_flow.h"
 #include "test_meshes.h"
@@ -39,6 +40,35 @@ TEST(Layout, ConvergedMetricsOfRealDisksAreLaidOutExactly) {
     const Layout layout = lay_out(mesh, Geometry::Euclidean, r.edge_lengths);
     EXPECT_EQ(layout.num_flipped_faces, 0) << name;
     EXPECT_LE(layout.max_relative_length_error, 1e-9) << name;
+  }
+}
+
+TEST(Layout, DevelopedAndLeastSquaresLayoutsAgree) {
+  // plane_layout develops face by face and falls back to the least-squares fit past a length
+  // error; forced to the fit, it must give the same layout up to round-off (a disk and a torus).
+  for (const char* name : {"nefertiti.off", "elk.off"}) {
+    const CompactMesh mesh = test::cgal_mesh(name);
+    SchemeOptions options;
+    options.scheme = Scheme::Tangential;
+    const FlowResult r = compute_ricci_flow(mesh, Geometry::Euclidean, options,
+                                            TargetCurvature::free_boundary_or_zero(mesh));
+    ASSERT_TRUE(r.converged) << name;
+    const Layout developed = detail::plane_layout(mesh, r.edge_lengths, LinearSolverKind::Cholmod);
+    const Layout fitted =
+        detail::plane_layout(mesh, r.edge_lengths, LinearSolverKind::Cholmod, -1.0);
+    EXPECT_LE(developed.max_relative_length_error, detail::kDevelopedLengthError) << name;
+    EXPECT_LE(fitted.max_relative_length_error, 1e-8) << name;
+    EXPECT_EQ(developed.num_flipped_faces, 0) << name;
+    EXPECT_EQ(fitted.num_flipped_faces, 0) << name;
+    // Both are the same flat metric: rigid motions apart, corner distances within a face agree.
+    for (int f = 0; f < mesh.num_faces(); f += 7) {
+      for (int c = 0; c < 3; ++c) {
+        const auto &a = developed.corners[f], &b = fitted.corners[f];
+        EXPECT_NEAR((a[c] - a[(c + 1) % 3]).norm(), (b[c] - b[(c + 1) % 3]).norm(),
+                    1e-8 * (b[c] - b[(c + 1) % 3]).norm())
+            << name << " face " << f;
+      }
+    }
   }
 }
 

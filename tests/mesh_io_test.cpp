@@ -77,6 +77,18 @@ TEST(MeshIo, OffWithCommentsColorsAndPolygons) {
   EXPECT_EQ(read_mesh(write_file("square2.off", off)).num_boundary_loops(), 1);
 }
 
+TEST(MeshIo, NumbersInEveryWrittenForm) {
+  // Exponents, signs and C's hexadecimal floats (strtod's syntax, which from_chars alone lacks).
+  const std::string off = "OFF\n3 1 0\n+0.5 -0 1E2\n1e-3 0x1p-1 +7\n.25 2. -1.5e+1\n3 0 1 2\n";
+  const MeshFile file = read_mesh_file(write_file("numbers.off", off));
+  ASSERT_EQ(file.positions.size(), 3u);
+  EXPECT_EQ(file.positions[0], Eigen::Vector3d(0.5, 0, 100));
+  EXPECT_EQ(file.positions[1], Eigen::Vector3d(0.001, 0.5, 7));
+  EXPECT_EQ(file.positions[2], Eigen::Vector3d(0.25, 2, -15));
+  EXPECT_THROW(read_mesh_file(write_file("bad-number.off", "OFF\n3 1 0\n1 2 3x\n0 0 0\n1 1 1\n")),
+               IoError);
+}
+
 TEST(MeshIo, PlyAsciiWithExtraPropertiesAndElements) {
   const std::string ply =
       "ply\nformat ascii 1.0\ncomment made by hand\nmade by hand, no comment keyword\n"

@@ -24,7 +24,7 @@ inline constexpr double kDevelopedLengthError = 1e-8;
 //! the cut) at the mean of its corners; where an edge's length is then off by more than
 //! kDevelopedLengthError, least squares over the edge vectors with one unknown per wedge.
 Layout plane_layout(const Triangulation& mesh, const std::vector<double>& lengths,
-                    LinearSolverKind solver);
+                    LinearSolverKind solver, double max_developed_error = kDevelopedLengthError);
 
 //! Any geometry: triangle by triangle; H2 from a central face with a cut of shortest paths from it,
 //! otherwise from the face deepest inside the cut disk.

@@ -131,11 +131,11 @@ double max_relative_length_error(const Triangulation& mesh, const std::vector<do
 }  // namespace
 
 Layout plane_layout(const Triangulation& mesh, const std::vector<double>& lengths,
-                    LinearSolverKind solver) {
+                    LinearSolverKind solver, double max_developed_error) {
   const int nf = mesh.num_faces();
   // Developed face by face, each wedge at the mean of its corners: exact up to the round-off
   // accumulated along the breadth-first tree, and no linear solve (on a 267k-face disk 0.3 s
-  // against 1.4 s). Where that round-off exceeds kDevelopedLengthError in some edge's length, the
+  // against 1.4 s). Where that round-off exceeds max_developed_error in some edge's length, the
   // least-squares fit spreads it instead.
   Layout layout = develop(mesh, Geometry::Euclidean, lengths);
   if (nf == 0) return layout;
@@ -150,7 +150,7 @@ Layout plane_layout(const Triangulation& mesh, const std::vector<double>& length
   for (int w = 0; w < num_wedges; ++w) x[w] /= std::max(count[w], 1);
   for (int k = 0; k < 3 * nf; ++k) layout.corners[k / 3][k % 3] = x[wedge[k]];
   layout.max_relative_length_error = max_relative_length_error(mesh, lengths, layout);
-  if (!(layout.max_relative_length_error <= kDevelopedLengthError)) {
+  if (!(layout.max_relative_length_error <= max_developed_error)) {
     const std::vector<std::array<double, 3>> angle =
         face_angles(mesh, Geometry::Euclidean, lengths);
     const std::vector<double> direction = halfedge_directions(mesh, angle, layout.cut.cut);
