@@ -104,8 +104,8 @@ TEST(Uniformize, SquareOntoTheDiskConvergesToTheConformalMap) {
 
 TEST(Uniformize, EdgeFlipsOnlyWhereTheFlowStalls) {
   // hand.off: the round sphere's Yamabe flow cannot walk to its stereographic start on the input's
-  // triangulation, and Newton gets stuck there or creeps; by default the walk is made again with flips,
-  // and the report says from which iteration and why.
+  // triangulation, and Newton gets stuck there or creeps; by default the walk is made again with
+  // flips, and the report says from which iteration and why.
   const CompactMesh hand = test::cgal_mesh("hand.off");
   UniformizationOptions o;
   const Uniformization run = uniformize(hand, o);
