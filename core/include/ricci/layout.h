@@ -4,10 +4,12 @@
 // A surface that is not a disk (or a sphere) is first cut open into one (cut_graph.h), so a vertex
 // on the cut has one position per fan of faces on each side of it: per face corner ("wedge")
 // positions, glued across the cut by the deck transformations.
-//   E2, every topology: edge directions integrated across the faces by the corner angles (errors
-//     add along a path, they do not multiply), then positions are the sparse least-squares fit to
-//     every face's edge vectors, with separate unknowns on the two sides of a cut (the method
-//     DESIGN.md measured as stable).
+//   E2, every topology: developed triangle by triangle from the face deepest inside the cut disk,
+//     each wedge at the mean of its corners. Where the round-off accumulated along the tree would
+//     make an edge's length off by more than 1e-8 relative, edge directions are integrated across
+//     the faces by the corner angles instead (errors add along a path, they do not multiply), and
+//     positions are the sparse least-squares fit to every face's edge vectors, with separate
+//     unknowns on the two sides of a cut (the method DESIGN.md measured as stable).
 //   H2, S2: developed triangle by triangle, breadth-first, each from the two corners it shares
 //     with a placed face; H2 from a central face, cut along shortest paths from it (so no corner
 //     lies far out in the Poincare disk, where double precision runs out), S2 from the face
