@@ -119,7 +119,6 @@ Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<d
       queue.push(g);
     }
   }
-  glue_along_cut(mesh, layout);
   return layout;
 }
 

@@ -44,8 +44,13 @@ int corner_of(const Triangulation& mesh, int f, int v) {
 
 Layout lay_out(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
                LinearSolverKind solver) {
-  Layout layout = geometry == Geometry::Euclidean ? detail::plane_layout(mesh, lengths, solver)
-                                                  : detail::develop(mesh, geometry, lengths);
+  Layout layout;
+  if (geometry == Geometry::Euclidean) {
+    layout = detail::plane_layout(mesh, lengths, solver);
+  } else {
+    layout = detail::develop(mesh, geometry, lengths);
+    detail::glue_along_cut(mesh, layout);
+  }
   layout.relation_error = surface_group_relation_error(mesh, layout);
   return layout;
 }

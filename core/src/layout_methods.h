@@ -27,7 +27,8 @@ Layout plane_layout(const Triangulation& mesh, const std::vector<double>& length
                     LinearSolverKind solver, double max_developed_error = kDevelopedLengthError);
 
 //! Any geometry: triangle by triangle; H2 from a central face with a cut of shortest paths from it,
-//! otherwise from the face deepest inside the cut disk.
+//! otherwise from the face deepest inside the cut disk. Sets the cut and the corners only: the
+//! caller glues them (glue_along_cut) once its corners are final.
 Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths);
 
 //! Fills the deck transformations (E2, H2), the closure error and the flipped-face count of a
