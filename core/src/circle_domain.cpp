@@ -45,9 +45,15 @@ class AndersonMixing {
 
 }  // namespace
 
-void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh, int outer,
-                             TargetCurvature target, const UniformizationOptions& o,
-                             Uniformization& out) {
+BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop) {
+  return [&mesh, outer_loop](const FlowResult& r) {
+    return circle_boundary_target(result_triangulation(mesh, r), r.edge_lengths, outer_loop);
+  };
+}
+
+void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
+                             const BoundaryRefit& refit, TargetCurvature target,
+                             const UniformizationOptions& o, Uniformization& out) {
   AndersonMixing mixing(5);
   TargetCurvature plain = target;  // the last plain iterate, g(x)
   bool warm = false;               // this flow starts from the last converged one
@@ -63,8 +69,7 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh, i
       warm = false;
       continue;
     }
-    const TargetCurvature next = circle_boundary_target(result_triangulation(mesh, out.result),
-                                                        out.result.edge_lengths, outer);
+    const TargetCurvature next = refit(out.result);
     out.boundary_change = (next.curvature - target.curvature).cwiseAbs().maxCoeff();
     if (out.boundary_change <= o.boundary_tolerance) break;
     if (out.totals.flows >= o.max_boundary_iterations) {

@@ -3,6 +3,7 @@
 // flows; the layout is then moved onto the unit disk (not installed API).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,13 +15,21 @@
 
 namespace ricci::detail {
 
-//! Runs the solver's flow until the boundary curvature of `target` changes by at most
-//! options.boundary_tolerance: Anderson-accelerated, falling back to the plain iteration (and a
-//! cold start) where the accelerated target cannot be reached. Fills run.result, run.totals and
-//! run.boundary_change; the result is marked unconverged when the iteration limit is hit.
-void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
-                             TargetCurvature target, const UniformizationOptions& options,
-                             Uniformization& run);
+//! The target that puts every boundary loop of a converged flow's metric on a circle
+//! (circle_boundary_target of its boundary lengths).
+using BoundaryRefit = std::function<TargetCurvature(const FlowResult&)>;
+
+//! Runs the solver's flow on `mesh` until the boundary curvature of `target` changes by at most
+//! options.boundary_tolerance under `refit`: Anderson-accelerated, falling back to the plain
+//! iteration (and a cold start) where the accelerated target cannot be reached. Fills run.result,
+//! run.totals and run.boundary_change; the result is marked unconverged when the iteration limit
+//! is hit.
+void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
+                             const BoundaryRefit& refit, TargetCurvature target,
+                             const UniformizationOptions& options, Uniformization& run);
+
+//! The refit of a flow on `mesh` itself: its boundary edges are edges of the final metric.
+BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop);
 
 //! The circle through the points (algebraic least squares): centre and radius.
 std::pair<Eigen::Vector2d, double> fit_circle(const std::vector<Eigen::Vector3d>& points,

@@ -18,6 +18,54 @@ CompactMesh::CompactMesh(std::vector<Eigen::Vector3d> positions,
   faces_ = std::move(faces);
   check_elements();
   build_connectivity(static_cast<int>(positions_.size()));
+  measure_input_lengths();
+}
+
+CompactMesh CompactMesh::doubled(const CompactMesh& mesh) {
+  const int n = mesh.num_vertices(), nf = mesh.num_faces();
+  CompactMesh d;
+  d.positions_ = mesh.positions_;
+  std::vector<int> copy(n);
+  for (int v = 0; v < n; ++v) {
+    if (mesh.is_boundary_vertex(v)) {
+      copy[v] = v;
+    } else {
+      copy[v] = static_cast<int>(d.positions_.size());
+      d.positions_.push_back(mesh.positions_[v]);
+    }
+  }
+  const int nd = static_cast<int>(d.positions_.size());
+  d.faces_ = mesh.faces_;
+  d.faces_.reserve(2 * nf);
+  for (int f = 0; f < nf; ++f) {
+    const auto& t = mesh.faces_[f];
+    d.faces_.push_back({copy[t[0]], copy[t[2]], copy[t[1]]});
+  }
+  // Halfedges pair by their vertices, except that a mirrored halfedge which is not a boundary
+  // edge of the mesh names its boundary vertices by keys of their own: an interior edge between
+  // two boundary vertices then has a copy of its own instead of meeting its original.
+  std::vector<std::array<int, 2>> keys(3 * d.faces_.size());
+  for (int h = 0; h < 3 * nf; ++h) keys[h] = {mesh.halfedge_tail(h), mesh.halfedge_head(h)};
+  for (int f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      // Mirrored face (t0, t2, t1): the edge opposite its corner c is the original's opposite
+      // corner (3 - c) % 3, reversed.
+      const int original = 3 * f + (3 - c) % 3;
+      const bool seam = mesh.twin(original) < 0;
+      std::array<int, 2> k;
+      for (int end = 0; end < 2; ++end) {
+        const int v = end == 0 ? mesh.halfedge_head(original) : mesh.halfedge_tail(original);
+        k[end] = !seam && mesh.is_boundary_vertex(v) ? nd + v : copy[v];
+      }
+      keys[3 * (nf + f) + c] = k;
+    }
+  }
+  d.build_connectivity(nd, keys, nd + n);
+  d.measure_input_lengths();
+  return d;
+}
+
+void CompactMesh::measure_input_lengths() {
   input_lengths_.resize(num_edges());
   for (int e = 0; e < num_edges(); ++e) {
     input_lengths_[e] =

@@ -72,6 +72,31 @@ bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, dou
   return off_diagonal <= tolerance * scale;
 }
 
+namespace {
+
+// What the common subdivision needs to follow the input's edges through a flip of edge e.
+EdgeFlip flip_record(const Triangulation& mesh, const ConformalStructure& structure,
+                     const MetricState& state, int e) {
+  const int h = mesh.edge_halfedge(e), t = mesh.twin(h);
+  const int f = h / 3, c = h % 3, fg = t / 3, d = t % 3;
+  const int k = mesh.face_vertex(f, c), a = mesh.face_vertex(f, (c + 1) % 3),
+            b = mesh.face_vertex(f, (c + 2) % 3), l = mesh.face_vertex(fg, d);
+  const std::array<int, 5> quad_edges = {
+      mesh.face_edge(f, (c + 2) % 3), mesh.face_edge(fg, (d + 1) % 3),
+      mesh.face_edge(fg, (d + 2) % 3), mesh.face_edge(f, (c + 1) % 3), e};
+  EdgeFlip record;
+  record.edge = e;
+  for (int i = 0; i < 5; ++i) {
+    record.lambda[i] = lambda(structure, quad_edges[i]);
+    record.chord[i] = chord(structure.geometry, state.edges[quad_edges[i]].length);
+  }
+  const auto& eps = structure.eps;
+  record.ptolemy = eps[k] == 0 && eps[a] == 0 && eps[b] == 0 && eps[l] == 0;
+  return record;
+}
+
+}  // namespace
+
 FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
                          const Eigen::VectorXd& u, MetricState& state, int max_flips) {
   FlipReport report;
@@ -101,8 +126,7 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     if (delaunay(e)) continue;
     const int h = mesh.edge_halfedge(e), t = mesh.twin(h);
     const int f = h / 3, c = h % 3, fg = t / 3, d = t % 3;
-    const int k = mesh.face_vertex(f, c), a = mesh.face_vertex(f, (c + 1) % 3),
-              b = mesh.face_vertex(f, (c + 2) % 3), l = mesh.face_vertex(fg, d);
+    const int k = mesh.face_vertex(f, c), l = mesh.face_vertex(fg, d);
     // The quadrilateral k, a, l, b must be convex at a and b for the new diagonal k-l.
     const double angle_a = state.faces[f].angle[(c + 1) % 3] + state.faces[fg].angle[(d + 2) % 3];
     const double angle_b = state.faces[f].angle[(c + 2) % 3] + state.faces[fg].angle[(d + 1) % 3];
@@ -118,14 +142,7 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     const double old_eta = structure.eta[e];
     double new_eta;
     const auto& eps = structure.eps;
-    EdgeFlip record;
-    record.edge = e;
-    const std::array<int, 5> quad_edges = {e_ka, e_al, e_lb, e_bk, e};
-    for (int i = 0; i < 5; ++i) {
-      record.lambda[i] = lambda(structure, quad_edges[i]);
-      record.chord[i] = chord(g, state.edges[quad_edges[i]].length);
-    }
-    record.ptolemy = eps[k] == 0 && eps[a] == 0 && eps[b] == 0 && eps[l] == 0;
+    const EdgeFlip record = flip_record(mesh, structure, state, e);
     if (record.ptolemy) {
       // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
       const double lam = (lambda(structure, e_ka) * lambda(structure, e_lb) +
@@ -148,7 +165,11 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     // The other diagonal must be Delaunay: otherwise both are not (no proper weighted Delaunay
     // triangulation exists for this quad) and flipping would only cycle.
     if ((!from_lengths && !state.valid()) || !delaunay(e)) {
-      mesh.flip(e);  // back to a-b
+      // Back to a-b. Flipping twice gives the same triangles in other face slots, so both flips
+      // are recorded: a replay of the sequence ends in the same arrays.
+      report.sequence.push_back(record);
+      report.sequence.push_back(flip_record(mesh, structure, state, e));
+      mesh.flip(e);
       structure.eta[e] = old_eta;
       update_metric_at_edge(mesh, structure, u, e, state);
       ++report.blocked;

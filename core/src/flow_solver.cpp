@@ -185,11 +185,11 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   const char* exists_note =
       "; a metric of this target exists for every closed surface (uniformization), this flow did "
       "not reach it: try the tangential scheme";
-  // Euclidean Yamabe flips to a valid triangulation at every u, except across the boundary.
+  // Euclidean Yamabe flips to a valid triangulation at every u, except across the boundary
+  // (uniformize() then flows on the surface doubled along it, doubled_surface.h).
   const char* boundary_note =
-      "; triangles at the boundary degenerate, and no edge flip removes a boundary edge (flips "
-      "across the boundary, on the surface doubled along it, are not built): try the tangential "
-      "scheme, whose triangles are always valid";
+      "; triangles at the boundary degenerate, and no edge flip of this surface removes a "
+      "boundary edge: try the tangential scheme, whose triangles are always valid";
   const bool at_boundary = flipping && step.blocked_at_boundary;
   if (!step.accepted) {
     // A tolerance below what double precision allows here: the floor is convergence.
@@ -207,6 +207,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
       s << exists_note;
     } else if (at_boundary) {
       s << boundary_note;
+      result.stalled_at_boundary = true;
     } else {
       s << "; the solution may not exist" << (flipping ? " for this mesh" : flips_help)
         << ", or try another scheme";
@@ -223,6 +224,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
       s << exists_note;
     } else if (at_boundary) {
       s << boundary_note;
+      result.stalled_at_boundary = true;
     } else {
       s << "; the target is not reachable" << (flipping ? " even with edge flips" : flips_help)
         << ", or try the tangential scheme, whose triangles are always valid";

@@ -15,25 +15,37 @@ using detail::order_by_vertex_pair;
 using detail::UnionFind;
 
 void Triangulation::build_connectivity(int num_vertices) {
+  connect(num_vertices, nullptr, num_vertices);
+}
+
+void Triangulation::build_connectivity(int num_vertices,
+                                       const std::vector<std::array<int, 2>>& halfedge_keys,
+                                       int num_keys) {
+  connect(num_vertices, &halfedge_keys, num_keys);
+}
+
+void Triangulation::connect(int num_vertices, const std::vector<std::array<int, 2>>* keys,
+                            int num_keys) {
   num_vertices_ = num_vertices;
-  build_edges();
+  build_edges(keys, num_keys);
   check_manifold_vertices();
   check_connected();
   build_boundary_loops();
 }
 
-void Triangulation::build_edges() {
+void Triangulation::build_edges(const std::vector<std::array<int, 2>>* keys, int num_keys) {
   const int nf = num_faces();
   face_edges_.assign(nf, {-1, -1, -1});
   twin_.assign(3 * nf, -1);
-  // Halfedges grouped by their vertex pair, each group in index order, its first halfedge
+  const auto ends = [&](int h) {
+    return keys ? (*keys)[h] : std::array<int, 2>{halfedge_tail(h), halfedge_head(h)};
+  };
+  // Halfedges grouped by their keys (vertex pair), each group in index order, its first halfedge
   // first. Edges are numbered in the order their first halfedge comes (faces, then corners).
-  const std::vector<int> by_pair = order_by_vertex_pair(num_vertices(), 3 * nf, [&](int h) {
-    return std::array<int, 2>{halfedge_tail(h), halfedge_head(h)};
-  });
+  const std::vector<int> by_pair = order_by_vertex_pair(num_keys, 3 * nf, ends);
   const auto same_pair = [&](int g, int h) {
-    const int a = halfedge_tail(g), b = halfedge_head(g), c = halfedge_tail(h),
-              d = halfedge_head(h);
+    const auto [a, b] = ends(g);
+    const auto [c, d] = ends(h);
     return std::min(a, b) == std::min(c, d) && std::max(a, b) == std::max(c, d);
   };
   std::vector<std::pair<int, size_t>> groups;  // (first halfedge, its position in by_pair)
@@ -57,7 +69,7 @@ void Triangulation::build_edges() {
         nonmanifold_at.emplace_back(h, e);
         continue;
       }
-      if (halfedge_tail(first) == halfedge_tail(h)) misoriented_at.emplace_back(h, e);
+      if (ends(first)[0] == ends(h)[0]) misoriented_at.emplace_back(h, e);
       edge_faces_[e][1] = h / 3;
       twin_[h] = first;
       twin_[first] = h;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "circle_domain.h"
+#include "doubled_surface.h"
 #include "ricci/errors.h"
 #include "spherical_start.h"
 
@@ -96,6 +97,58 @@ std::vector<std::complex<double>> torus_periods(const Layout& layout) {
   return periods;
 }
 
+// The delivered mesh's positions and corners from the layout's (`position` per vertex of the
+// delivered mesh for per-vertex layouts, `corners` per input face otherwise): the sphere centred,
+// the unit disk normalized.
+void place_delivered(const CompactMesh& mesh, const UniformizationOptions& o, int outer_loop,
+                     std::vector<Eigen::Vector3d> position,
+                     std::vector<std::array<Eigen::Vector3d, 3>> corners, Uniformization& run) {
+  const CommonSubdivision* sub = run.subdivision ? &*run.subdivision : nullptr;
+  const bool per_vertex =
+      run.layout_kind == LayoutKind::Plane || run.layout_kind == LayoutKind::Sphere;
+  if (run.layout_kind == LayoutKind::Sphere && mesh.is_closed()) {
+    // The centring Moebius map moves vertices along circles, not the faces' chords: a large thin
+    // face of a coarse mesh can turn over. The sphere stays uncentred then.
+    std::vector<Eigen::Vector3d> centred = center_on_sphere(position, mesh.num_vertices());
+    const std::vector<std::array<int, 3>>& faces = sub ? sub->faces : mesh.faces();
+    auto turned = [&](const std::vector<Eigen::Vector3d>& p) {
+      int n = 0;
+      for (const auto& t : faces)
+        n += !(orientation(run.geometry, {p[t[0]], p[t[1]], p[t[2]]}) > 0);
+      return n;
+    };
+    if (turned(centred) <= turned(position)) {
+      position = std::move(centred);
+    } else {
+      run.centring_skipped = true;
+    }
+  }
+  if (run.preset == TargetPreset::UnitDisk) {
+    position = detail::normalize_to_unit_disk(
+        std::move(position), mesh.boundary_loops()[outer_loop], o.center_vertex, o.axis_vertex);
+    run.circle_error = detail::circle_error(position, mesh);
+  }
+  run.position = std::move(position);
+  if (!sub) {
+    if (per_vertex) {
+      corners.resize(mesh.num_faces());
+      for (int f = 0; f < mesh.num_faces(); ++f) {
+        for (int c = 0; c < 3; ++c) corners[f][c] = run.position[mesh.face_vertex(f, c)];
+      }
+    }
+    run.corners = std::move(corners);
+    return;
+  }
+  if (!per_vertex) {
+    run.corners = sub->corners;
+    return;
+  }
+  run.corners.resize(sub->faces.size());
+  for (size_t f = 0; f < sub->faces.size(); ++f) {
+    for (int c = 0; c < 3; ++c) run.corners[f][c] = run.position[sub->faces[f][c]];
+  }
+}
+
 // The layout of a converged flow, its per-vertex positions where it has them, and the corners of
 // the delivered faces: the input's, or, when those would turn over after edge flips, the common
 // subdivision's.
@@ -139,46 +192,7 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
     position.insert(position.end(), sub->vertex_layout.begin() + mesh.num_vertices(),
                     sub->vertex_layout.end());
   }
-  if (run.layout_kind == LayoutKind::Sphere && mesh.is_closed()) {
-    // The centring Moebius map moves vertices along circles, not the faces' chords: a large thin
-    // face of a coarse mesh can turn over. The sphere stays uncentred then.
-    std::vector<Eigen::Vector3d> centred = center_on_sphere(position, mesh.num_vertices());
-    const std::vector<std::array<int, 3>>& faces = sub ? sub->faces : mesh.faces();
-    auto turned = [&](const std::vector<Eigen::Vector3d>& p) {
-      int n = 0;
-      for (const auto& t : faces)
-        n += !(orientation(run.geometry, {p[t[0]], p[t[1]], p[t[2]]}) > 0);
-      return n;
-    };
-    if (turned(centred) <= turned(position)) {
-      position = std::move(centred);
-    } else {
-      run.centring_skipped = true;
-    }
-  }
-  if (run.preset == TargetPreset::UnitDisk) {
-    position = detail::normalize_to_unit_disk(
-        std::move(position), mesh.boundary_loops()[outer_loop], o.center_vertex, o.axis_vertex);
-    run.circle_error = detail::circle_error(position, mesh);
-  }
-  run.position = std::move(position);
-  if (!sub) {
-    if (per_vertex) {
-      for (int f = 0; f < mesh.num_faces(); ++f) {
-        for (int c = 0; c < 3; ++c) corners[f][c] = run.position[mesh.face_vertex(f, c)];
-      }
-    }
-    run.corners = std::move(corners);
-    return;
-  }
-  if (!per_vertex) {
-    run.corners = sub->corners;
-    return;
-  }
-  run.corners.resize(sub->faces.size());
-  for (size_t f = 0; f < sub->faces.size(); ++f) {
-    for (int c = 0; c < 3; ++c) run.corners[f][c] = run.position[sub->faces[f][c]];
-  }
+  place_delivered(mesh, o, outer_loop, std::move(position), std::move(corners), run);
 }
 
 }  // namespace
@@ -357,13 +371,21 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   run.structure = prepare_flow(mesh, run.geometry, o.scheme, target);
   RicciFlowSolver solver(mesh, run.structure, o.flow);
   if (run.preset == TargetPreset::UnitDisk) {
-    detail::fit_boundary_to_circles(solver, mesh, outer, target, o, run);
+    detail::fit_boundary_to_circles(solver, mesh, detail::refit_on_mesh(mesh, outer), target, o,
+                                    run);
   } else {
     const std::optional<Eigen::VectorXd> start = flow_start(mesh, run.structure, target, o.flow);
     run.result = solver.solve(target, start ? &*start : nullptr);
     run.totals.add(run.result);
   }
-  if (run.result.converged) lay_out_result(mesh, o, outer, run);
+  if (detail::may_flow_on_double(mesh, o, run)) {
+    detail::flow_on_double(mesh, o, outer, target, run);
+  }
+  if (run.doubled) {
+    place_delivered(mesh, o, outer, std::move(run.position), {}, run);
+  } else if (run.result.converged) {
+    lay_out_result(mesh, o, outer, run);
+  }
   if (run.subdivision) {
     run.quality = measure_layout(face_sides(run.subdivision->positions, run.subdivision->faces),
                                  run.geometry, run.result, run.corners);

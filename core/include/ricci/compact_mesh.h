@@ -21,6 +21,13 @@ class CompactMesh : public Triangulation {
   //!   inconsistently oriented faces, several connected components, an empty mesh.
   CompactMesh(std::vector<Eigen::Vector3d> positions, std::vector<std::array<int, 3>> faces);
 
+  //! The double of a surface with boundary: the mesh and its mirror image glued along the
+  //! boundary, a closed surface of genus 2g + b - 1. Vertices: the mesh's, then a copy of each
+  //! interior vertex (in order); faces: the mesh's, then their mirror images (in order, reversed);
+  //! edges: the mesh's first, numbered alike. Copies sit at their originals' positions.
+  //! \pre the mesh has a boundary
+  static CompactMesh doubled(const CompactMesh& mesh);
+
   const std::vector<Eigen::Vector3d>& positions() const { return positions_; }
 
   //! Input (Euclidean) length of every edge.
@@ -29,7 +36,9 @@ class CompactMesh : public Triangulation {
   double input_area() const;
 
  private:
+  CompactMesh() = default;
   void check_elements();
+  void measure_input_lengths();
 
   std::vector<Eigen::Vector3d> positions_;
   std::vector<double> input_lengths_;

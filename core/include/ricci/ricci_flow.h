@@ -93,6 +93,8 @@ struct FlowResult {
   bool converged = false;
   FlowStop stop = FlowStop::NotStarted;
   std::string failure;  //!< why the flow stopped, when !converged
+  //! Stalled with edge flips on, at triangles that only a flip of a boundary edge could repair.
+  bool stalled_at_boundary = false;
 
   Eigen::VectorXd u;                 //!< conformal factor per vertex
   Eigen::VectorXd radius;            //!< circle radius r(u) of the geometry; NaN where undefined

@@ -69,12 +69,19 @@ class Triangulation {
   //! \throws InvalidMeshError for non-manifold edges or vertices, inconsistently oriented
   //!   faces, several connected components.
   void build_connectivity(int num_vertices);
+  //! The same, with halfedges paired by keys instead of their vertices: halfedge h belongs to the
+  //! edge of the other halfedge with keys halfedge_keys[h] (tail, head) reversed. Keys are in
+  //! 0..num_keys-1. Two edges may then join the same two vertices (the double of a surface whose
+  //! boundary vertices are joined by an interior edge has two such edges).
+  void build_connectivity(int num_vertices, const std::vector<std::array<int, 2>>& halfedge_keys,
+                          int num_keys);
 
   std::vector<std::array<int, 3>> faces_;
   std::vector<std::array<int, 2>> edge_vertices_;
 
  private:
-  void build_edges();
+  void connect(int num_vertices, const std::vector<std::array<int, 2>>* keys, int num_keys);
+  void build_edges(const std::vector<std::array<int, 2>>* keys, int num_keys);
   void check_manifold_vertices();
   void check_connected();
   void build_boundary_loops();

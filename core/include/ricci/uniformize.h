@@ -114,6 +114,9 @@ struct Uniformization {
   int input_faces_turned_over = 0;
   //! Sphere: the centring Moebius map was not applied because it would turn faces over.
   bool centring_skipped = false;
+  //! The flow ran on the surface doubled along its boundary (doubled_surface.h), because on the
+  //! surface itself triangles at the boundary stalled it; `result` is the half's part of it.
+  bool doubled = false;
   //! Why the common subdivision could not be built, or "".
   std::string subdivision_failure;
   //! Flat torus (E2, closed genus 1): two translations spanning the period lattice, from the deck

@@ -1,0 +1,340 @@
+#include "doubled_surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <sstream>
+#include <unordered_map>
+#include <utility>
+
+#include "circle_domain.h"
+#include "delaunay.h"
+#include "ricci/errors.h"
+#include "ricci/presets.h"
+
+namespace ricci::detail {
+
+bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
+                        const Uniformization& run) {
+  return !run.result.converged && run.result.stalled_at_boundary &&
+         run.geometry == Geometry::Euclidean && !half.is_closed() &&
+         options.flow.edge_flips != EdgeFlips::Never && all_ptolemy(run.structure) &&
+         planned_layout(half, run.preset, run.geometry) == LayoutKind::Plane;
+}
+
+TargetCurvature doubled_target(const CompactMesh& half, const CompactMesh& twice,
+                               const TargetCurvature& target) {
+  const int n = half.num_vertices();
+  TargetCurvature t;
+  t.curvature = Eigen::VectorXd::Zero(twice.num_vertices());
+  t.fixed.assign(twice.num_vertices(), 0);
+  int copy = n;
+  for (int v = 0; v < n; ++v) {
+    const bool boundary = half.is_boundary_vertex(v);
+    const double k = (boundary ? 2.0 : 1.0) * target.curvature[v];
+    t.curvature[v] = k;
+    t.fixed[v] = target.fixed[v];
+    if (boundary) continue;
+    t.curvature[copy] = k;
+    t.fixed[copy] = target.fixed[v];
+    ++copy;
+  }
+  return t;
+}
+
+FlowResult half_result(const CompactMesh& half, const FlowResult& twice) {
+  FlowResult r = twice;
+  const int n = half.num_vertices();
+  for (Eigen::VectorXd* x : {&r.u, &r.radius, &r.curvature, &r.target}) {
+    if (x->size() == 0) continue;
+    x->conservativeResize(n);
+    for (int v = 0; v < n; ++v) {
+      if (half.is_boundary_vertex(v) && (x == &r.curvature || x == &r.target)) (*x)[v] /= 2;
+    }
+  }
+  r.edge_lengths.clear();
+  r.triangulation.reset();
+  r.flip_sequence.clear();
+  r.area = twice.area / 2;
+  return r;
+}
+
+Layout face_by_face_layout(const Triangulation& mesh, const std::vector<double>& lengths) {
+  Layout layout;
+  layout.geometry = Geometry::Euclidean;
+  layout.corners.resize(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    // Sides: corner 0 to 1 is the edge opposite corner 2, and so on.
+    const double a = lengths[mesh.face_edge(f, 2)], b = lengths[mesh.face_edge(f, 1)],
+                 c = lengths[mesh.face_edge(f, 0)];
+    const double x = (a * a + b * b - c * c) / (2 * a);
+    layout.corners[f] = {Eigen::Vector3d::Zero(), Eigen::Vector3d(a, 0, 0),
+                         Eigen::Vector3d(x, std::sqrt(std::max(0.0, b * b - x * x)), 0)};
+  }
+  return layout;
+}
+
+namespace {
+
+std::complex<double> complex_of(const Eigen::Vector3d& p) {
+  return {p.x(), p.y()};
+}
+
+// The sides of the pieces by vertex pair: the (one or two) pieces and the side's index in each.
+struct PieceSides {
+  struct Side {
+    int piece[2] = {-1, -1};
+    int corner[2] = {-1, -1};  // the side opposite this corner of the piece
+    int count = 0;
+  };
+  std::unordered_map<uint64_t, Side> sides;
+
+  static uint64_t key(int a, int b) {
+    return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
+  }
+  explicit PieceSides(const std::vector<std::array<int, 3>>& faces) {
+    sides.reserve(2 * faces.size());
+    for (size_t f = 0; f < faces.size(); ++f) {
+      for (int c = 0; c < 3; ++c) {
+        Side& s = sides[key(faces[f][(c + 1) % 3], faces[f][(c + 2) % 3])];
+        if (s.count < 2) {
+          s.piece[s.count] = static_cast<int>(f);
+          s.corner[s.count] = c;
+        }
+        ++s.count;
+      }
+    }
+  }
+};
+
+}  // namespace
+
+HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice) {
+  const int n = half.num_vertices(), nf = half.num_faces();
+  HalfSubdivision out;
+  CommonSubdivision& sub = out.subdivision;
+  sub.num_input_vertices = n;
+  sub.num_flips = twice.num_flips;
+  sub.seconds = twice.seconds;
+
+  // The pieces in the half's faces, and the vertices they use: the half's, then new ones.
+  std::vector<int> pieces;
+  std::vector<int> index(twice.positions.size(), -1);
+  for (int v = 0; v < n; ++v) index[v] = v;
+  for (size_t f = 0; f < twice.faces.size(); ++f) {
+    if (twice.input_face[f] >= nf) continue;
+    pieces.push_back(static_cast<int>(f));
+    for (int v : twice.faces[f]) {
+      if (index[v] < 0) index[v] = -2;
+    }
+  }
+  const int twice_n = twice.num_input_vertices;
+  std::vector<int> vertices(n);
+  for (int v = 0; v < n; ++v) vertices[v] = v;
+  for (size_t v = twice_n; v < twice.positions.size(); ++v) {
+    if (index[v] == -2) {
+      index[v] = static_cast<int>(vertices.size());
+      vertices.push_back(static_cast<int>(v));
+    }
+  }
+  const int nv = static_cast<int>(vertices.size());
+  sub.u.resize(nv);
+  for (int i = 0; i < nv; ++i) {
+    const int v = vertices[i];
+    sub.positions.push_back(twice.positions[v]);
+    sub.vertex_input_face.push_back(twice.vertex_input_face[v]);
+    sub.vertex_barycentric.push_back(twice.vertex_barycentric[v]);
+    sub.u[i] = twice.u[v];
+    if (i >= n) {
+      sub.vertex_input_edge.push_back(twice.vertex_input_edge[v - twice_n]);
+      sub.vertex_edge_parameter.push_back(twice.vertex_edge_parameter[v - twice_n]);
+    }
+  }
+  for (int f : pieces) {
+    const auto& t = twice.faces[f];
+    sub.faces.push_back({index[t[0]], index[t[1]], index[t[2]]});
+    sub.input_face.push_back(twice.input_face[f]);
+    sub.final_face.push_back(twice.final_face[f]);
+  }
+  for (int v = 0; v < n; ++v) {
+    if (sub.vertex_input_face[v] >= nf) {
+      throw LayoutError("doubled surface: vertex " + std::to_string(v) +
+                        " is placed in a face of the mirror copy");
+    }
+  }
+
+  // Development: each piece placed by the rigid motion that puts the side it shares with a placed
+  // piece onto that piece's side (its own corners are a congruent copy, in its final face's frame).
+  const int np = static_cast<int>(pieces.size());
+  const PieceSides sides(sub.faces);
+  std::vector<std::array<Eigen::Vector3d, 3>> placed(np);
+  std::vector<char> done(np, 0);
+  std::vector<int> queue = {0};
+  if (np == 0) throw LayoutError("doubled surface: no piece lies in the surface's faces");
+  placed[0] = twice.corners[pieces[0]];
+  done[0] = 1;
+  for (size_t head = 0; head < queue.size(); ++head) {
+    const int p = queue[head];
+    for (int c = 0; c < 3; ++c) {
+      const int a = sub.faces[p][(c + 1) % 3], b = sub.faces[p][(c + 2) % 3];
+      const PieceSides::Side& s = sides.sides.at(PieceSides::key(a, b));
+      if (s.count != 2) continue;
+      const int side = s.piece[0] == p ? 1 : 0;
+      const int q = s.piece[side], qc = s.corner[side];
+      if (done[q]) continue;
+      const int qa = sub.faces[q][(qc + 1) % 3] == a ? (qc + 1) % 3 : (qc + 2) % 3;
+      const int qb = 3 - qc - qa;
+      const auto& own = twice.corners[pieces[q]];
+      const DiskIsometry move = DiskIsometry::mapping(
+          Geometry::Euclidean, complex_of(own[qa]), complex_of(own[qb]),
+          complex_of(placed[p][(c + 1) % 3]), complex_of(placed[p][(c + 2) % 3]));
+      const std::complex<double> z = move(complex_of(own[qc]));
+      placed[q][qc] = Eigen::Vector3d(z.real(), z.imag(), 0);
+      placed[q][qa] = placed[p][(c + 1) % 3];
+      placed[q][qb] = placed[p][(c + 2) % 3];
+      done[q] = 1;
+      queue.push_back(q);
+    }
+  }
+  if (static_cast<int>(queue.size()) != np) {
+    throw LayoutError("doubled surface: the pieces in the surface's faces are not connected");
+  }
+
+  // Per vertex the mean of its corners; the spread is the closure error.
+  std::vector<Eigen::Vector3d> sum(nv, Eigen::Vector3d::Zero());
+  std::vector<int> count(nv, 0);
+  for (int p = 0; p < np; ++p) {
+    for (int c = 0; c < 3; ++c) sum[sub.faces[p][c]] += placed[p][c], ++count[sub.faces[p][c]];
+  }
+  sub.vertex_layout.resize(nv);
+  for (int v = 0; v < nv; ++v) {
+    if (count[v] == 0) throw LayoutError("doubled surface: a vertex lies in no piece");
+    sub.vertex_layout[v] = sum[v] / count[v];
+  }
+  sub.corners.resize(np);
+  for (int p = 0; p < np; ++p) {
+    for (int c = 0; c < 3; ++c) {
+      sub.corners[p][c] = sub.vertex_layout[sub.faces[p][c]];
+      out.closure_error = std::max(out.closure_error, (placed[p][c] - sub.corners[p][c]).norm());
+    }
+  }
+
+  // The boundary: sides of one piece only, each on one boundary edge of the half (the one its new
+  // vertex lies on, or the one joining its two ends), measured in the piece's own frame.
+  out.boundary_lengths.assign(half.num_edges(), 0.0);
+  std::unordered_map<uint64_t, int> boundary_edge;
+  for (int e = 0; e < half.num_edges(); ++e) {
+    if (half.is_boundary_edge(e)) {
+      const auto [a, b] = half.edge_vertices(e);
+      boundary_edge[PieceSides::key(a, b)] = e;
+    }
+  }
+  for (const auto& [key, s] : sides.sides) {
+    if (s.count != 1) continue;
+    const int p = s.piece[0], c = s.corner[0];
+    const int a = sub.faces[p][(c + 1) % 3], b = sub.faces[p][(c + 2) % 3];
+    int e = -1;
+    for (int v : {a, b}) {
+      if (v >= n) e = sub.vertex_input_edge[v - n];
+    }
+    if (e < 0) {
+      const auto it = boundary_edge.find(key);
+      if (it != boundary_edge.end()) e = it->second;
+    }
+    if (e < 0 || !half.is_boundary_edge(e)) {
+      throw LayoutError("doubled surface: a side of the pieces' boundary lies on no boundary edge");
+    }
+    const auto& own = twice.corners[pieces[p]];
+    out.boundary_lengths[e] += (own[(c + 1) % 3] - own[(c + 2) % 3]).norm();
+  }
+  return out;
+}
+
+namespace {
+
+// The double's common subdivision cut down to the half.
+HalfSubdivision subdivide_half(const CompactMesh& half, const CompactMesh& twice,
+                               const ConformalStructure& structure, const FlowResult& result) {
+  const Triangulation& flowed = result_triangulation(twice, result);
+  return half_subdivision(half,
+                          common_subdivision(twice, structure, result,
+                                             face_by_face_layout(flowed, result.edge_lengths)));
+}
+
+}  // namespace
+
+void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int outer,
+                    const TargetCurvature& target, Uniformization& run) {
+  const CompactMesh twice = CompactMesh::doubled(half);
+  const TargetCurvature twice_target = doubled_target(half, twice, target);
+  const ConformalStructure structure =
+      prepare_flow(twice, Geometry::Euclidean, o.scheme, twice_target);
+  FlowOptions flow = o.flow;
+  flow.edge_flips = EdgeFlips::Always;  // the half's flow has shown that flips are needed
+  RicciFlowSolver solver(twice, structure, flow);
+
+  Uniformization on_double;
+  on_double.totals = run.totals;
+  std::optional<HalfSubdivision> last;
+  try {
+    if (run.preset == TargetPreset::UnitDisk) {
+      const BoundaryRefit refit = [&](const FlowResult& r) {
+        last = subdivide_half(half, twice, structure, r);
+        return doubled_target(half, twice,
+                              circle_boundary_target(half, last->boundary_lengths, outer));
+      };
+      fit_boundary_to_circles(solver, twice, refit, twice_target, o, on_double);
+    } else {
+      on_double.result = solver.solve(twice_target);
+      on_double.totals.add(on_double.result);
+    }
+    if (on_double.result.converged && !last) {
+      last = subdivide_half(half, twice, structure, on_double.result);
+    }
+  } catch (const LayoutError& e) {
+    run.result.failure += "; on the surface doubled along its boundary the flow converged, but " +
+                          std::string(e.what());
+    return;
+  }
+  if (!on_double.result.converged) {
+    std::ostringstream s;
+    s << "; on the surface doubled along its boundary, where boundary edges flip too, the flow "
+         "stopped as well: "
+      << on_double.result.failure;
+    const Eigen::VectorXd& u = on_double.result.u;
+    const double squeeze = u.size() ? std::exp(-(u.maxCoeff() - u.minCoeff()) / 2) : 1;
+    if (squeeze < 1e-6) {
+      s << " (by then lengths in one part were " << squeeze
+        << " times those in another: the map squeezes part of the surface below what double "
+           "precision resolves, as a long protrusion mapped onto a disk is; --target "
+           "free-boundary keeps the boundary's lengths)";
+    }
+    run.result.failure += s.str();
+    return;
+  }
+
+  run.doubled = true;
+  run.result = half_result(half, on_double.result);
+  run.totals = on_double.totals;
+  run.boundary_change = on_double.boundary_change;
+  run.layout_kind = LayoutKind::Plane;
+  run.layout = Layout{};
+  run.layout.closure_error = last->closure_error;
+  CommonSubdivision& sub = last->subdivision;
+  // The half's own faces drawn by their corners: delivered instead when none turns over.
+  for (const auto& t : half.faces()) {
+    std::array<Eigen::Vector3d, 3> p;
+    for (int c = 0; c < 3; ++c) p[c] = sub.vertex_layout[t[c]];
+    run.input_faces_turned_over += !(orientation(Geometry::Euclidean, p) > 0);
+  }
+  if (run.input_faces_turned_over == 0 || o.keep_input_triangulation) {
+    run.position.assign(sub.vertex_layout.begin(), sub.vertex_layout.begin() + half.num_vertices());
+  } else {
+    run.position = sub.vertex_layout;
+    run.layout.corners = sub.corners;
+    run.subdivision = std::move(sub);
+  }
+}
+
+}  // namespace ricci::detail
