@@ -315,6 +315,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   }
 
   run.doubled = true;
+  run.doubled_because = run.result.failure;
   run.result = half_result(half, on_double.result);
   run.totals = on_double.totals;
   run.boundary_change = on_double.boundary_change;

@@ -201,6 +201,12 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     line("Edge flips were needed from iteration ", t.flips_from_iteration,
          " on: on the input's triangulation, ", t.without_flips);
   }
+  if (run.doubled) {
+    line(
+        "Flowed on the surface doubled along its boundary, where boundary edges flip too: on "
+        "the surface itself the flow ",
+        run.doubled_because);
+  }
   if (run.preset == TargetPreset::UnitDisk) {
     line("Boundary loops on circles after ", t.flows, " flows: circle error ", run.circle_error);
   }
@@ -282,6 +288,7 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
   j << "  \"flips_from_iteration\": "
     << (needed ? std::to_string(totals.flips_from_iteration) : "null") << ",\n";
   j << "  \"without_flips\": " << (needed ? quoted(totals.without_flips) : "null") << ",\n";
+  j << "  \"doubled_surface\": " << (run.doubled ? "true" : "false") << ",\n";
   j << "  \"flows\": " << totals.flows << ",\n";
   j << "  \"iterations\": " << totals.newton_iterations << ",\n";
   j << "  \"edge_flips\": " << totals.edge_flips << ",\n";

@@ -117,6 +117,7 @@ struct Uniformization {
   //! The flow ran on the surface doubled along its boundary (doubled_surface.h), because on the
   //! surface itself triangles at the boundary stalled it; `result` is the half's part of it.
   bool doubled = false;
+  std::string doubled_because;  //!< with `doubled`: why the flow on the surface itself stopped
   //! Why the common subdivision could not be built, or "".
   std::string subdivision_failure;
   //! Flat torus (E2, closed genus 1): two translations spanning the period lattice, from the deck
