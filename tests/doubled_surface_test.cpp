@@ -122,5 +122,37 @@ TEST(DoubledSurface, DisksThatStallAtTheBoundaryAreMappedOnTheDouble) {
   EXPECT_GE(doubled, 1);
 }
 
+// Barrett WAM link 6 (dart-doc, BSD-2-clause): a CAD part of genus 1 with 35 boundary loops,
+// whose hyperbolic metric with geodesic boundary stalls at the boundary on its own triangulation.
+TEST(DoubledSurface, HyperbolicSurfacesWithBoundaryAreMappedOnTheDouble) {
+  const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/dart-wam6.STL");
+  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  ASSERT_EQ(repaired.components.size(), 1u);
+  const CompactMesh& mesh = repaired.components[0].mesh;
+  const Uniformization run = uniformize(mesh, {});
+  ASSERT_TRUE(run.doubled) << run.result.failure;
+  EXPECT_TRUE(run.valid()) << run.layout_failure;
+  EXPECT_EQ(run.geometry, Geometry::Hyperbolic);
+  EXPECT_EQ(run.layout_kind, LayoutKind::PoincareDisk);
+  EXPECT_LE(run.result.residual, 1e-9);
+  // The half's curvature: Gauss-Bonnet with geodesic boundary, sum K - area = 2 pi chi.
+  EXPECT_NEAR(run.result.curvature.sum() - run.result.area, 2 * kPi * mesh.euler_characteristic(),
+              1e-7);
+  ASSERT_TRUE(run.subdivision.has_value());
+  const CommonSubdivision& sub = *run.subdivision;
+  ASSERT_EQ(run.corners.size(), sub.faces.size());
+  double area = 0;
+  for (size_t f = 0; f < sub.faces.size(); ++f) {
+    const auto& t = run.corners[f];
+    const Eigen::Vector3d a = t[1] - t[0], b = t[2] - t[0];
+    EXPECT_GT(a.x() * b.y() - a.y() * b.x(), 0) << "face " << f;
+    for (const auto& p : t) EXPECT_LT(p.head<2>().norm(), 1);
+    const auto& p = sub.positions;
+    const auto& v = sub.faces[f];
+    area += 0.5 * (p[v[1]] - p[v[0]]).cross(p[v[2]] - p[v[0]]).norm();
+  }
+  EXPECT_NEAR(area, mesh.input_area(), 1e-9 * mesh.input_area());
+}
+
 }  // namespace
 }  // namespace ricci

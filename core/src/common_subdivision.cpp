@@ -28,7 +28,8 @@ double realize(const InputOverlay& overlay, double t, int v0, int v1, const Eige
 // The point with barycentric coordinates (1 - t, t) between two corners of a laid-out triangle
 // of the final metric: straight in the plane, the chord's central projection on the sphere, and
 // through the hyperboloid for the Poincare disk.
-Eigen::Vector3d between(Geometry g, const Eigen::Vector3d& p, const Eigen::Vector3d& q, double t) {
+Eigen::Vector3d between(Geometry g, const Eigen::Vector3d& p, const Eigen::Vector3d& q, double t,
+                        DiskSidePoints disk_points) {
   switch (g) {
     case Geometry::Spherical:
       return ((1 - t) * p + t * q).normalized();
@@ -47,6 +48,7 @@ Eigen::Vector3d between(Geometry g, const Eigen::Vector3d& p, const Eigen::Vecto
       // where the geodesic's point projects onto that straight side (the arc is less than a
       // half circle, so the order along the side is kept).
       const Eigen::Vector3d on_arc(x[0] / n / (1 + w), x[1] / n / (1 + w), 0.0);
+      if (disk_points == DiskSidePoints::OnGeodesic) return on_arc;
       const Eigen::Vector3d side = q - p;
       const double along = std::clamp((on_arc - p).dot(side) / side.squaredNorm(), 0.0, 1.0);
       return p + along * side;
@@ -72,7 +74,8 @@ struct FacePieces {
 }  // namespace
 
 CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStructure& initial,
-                                     const FlowResult& result, const Layout& layout) {
+                                     const FlowResult& result, const Layout& layout,
+                                     DiskSidePoints disk_points) {
   const auto begin = std::chrono::steady_clock::now();
   const Geometry g = layout.geometry;
   bool projective = true;
@@ -168,8 +171,8 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
         here.push_back(c);
         index_of_crossing_here.push_back(static_cast<int>(P.point_vertex.size()));
         P.point_vertex.push_back(vertex_of[c]);
-        P.point_layout.push_back(
-            between(g, layout.corners[face][i], layout.corners[face][(i + 1) % 3], tr));
+        P.point_layout.push_back(between(g, layout.corners[face][i],
+                                         layout.corners[face][(i + 1) % 3], tr, disk_points));
         P.point_side.push_back(i);
       }
     }

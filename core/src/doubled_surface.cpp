@@ -11,16 +11,21 @@
 #include "circle_domain.h"
 #include "delaunay.h"
 #include "ricci/errors.h"
+#include "ricci/geometry.h"
 #include "ricci/presets.h"
+#include "ricci/scheme.h"
 
 namespace ricci::detail {
 
 bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
                         const Uniformization& run) {
-  return !run.result.converged && run.result.stalled_at_boundary &&
-         run.geometry == Geometry::Euclidean && !half.is_closed() &&
-         options.flow.edge_flips != EdgeFlips::Never && all_ptolemy(run.structure) &&
-         planned_layout(half, run.preset, run.geometry) == LayoutKind::Plane;
+  const bool yamabe = std::all_of(run.structure.eps.begin(), run.structure.eps.end(),
+                                  [](int eps) { return eps == 0; });
+  const LayoutKind kind = planned_layout(half, run.preset, run.geometry);
+  return !run.result.converged && run.result.stalled_at_boundary && !half.is_closed() &&
+         options.flow.edge_flips != EdgeFlips::Never && yamabe &&
+         ((run.geometry == Geometry::Euclidean && kind == LayoutKind::Plane) ||
+          (run.geometry == Geometry::Hyperbolic && kind == LayoutKind::PoincareDisk));
 }
 
 TargetCurvature doubled_target(const CompactMesh& half, const CompactMesh& twice,
@@ -60,14 +65,24 @@ FlowResult half_result(const CompactMesh& half, const FlowResult& twice) {
   return r;
 }
 
-Layout face_by_face_layout(const Triangulation& mesh, const std::vector<double>& lengths) {
+Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
+                           const std::vector<double>& lengths) {
   Layout layout;
-  layout.geometry = Geometry::Euclidean;
+  layout.geometry = geometry;
   layout.corners.resize(mesh.num_faces());
   for (int f = 0; f < mesh.num_faces(); ++f) {
     // Sides: corner 0 to 1 is the edge opposite corner 2, and so on.
     const double a = lengths[mesh.face_edge(f, 2)], b = lengths[mesh.face_edge(f, 1)],
                  c = lengths[mesh.face_edge(f, 0)];
+    if (geometry == Geometry::Hyperbolic) {
+      // Corner 0 at the centre of the Poincare disk, where a geodesic of length d from it ends
+      // at radius tanh(d / 2).
+      const double angle = corner_angles(geometry, {c, b, a}).angle[0];
+      const std::complex<double> z = std::polar(std::tanh(b / 2), angle);
+      layout.corners[f] = {Eigen::Vector3d::Zero(), Eigen::Vector3d(std::tanh(a / 2), 0, 0),
+                           Eigen::Vector3d(z.real(), z.imag(), 0)};
+      continue;
+    }
     const double x = (a * a + b * b - c * c) / (2 * a);
     layout.corners[f] = {Eigen::Vector3d::Zero(), Eigen::Vector3d(a, 0, 0),
                          Eigen::Vector3d(x, std::sqrt(std::max(0.0, b * b - x * x)), 0)};
@@ -108,9 +123,69 @@ struct PieceSides {
   }
 };
 
+// Breadth-first order of the pieces from `start` across shared sides, with each piece's parent.
+std::pair<std::vector<int>, std::vector<int>> sweep(const std::vector<std::array<int, 3>>& faces,
+                                                    const PieceSides& sides, int start) {
+  std::vector<int> order = {start}, parent(faces.size(), -2);
+  parent[start] = -1;
+  for (size_t head = 0; head < order.size(); ++head) {
+    const int p = order[head];
+    for (int c = 0; c < 3; ++c) {
+      const PieceSides::Side& s =
+          sides.sides.at(PieceSides::key(faces[p][(c + 1) % 3], faces[p][(c + 2) % 3]));
+      if (s.count != 2) continue;
+      const int q = s.piece[s.piece[0] == p ? 1 : 0];
+      if (parent[q] != -2) continue;
+      parent[q] = p;
+      order.push_back(q);
+    }
+  }
+  return {order, parent};
+}
+
+// The Poincare disk draws a final face's sides straight in its coordinates, so a thin piece with
+// corners on a side's geodesic arc can come out turned over: each new vertex is moved from the arc
+// onto the straight side of its final face as developed (where the common subdivision puts it in
+// a layout of the final faces), the same place from both faces of the side where the development
+// crossed it.
+void draw_sides_straight(const CommonSubdivision& twice, const std::vector<int>& pieces,
+                         const Layout& frames, const std::vector<DiskIsometry>& motion,
+                         int num_input_vertices, const std::vector<std::array<int, 3>>& faces,
+                         std::vector<std::array<Eigen::Vector3d, 3>>& placed) {
+  const auto klein = [](const std::complex<double>& z) { return 2.0 * z / (1.0 + std::norm(z)); };
+  for (size_t q = 0; q < pieces.size(); ++q) {
+    const auto& frame = frames.corners[twice.final_face[pieces[q]]];
+    std::array<std::complex<double>, 3> corner, corner_klein;
+    for (int i = 0; i < 3; ++i) {
+      corner[i] = motion[q](complex_of(frame[i]));
+      corner_klein[i] = klein(complex_of(frame[i]));
+    }
+    for (int c = 0; c < 3; ++c) {
+      if (faces[q][c] < num_input_vertices) continue;
+      // The side whose geodesic holds the point: straight through it in the Klein model.
+      const std::complex<double> k = klein(complex_of(twice.corners[pieces[q]][c]));
+      int side = 0;
+      double best = INFINITY;
+      for (int i = 0; i < 3; ++i) {
+        const std::complex<double> d = corner_klein[(i + 1) % 3] - corner_klein[i];
+        const double off = std::abs(std::imag(std::conj(d) * (k - corner_klein[i]))) / std::abs(d);
+        if (off < best) best = off, side = i;
+      }
+      const std::complex<double> a = corner[side], b = corner[(side + 1) % 3];
+      const std::complex<double> z = complex_of(placed[q][c]);
+      const double along =
+          std::clamp(std::real(std::conj(b - a) * (z - a)) / std::norm(b - a), 0.0, 1.0);
+      const std::complex<double> on_side = a + along * (b - a);
+      placed[q][c] = Eigen::Vector3d(on_side.real(), on_side.imag(), 0);
+    }
+  }
+}
+
 }  // namespace
 
-HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice) {
+HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice,
+                                 const Layout& frames) {
+  const Geometry geometry = frames.geometry;
   const int n = half.num_vertices(), nf = half.num_faces();
   HalfSubdivision out;
   CommonSubdivision& sub = out.subdivision;
@@ -164,53 +239,73 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
     }
   }
 
-  // Development: each piece placed by the rigid motion that puts the side it shares with a placed
-  // piece onto that piece's side (its own corners are a congruent copy, in its final face's frame).
+  // Development: each piece placed by the isometry that puts the side it shares with a placed
+  // piece onto that piece's side (its own corners are an isometric copy, in its final face's
+  // frame), breadth-first from a central piece (the middle of the longest of two sweeps), so that
+  // in the Poincare disk no piece lies farther out than the surface's radius.
   const int np = static_cast<int>(pieces.size());
-  const PieceSides sides(sub.faces);
-  std::vector<std::array<Eigen::Vector3d, 3>> placed(np);
-  std::vector<char> done(np, 0);
-  std::vector<int> queue = {0};
   if (np == 0) throw LayoutError("doubled surface: no piece lies in the surface's faces");
-  placed[0] = twice.corners[pieces[0]];
-  done[0] = 1;
-  for (size_t head = 0; head < queue.size(); ++head) {
-    const int p = queue[head];
-    for (int c = 0; c < 3; ++c) {
-      const int a = sub.faces[p][(c + 1) % 3], b = sub.faces[p][(c + 2) % 3];
-      const PieceSides::Side& s = sides.sides.at(PieceSides::key(a, b));
-      if (s.count != 2) continue;
-      const int side = s.piece[0] == p ? 1 : 0;
-      const int q = s.piece[side], qc = s.corner[side];
-      if (done[q]) continue;
-      const int qa = sub.faces[q][(qc + 1) % 3] == a ? (qc + 1) % 3 : (qc + 2) % 3;
-      const int qb = 3 - qc - qa;
-      const auto& own = twice.corners[pieces[q]];
-      const DiskIsometry move = DiskIsometry::mapping(
-          Geometry::Euclidean, complex_of(own[qa]), complex_of(own[qb]),
-          complex_of(placed[p][(c + 1) % 3]), complex_of(placed[p][(c + 2) % 3]));
-      const std::complex<double> z = move(complex_of(own[qc]));
-      placed[q][qc] = Eigen::Vector3d(z.real(), z.imag(), 0);
-      placed[q][qa] = placed[p][(c + 1) % 3];
-      placed[q][qb] = placed[p][(c + 2) % 3];
-      done[q] = 1;
-      queue.push_back(q);
-    }
+  const PieceSides sides(sub.faces);
+  int start = 0;
+  if (geometry == Geometry::Hyperbolic) {
+    const int far = sweep(sub.faces, sides, 0).first.back();
+    const auto [order, parent] = sweep(sub.faces, sides, far);
+    std::vector<int> path = {order.back()};
+    while (parent[path.back()] >= 0) path.push_back(parent[path.back()]);
+    start = path[path.size() / 2];
   }
-  if (static_cast<int>(queue.size()) != np) {
+  const auto [order, parent] = sweep(sub.faces, sides, start);
+  if (static_cast<int>(order.size()) != np) {
     throw LayoutError("doubled surface: the pieces in the surface's faces are not connected");
   }
+  std::vector<std::array<Eigen::Vector3d, 3>> placed(np);
+  placed[start] = twice.corners[pieces[start]];
+  std::vector<DiskIsometry> motion(np, DiskIsometry{geometry});  // own frame -> developed
+  for (size_t i = 1; i < order.size(); ++i) {
+    const int q = order[i], p = parent[q];
+    int qc = 0, pa = -1, pb = -1;  // q's corner off the shared side; p's corners on it
+    for (int c = 0; c < 3; ++c) {
+      bool shared = false;
+      for (int d = 0; d < 3; ++d) shared = shared || sub.faces[p][d] == sub.faces[q][c];
+      if (!shared) qc = c;
+    }
+    const int qa = (qc + 1) % 3, qb = (qc + 2) % 3;
+    for (int d = 0; d < 3; ++d) {
+      if (sub.faces[p][d] == sub.faces[q][qa]) pa = d;
+      if (sub.faces[p][d] == sub.faces[q][qb]) pb = d;
+    }
+    if (pa < 0 || pb < 0) throw LayoutError("doubled surface: two pieces share no side");
+    const auto& own = twice.corners[pieces[q]];
+    const DiskIsometry move =
+        DiskIsometry::mapping(geometry, complex_of(own[qa]), complex_of(own[qb]),
+                              complex_of(placed[p][pa]), complex_of(placed[p][pb]));
+    const std::complex<double> z = move(complex_of(own[qc]));
+    placed[q][qc] = Eigen::Vector3d(z.real(), z.imag(), 0);
+    placed[q][qa] = placed[p][pa];
+    placed[q][qb] = placed[p][pb];
+    motion[q] = move;
+  }
 
-  // Per vertex the mean of its corners; the spread is the closure error.
+  // Plane: per vertex the mean of its corners, whose spread is the closure error. Poincare disk:
+  // the surface is cut open where the development did not cross, so positions are per corner.
   std::vector<Eigen::Vector3d> sum(nv, Eigen::Vector3d::Zero());
   std::vector<int> count(nv, 0);
   for (int p = 0; p < np; ++p) {
-    for (int c = 0; c < 3; ++c) sum[sub.faces[p][c]] += placed[p][c], ++count[sub.faces[p][c]];
+    for (int c = 0; c < 3; ++c) {
+      const int v = sub.faces[p][c];
+      if (geometry == Geometry::Euclidean || count[v] == 0) sum[v] += placed[p][c], ++count[v];
+    }
   }
   sub.vertex_layout.resize(nv);
   for (int v = 0; v < nv; ++v) {
     if (count[v] == 0) throw LayoutError("doubled surface: a vertex lies in no piece");
     sub.vertex_layout[v] = sum[v] / count[v];
+  }
+  if (geometry != Geometry::Euclidean) {
+    draw_sides_straight(twice, pieces, frames, motion, sub.num_input_vertices, sub.faces, placed);
+    sub.corners = std::move(placed);
+    out.closure_error = std::nan("");
+    return out;
   }
   sub.corners.resize(np);
   for (int p = 0; p < np; ++p) {
@@ -256,10 +351,12 @@ namespace {
 // The double's common subdivision cut down to the half.
 HalfSubdivision subdivide_half(const CompactMesh& half, const CompactMesh& twice,
                                const ConformalStructure& structure, const FlowResult& result) {
+  const Geometry g = structure.geometry;
   const Triangulation& flowed = result_triangulation(twice, result);
-  return half_subdivision(half,
-                          common_subdivision(twice, structure, result,
-                                             face_by_face_layout(flowed, result.edge_lengths)));
+  const Layout frames = face_by_face_layout(flowed, g, result.edge_lengths);
+  return half_subdivision(
+      half, common_subdivision(twice, structure, result, frames, DiskSidePoints::OnGeodesic),
+      frames);
 }
 
 }  // namespace
@@ -268,8 +365,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
                     const TargetCurvature& target, Uniformization& run) {
   const CompactMesh twice = CompactMesh::doubled(half);
   const TargetCurvature twice_target = doubled_target(half, twice, target);
-  const ConformalStructure structure =
-      prepare_flow(twice, Geometry::Euclidean, o.scheme, twice_target);
+  const ConformalStructure structure = prepare_flow(twice, run.geometry, o.scheme, twice_target);
   FlowOptions flow = o.flow;
   flow.edge_flips = EdgeFlips::Always;  // the half's flow has shown that flips are needed
   RicciFlowSolver solver(twice, structure, flow);
@@ -319,10 +415,23 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   run.result = half_result(half, on_double.result);
   run.totals = on_double.totals;
   run.boundary_change = on_double.boundary_change;
-  run.layout_kind = LayoutKind::Plane;
+  // u of the half is measured from the double's scaled input (H2 scales to the area of the
+  // double's hyperbolic metric): the half's structure at that scale.
+  run.structure = initialize_scheme(half, run.geometry, o.scheme, structure.length_scale);
   run.layout = Layout{};
+  run.layout.geometry = run.geometry;
   run.layout.closure_error = last->closure_error;
   CommonSubdivision& sub = last->subdivision;
+  if (run.geometry == Geometry::Hyperbolic) {
+    // Cut open where the development did not cross: the subdivision, with positions per corner
+    // (the cut's deck transformations and relation error are not computed for it).
+    run.layout_kind = LayoutKind::PoincareDisk;
+    run.layout.relation_error = std::nan("");
+    run.layout.corners = sub.corners;
+    run.subdivision = std::move(sub);
+    return;
+  }
+  run.layout_kind = LayoutKind::Plane;
   // The half's own faces drawn by their corners: delivered instead when none turns over.
   for (const auto& t : half.faces()) {
     std::array<Eigen::Vector3d, 3> p;

@@ -2,10 +2,11 @@
 // (CompactMesh::doubled), as Campen, Capouellez, Shen, Zhu, Panozzo and Zorin 2021 do for
 // discrete conformal maps with boundary (written for this project). On the double every edge is
 // interior, so the Ptolemy flips of the Euclidean Yamabe flow reach a valid triangulation at every
-// u (Springborn 2020), boundary edges included. The double's target and metric are symmetric
-// under the reflection that swaps the two copies; the reflection's fixed set, the original
-// boundary, is then a geodesic between boundary vertices, and the half is a flat surface whose
-// boundary is straight between its vertices, with angle sums half the double's there.
+// u (Springborn 2020), and the Delaunay flips of the hyperbolic one reach boundary edges too. The
+// double's target and metric are symmetric under the reflection that swaps the two copies; the
+// reflection's fixed set, the original boundary, is then a geodesic between boundary vertices, and
+// the half is a flat (hyperbolic) surface whose boundary is straight (geodesic) between its
+// vertices, with angle sums half the double's there.
 //
 // The half's own faces are not triangles of the final metric (that is why the flow needed the
 // double), so what is delivered is always the common subdivision: the pieces of the double's
@@ -24,8 +25,9 @@
 
 namespace ricci::detail {
 
-//! Whether the flow of `run` may be repeated on the double: a Euclidean Yamabe flow on a surface
-//! with boundary laid out in the plane, flips allowed, stopped by triangles at the boundary.
+//! Whether the flow of `run` may be repeated on the double: a Yamabe flow on a surface with
+//! boundary laid out in the plane (E2) or the Poincare disk (H2), flips allowed, stopped by
+//! triangles at the boundary.
 bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
                         const Uniformization& run);
 
@@ -41,23 +43,30 @@ TargetCurvature doubled_target(const CompactMesh& half, const CompactMesh& twice
 FlowResult half_result(const CompactMesh& half, const FlowResult& twice);
 
 //! Each face of the triangulation drawn by itself from its lengths (corner 0 at the origin,
-//! corner 1 on the positive x axis): a layout whose faces are the final metric's triangles but
-//! are not glued, which is all the common subdivision needs.
-Layout face_by_face_layout(const Triangulation& mesh, const std::vector<double>& lengths);
+//! corner 1 on the positive x axis), in the plane or the Poincare disk: a layout whose faces are
+//! the final metric's triangles but are not glued, which is all the common subdivision needs.
+Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
+                           const std::vector<double>& lengths);
 
 struct HalfSubdivision {
   CommonSubdivision subdivision;  //!< of the half; corners and vertex_layout developed
   //! Per edge of the half: its length in the final metric on the boundary, 0 inside.
   std::vector<double> boundary_lengths;
-  //! Largest distance between a vertex's developed position and a piece's corner there.
+  //! Plane: largest distance between a vertex's position and a piece's corner there; NaN in the
+  //! Poincare disk (not measured).
   double closure_error = 0;
 };
 
 //! The pieces of the double's common subdivision that lie in the half's faces, renumbered (the
-//! half's vertices first, then the new ones in the double's order), developed in the plane
-//! across their shared sides from the first piece.
+//! half's vertices first, then the new ones in the double's order), developed across their shared
+//! sides: in the plane from the first piece, glued into one position per vertex; in the Poincare
+//! disk from a central piece, with positions per corner (cut open where the development did not
+//! cross), new vertices on the straight sides of their final faces as developed. `twice` must be
+//! built on `frames` (face_by_face_layout) with its new vertices on the geodesics
+//! (DiskSidePoints::OnGeodesic).
 //! \throws LayoutError when the pieces do not form one surface.
-HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice);
+HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice,
+                                 const Layout& frames);
 
 //! The flow of `run` repeated on the double (the disk preset's flows included), and its result
 //! put in `run` for the half: result, totals (the half's stalled flow counted too), the

@@ -50,11 +50,17 @@ struct CommonSubdivision {
   double seconds = 0;  //!< time to build it
 };
 
+//! Where a new vertex goes in the Poincare disk: onto the side of its final face as the layout
+//! draws it, straight in the disk's coordinates (so pieces stay inside their drawn face), or onto
+//! the geodesic itself (the point of the metric, for a caller that develops the pieces again).
+enum class DiskSidePoints { OnDrawnSide, OnGeodesic };
+
 //! Builds the common subdivision of a converged flow with flips. `initial` is the conformal
 //! structure the flow started from, `layout` the layout of result_triangulation(mesh, result).
 //! \throws LayoutError when the input's edges cannot be followed through the flips consistently
 //!   (names the flip or face).
 CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStructure& initial,
-                                     const FlowResult& result, const Layout& layout);
+                                     const FlowResult& result, const Layout& layout,
+                                     DiskSidePoints disk_points = DiskSidePoints::OnDrawnSide);
 
 }  // namespace ricci
