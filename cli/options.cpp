@@ -135,8 +135,8 @@ const std::vector<Flag>& flags() {
        }},
       {{"--tolerance"},
        "X",
-       "converged when max |K - Kbar| <= X, or, where double precision cannot reach X, when no "
-       "step reduces it within 10 times the angle sums' round-off (the report says so)",
+       "converged when max |K - Kbar| <= X, or, where double precision cannot reach X, when it "
+       "is within 10 times the angle sums' round-off (the report says so)",
        [](const O& o) { return shortest(o.request.flow.tolerance); },
        [](O& o, const std::string& f, const std::string& v) {
          o.request.flow.tolerance = parse_double(f, v);

@@ -64,6 +64,7 @@ struct RicciFlowSolver::State {
   void walk_to(const Eigen::VectorXd& start);
   std::string precondition_failure(const TargetCurvature& target);
   std::string iterate(const TargetCurvature& target, int it);
+  double attainable_floor(const TargetCurvature& target) const;
   void normalize_scale(const TargetCurvature& target);
   void finish(const TargetCurvature& target);
 };
@@ -163,6 +164,32 @@ std::string RicciFlowSolver::State::precondition_failure(const TargetCurvature& 
   return circle_pattern_obstruction(triangulation, structure, target);
 }
 
+// The floor the residual has reached when every vertex is within what double precision allows
+// it (kRoundOffMargin times curvature_round_off), else 0. In E2 without fixed vertices the pinned
+// gauge vertex has no unknown of its own: by Gauss-Bonnet its residual is the sum of all
+// residuals less the others'. That sum is 0 in exact arithmetic; computed, it is the angle sums'
+// accumulated rounding (1.3e-10 on a million vertices, the same at every u near the solution),
+// and the others' round-off adds to it (as a random walk: the root of the sum of squares).
+double RicciFlowSolver::State::attainable_floor(const TargetCurvature& target) const {
+  const Eigen::VectorXd noise = curvature_round_off(triangulation, metric);
+  const double floor = detail::kRoundOffMargin * noise.maxCoeff();
+  const Eigen::VectorXd r = detail::free_residual(k, target, free_index, steps.num_free());
+  if (r.size() > 0 && r.cwiseAbs().maxCoeff() > floor) return 0;
+  double reached = floor;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (free_index[v] >= 0 || target.is_fixed(v)) continue;
+    const double pinned = std::abs(k[v] - target.curvature[v]);
+    if (pinned <= floor) continue;
+    long double sum = 0;
+    for (int w = 0; w < mesh.num_vertices(); ++w) sum += k[w] - target.curvature[w];
+    const double pinned_floor =
+        static_cast<double>(std::abs(sum)) + detail::kRoundOffMargin * noise.norm();
+    if (pinned > pinned_floor) return 0;
+    reached = std::max(reached, pinned_floor);
+  }
+  return reached;
+}
+
 // One Newton (S2: Levenberg-Marquardt) iteration; "" when it moved, else why the flow stops.
 std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int it) {
   const Eigen::VectorXd r = detail::free_residual(k, target, free_index, steps.num_free());
@@ -192,27 +219,9 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
       "boundary edge: try the tangential scheme, whose triangles are always valid";
   const bool at_boundary = flipping && step.blocked_at_boundary;
   if (!step.accepted) {
-    // A tolerance below what double precision allows here: the floor is convergence. In E2
-    // without fixed vertices the pinned gauge vertex has no unknown of its own: by Gauss-Bonnet
-    // its residual is the sum of all residuals less the others'. That sum is 0 in exact
-    // arithmetic; computed, it is the angle sums' accumulated rounding (1.3e-10 on a million
-    // vertices, the same at every u near the solution), and the others' round-off adds to it.
-    const Eigen::VectorXd noise = curvature_round_off(triangulation, metric);
-    const double floor = detail::kRoundOffMargin * noise.maxCoeff();
-    double pinned_floor = floor, pinned_residual = 0;
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (free_index[v] >= 0 || target.is_fixed(v)) continue;
-      long double sum = 0;
-      for (int w = 0; w < mesh.num_vertices(); ++w) sum += k[w] - target.curvature[w];
-      pinned_floor = std::max(
-          floor, static_cast<double>(std::abs(sum)) + detail::kRoundOffMargin * noise.norm());
-      pinned_residual = std::max(pinned_residual, std::abs(k[v] - target.curvature[v]));
-    }
-    const double free_residual = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
-    if (free_residual <= floor && pinned_residual <= pinned_floor) {
-      result.attainable_residual = std::max(floor, pinned_residual > floor ? pinned_floor : 0.0);
-      return "";
-    }
+    // A tolerance below what double precision allows here: the floor is convergence.
+    result.attainable_residual = attainable_floor(target);
+    if (result.attainable_residual > 0) return "";
     s << "stalled at iteration " << it << " with max |K - Kbar| = " << result.residual
       << ": no step of length >= 2^-" << options.max_step_halvings << " reduces the residual";
     if (!step.state.valid())
@@ -360,6 +369,15 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
         r.converged = true;
         r.stop = FlowStop::Converged;
         break;
+      }
+      // Within what double precision allows, above a tolerance it does not: converged there.
+      if (r.residual <= 1e3 * s.options.tolerance) {
+        r.attainable_residual = s.attainable_floor(target);
+        if (r.attainable_residual > 0) {
+          r.converged = true;
+          r.stop = FlowStop::Converged;
+          break;
+        }
       }
       if (it >= s.options.max_iterations) {
         std::ostringstream m;

@@ -193,9 +193,9 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
        " edge flips: max |K - Kbar| = ", run.quality.max_curvature_error, ", mean ",
        run.quality.mean_curvature_error, " (", t.times.total, " s)");
   if (t.attainable_residual > 0) {
-    line("The tolerance ", run.tolerance, " is below what double precision allows on this metric: ",
-         "converged where no step reduced the residual, within ", t.attainable_residual,
-         " (10 times the angle sums' round-off)");
+    line("The tolerance ", run.tolerance,
+         " is below what double precision allows on this metric: ", "converged within ",
+         t.attainable_residual, " (10 times the angle sums' round-off)");
   }
   if (t.flips_from_iteration >= 0) {
     line("Edge flips were needed from iteration ", t.flips_from_iteration,

@@ -50,7 +50,7 @@ EdgeFlips edge_flips_from_string(const std::string& name);
 
 struct FlowOptions {
   //! Converged when max |K - Kbar| <= tolerance, or, where double precision cannot get there, when
-  //! no step reduces the residual at the attainable floor (FlowResult::attainable_residual).
+  //! every vertex is within the attainable floor (FlowResult::attainable_residual).
   double tolerance = 1e-10;
   int max_iterations = 100;  //!< Newton iterations
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
@@ -117,8 +117,9 @@ struct FlowResult {
   int iterations = 0;
   double residual = 0;  //!< max |K - Kbar| at the end
   //! When the tolerance is below what double precision allows on this metric: the residual the
-  //! angle sums' round-off allows (curvature_round_off, times 10), at which no step reduced the
-  //! residual any more; the flow counts as converged there. 0 when the tolerance was reached.
+  //! angle sums' round-off allows (curvature_round_off, times 10; for a pinned gauge vertex their
+  //! accumulated rounding), within which every vertex came; the flow counts as converged there.
+  //! 0 when the tolerance was reached.
   double attainable_residual = 0;
   std::vector<double> residual_history;          //!< residual before each iteration, and at the end
   std::vector<double> step_history;              //!< accepted step length alpha per iteration
