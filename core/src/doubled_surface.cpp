@@ -18,12 +18,14 @@
 namespace ricci::detail {
 
 bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
-                        const Uniformization& run) {
+                        const TargetCurvature& target, const Uniformization& run) {
   const bool yamabe = std::all_of(run.structure.eps.begin(), run.structure.eps.end(),
                                   [](int eps) { return eps == 0; });
   const LayoutKind kind = planned_layout(half, run.preset, run.geometry);
+  // With u held fixed (free boundary) the boundary lengths are part of the request, and on the
+  // double a flipped boundary edge no longer has its length: not for such targets.
   return !run.result.converged && run.result.stalled_at_boundary && !half.is_closed() &&
-         options.flow.edge_flips != EdgeFlips::Never && yamabe &&
+         target.num_fixed() == 0 && options.flow.edge_flips != EdgeFlips::Never && yamabe &&
          ((run.geometry == Geometry::Euclidean && kind == LayoutKind::Plane) ||
           (run.geometry == Geometry::Hyperbolic && kind == LayoutKind::PoincareDisk));
 }
@@ -263,12 +265,13 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
   std::vector<DiskIsometry> motion(np, DiskIsometry{geometry});  // own frame -> developed
   for (size_t i = 1; i < order.size(); ++i) {
     const int q = order[i], p = parent[q];
-    int qc = 0, pa = -1, pb = -1;  // q's corner off the shared side; p's corners on it
+    int qc = -1, pa = -1, pb = -1;  // q's corner off the shared side; p's corners on it
     for (int c = 0; c < 3; ++c) {
       bool shared = false;
       for (int d = 0; d < 3; ++d) shared = shared || sub.faces[p][d] == sub.faces[q][c];
       if (!shared) qc = c;
     }
+    if (qc < 0) throw LayoutError("doubled surface: two pieces on the same three vertices");
     const int qa = (qc + 1) % 3, qb = (qc + 2) % 3;
     for (int d = 0; d < 3; ++d) {
       if (sub.faces[p][d] == sub.faces[q][qa]) pa = d;
@@ -287,7 +290,11 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
   }
 
   // Plane: per vertex the mean of its corners, whose spread is the closure error. Poincare disk:
-  // the surface is cut open where the development did not cross, so positions are per corner.
+  // the surface is cut open where the development did not cross, so positions are per corner
+  // (vertex_layout: the first corner's).
+  if (geometry != Geometry::Euclidean) {
+    draw_sides_straight(twice, pieces, frames, motion, sub.num_input_vertices, sub.faces, placed);
+  }
   std::vector<Eigen::Vector3d> sum(nv, Eigen::Vector3d::Zero());
   std::vector<int> count(nv, 0);
   for (int p = 0; p < np; ++p) {
@@ -302,7 +309,6 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
     sub.vertex_layout[v] = sum[v] / count[v];
   }
   if (geometry != Geometry::Euclidean) {
-    draw_sides_straight(twice, pieces, frames, motion, sub.num_input_vertices, sub.faces, placed);
     sub.corners = std::move(placed);
     out.closure_error = std::nan("");
     return out;
@@ -370,8 +376,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   flow.edge_flips = EdgeFlips::Always;  // the half's flow has shown that flips are needed
   RicciFlowSolver solver(twice, structure, flow);
 
-  Uniformization on_double;
-  on_double.totals = run.totals;
+  Uniformization on_double;  // its totals are the double's flows only: the limit is theirs
   std::optional<HalfSubdivision> last;
   try {
     if (run.preset == TargetPreset::UnitDisk) {
@@ -393,6 +398,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
                           std::string(e.what());
     return;
   }
+  run.totals.add(on_double.totals);
   if (!on_double.result.converged) {
     std::ostringstream s;
     s << "; on the surface doubled along its boundary, where boundary edges flip too, the flow "
@@ -403,8 +409,10 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     if (squeeze < 1e-6) {
       s << " (by then lengths in one part were " << squeeze
         << " times those in another: the map squeezes part of the surface below what double "
-           "precision resolves, as a long protrusion mapped onto a disk is; --target "
-           "free-boundary keeps the boundary's lengths)";
+           "precision resolves, as a long protrusion mapped onto a disk is"
+        << (run.geometry == Geometry::Euclidean
+                ? "; --target free-boundary keeps the boundary's lengths)"
+                : ")");
     }
     run.result.failure += s.str();
     return;
@@ -413,7 +421,6 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   run.doubled = true;
   run.doubled_because = run.result.failure;
   run.result = half_result(half, on_double.result);
-  run.totals = on_double.totals;
   run.boundary_change = on_double.boundary_change;
   // u of the half is measured from the double's scaled input (H2 scales to the area of the
   // double's hyperbolic metric): the half's structure at that scale.
@@ -421,6 +428,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   run.layout = Layout{};
   run.layout.geometry = run.geometry;
   run.layout.closure_error = last->closure_error;
+  run.layout.max_relative_length_error = std::nan("");  // of the flow's triangles: not laid out
   CommonSubdivision& sub = last->subdivision;
   if (run.geometry == Geometry::Hyperbolic) {
     // Cut open where the development did not cross: the subdivision, with positions per corner

@@ -26,10 +26,10 @@
 namespace ricci::detail {
 
 //! Whether the flow of `run` may be repeated on the double: a Yamabe flow on a surface with
-//! boundary laid out in the plane (E2) or the Poincare disk (H2), flips allowed, stopped by
-//! triangles at the boundary.
+//! boundary laid out in the plane (E2) or the Poincare disk (H2), a curvature target at every
+//! vertex, flips allowed, stopped by triangles at the boundary.
 bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
-                        const Uniformization& run);
+                        const TargetCurvature& target, const Uniformization& run);
 
 //! Kbar on the double: the half's at its vertices and at their copies, twice the half's at its
 //! boundary vertices (a boundary angle sum theta is 2 theta on the double: K = 2 pi - 2 theta
@@ -50,7 +50,8 @@ Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
 
 struct HalfSubdivision {
   CommonSubdivision subdivision;  //!< of the half; corners and vertex_layout developed
-  //! Per edge of the half: its length in the final metric on the boundary, 0 inside.
+  //! Plane: per edge of the half, its length in the final metric on the boundary, 0 inside;
+  //! empty in the Poincare disk.
   std::vector<double> boundary_lengths;
   //! Plane: largest distance between a vertex's position and a piece's corner there; NaN in the
   //! Poincare disk (not measured).

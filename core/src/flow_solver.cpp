@@ -86,7 +86,9 @@ void RicciFlowSolver::State::keep_delaunay() {
       make_delaunay(triangulation, structure, u, metric, 10 * mesh.num_edges());
   result.num_flips += flips.flips;
   flip_sequence.insert(flip_sequence.end(), flips.sequence.begin(), flips.sequence.end());
-  if (flips.flips > 0) {
+  // A flip that was undone leaves the same triangles in other face slots: the pattern's per-face
+  // entries change too.
+  if (!flips.sequence.empty()) {
     ++result.connectivity_changes;
     steps.set_pattern(triangulation, free_index);
   }
@@ -167,9 +169,10 @@ std::string RicciFlowSolver::State::precondition_failure(const TargetCurvature& 
 // The floor the residual has reached when every vertex is within what double precision allows
 // it (kRoundOffMargin times curvature_round_off), else 0. In E2 without fixed vertices the pinned
 // gauge vertex has no unknown of its own: by Gauss-Bonnet its residual is the sum of all
-// residuals less the others'. That sum is 0 in exact arithmetic; computed, it is the angle sums'
-// accumulated rounding (1.3e-10 on a million vertices, the same at every u near the solution),
-// and the others' round-off adds to it (as a random walk: the root of the sum of squares).
+// residuals less the others'. For a target that satisfies Gauss-Bonnet that sum is the angle
+// sums' defect sum K - 2 pi chi, 0 in exact arithmetic and their accumulated rounding as computed
+// (1.3e-10 on a million vertices, the same at every u near the solution); the others' round-off
+// adds to it (as a random walk: the root of the sum of squares).
 double RicciFlowSolver::State::attainable_floor(const TargetCurvature& target) const {
   const Eigen::VectorXd noise = curvature_round_off(triangulation, metric);
   const double floor = detail::kRoundOffMargin * noise.maxCoeff();
@@ -180,8 +183,9 @@ double RicciFlowSolver::State::attainable_floor(const TargetCurvature& target) c
     if (free_index[v] >= 0 || target.is_fixed(v)) continue;
     const double pinned = std::abs(k[v] - target.curvature[v]);
     if (pinned <= floor) continue;
-    long double sum = 0;
-    for (int w = 0; w < mesh.num_vertices(); ++w) sum += k[w] - target.curvature[w];
+    // The angle sums' Gauss-Bonnet defect as computed (a target's own defect is no round-off).
+    long double sum = -2 * static_cast<long double>(kPi) * mesh.euler_characteristic();
+    for (int w = 0; w < mesh.num_vertices(); ++w) sum += k[w];
     const double pinned_floor =
         static_cast<double>(std::abs(sum)) + detail::kRoundOffMargin * noise.norm();
     if (pinned > pinned_floor) return 0;

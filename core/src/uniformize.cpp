@@ -378,7 +378,7 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
     run.result = solver.solve(target, start ? &*start : nullptr);
     run.totals.add(run.result);
   }
-  if (detail::may_flow_on_double(mesh, o, run)) {
+  if (detail::may_flow_on_double(mesh, o, target, run)) {
     detail::flow_on_double(mesh, o, outer, target, run);
   }
   if (run.doubled) {
