@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "input_overlay.h"
+#include "layout_methods.h"
 #include "ricci/errors.h"
 
 namespace ricci {
@@ -44,14 +45,9 @@ Eigen::Vector3d between(Geometry g, const Eigen::Vector3d& p, const Eigen::Vecto
       }
       const double n = std::sqrt(std::max(1e-300, x[2] * x[2] - x[0] * x[0] - x[1] * x[1]));
       const double w = x[2] / n;
-      // The layout draws a triangle's sides straight in the disk's coordinates: the point goes
-      // where the geodesic's point projects onto that straight side (the arc is less than a
-      // half circle, so the order along the side is kept).
       const Eigen::Vector3d on_arc(x[0] / n / (1 + w), x[1] / n / (1 + w), 0.0);
       if (disk_points == DiskSidePoints::OnGeodesic) return on_arc;
-      const Eigen::Vector3d side = q - p;
-      const double along = std::clamp((on_arc - p).dot(side) / side.squaredNorm(), 0.0, 1.0);
-      return p + along * side;
+      return detail::onto_drawn_side(p, q, on_arc);
     }
     default:
       return (1 - t) * p + t * q;

@@ -43,8 +43,7 @@ double twice_cosine(double a, double b, double c) {
 }  // namespace
 
 bool all_ptolemy(const ConformalStructure& structure) {
-  return structure.geometry == Geometry::Euclidean &&
-         std::all_of(structure.eps.begin(), structure.eps.end(), [](int e) { return e == 0; });
+  return structure.geometry == Geometry::Euclidean && is_yamabe(structure);
 }
 
 bool is_ptolemy_delaunay(const Triangulation& mesh, const MetricState& state, int e,

@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "circle_domain.h"
-#include "delaunay.h"
+#include "layout_methods.h"
 #include "ricci/errors.h"
 #include "ricci/geometry.h"
 #include "ricci/presets.h"
@@ -19,13 +19,12 @@ namespace ricci::detail {
 
 bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
                         const TargetCurvature& target, const Uniformization& run) {
-  const bool yamabe = std::all_of(run.structure.eps.begin(), run.structure.eps.end(),
-                                  [](int eps) { return eps == 0; });
   const LayoutKind kind = planned_layout(half, run.preset, run.geometry);
   // With u held fixed (free boundary) the boundary lengths are part of the request, and on the
   // double a flipped boundary edge no longer has its length: not for such targets.
   return !run.result.converged && run.result.stalled_at_boundary && !half.is_closed() &&
-         target.num_fixed() == 0 && options.flow.edge_flips != EdgeFlips::Never && yamabe &&
+         target.num_fixed() == 0 && options.flow.edge_flips != EdgeFlips::Never &&
+         is_yamabe(run.structure) &&
          ((run.geometry == Geometry::Euclidean && kind == LayoutKind::Plane) ||
           (run.geometry == Geometry::Hyperbolic && kind == LayoutKind::PoincareDisk));
 }
@@ -173,12 +172,11 @@ void draw_sides_straight(const CommonSubdivision& twice, const std::vector<int>&
         const double off = std::abs(std::imag(std::conj(d) * (k - corner_klein[i]))) / std::abs(d);
         if (off < best) best = off, side = i;
       }
-      const std::complex<double> a = corner[side], b = corner[(side + 1) % 3];
-      const std::complex<double> z = complex_of(placed[q][c]);
-      const double along =
-          std::clamp(std::real(std::conj(b - a) * (z - a)) / std::norm(b - a), 0.0, 1.0);
-      const std::complex<double> on_side = a + along * (b - a);
-      placed[q][c] = Eigen::Vector3d(on_side.real(), on_side.imag(), 0);
+      const auto point = [](std::complex<double> z) {
+        return Eigen::Vector3d(z.real(), z.imag(), 0);
+      };
+      placed[q][c] =
+          onto_drawn_side(point(corner[side]), point(corner[(side + 1) % 3]), placed[q][c]);
     }
   }
 }

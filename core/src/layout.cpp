@@ -33,6 +33,12 @@ std::vector<std::array<double, 3>> face_angles(const Triangulation& mesh, Geomet
   return angles;
 }
 
+Eigen::Vector3d onto_drawn_side(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
+                                const Eigen::Vector3d& z) {
+  const Eigen::Vector3d side = q - p;
+  return p + std::clamp((z - p).dot(side) / side.squaredNorm(), 0.0, 1.0) * side;
+}
+
 int corner_of(const Triangulation& mesh, int f, int v) {
   for (int c = 0; c < 3; ++c) {
     if (mesh.face_vertex(f, c) == v) return c;

@@ -31,6 +31,12 @@ Layout plane_layout(const Triangulation& mesh, const std::vector<double>& length
 //! caller glues them (glue_along_cut) once its corners are final.
 Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths);
 
+//! The Poincare disk layout draws a triangle's sides straight in the disk's coordinates: the point
+//! z of the geodesic from p to q goes where it projects onto the segment p-q (the arc is less than
+//! a half circle, so the order along the side is kept).
+Eigen::Vector3d onto_drawn_side(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
+                                const Eigen::Vector3d& z);
+
 //! Fills the deck transformations (E2, H2), the closure error and the flipped-face count of a
 //! layout whose corners and cut are set.
 void glue_along_cut(const Triangulation& mesh, Layout& layout);

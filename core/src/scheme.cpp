@@ -99,6 +99,10 @@ void check_scheme_options(const SchemeOptions& options) {
   }
 }
 
+bool is_yamabe(const ConformalStructure& structure) {
+  return std::all_of(structure.eps.begin(), structure.eps.end(), [](int e) { return e == 0; });
+}
+
 ConformalStructure initialize_scheme(const CompactMesh& mesh, Geometry geometry,
                                      const SchemeOptions& options, double length_scale) {
   check_scheme_options(options);

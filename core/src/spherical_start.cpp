@@ -285,8 +285,7 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
   std::vector<Eigen::Vector3d> sphere(mesh.num_vertices(), Eigen::Vector3d(0, 0, 1));
   for (int v = 0; v < disk.num_vertices(); ++v)
     sphere[punctured.original[v]] = inverse_stereographic(s * (plane[v] - q.head<2>()));
-  if (std::all_of(structure.eps.begin(), structure.eps.end(), [](int e) { return e == 0; }))
-    return fit_yamabe_to_chords(mesh, structure, sphere);
+  if (is_yamabe(structure)) return fit_yamabe_to_chords(mesh, structure, sphere);
 
   // u on the sphere: the projection scales lengths at y by 2 / (1 + |y|^2), and the similarity by
   // s, so a small circle at x becomes e^u s / (1 + |y|^2) on the sphere, where the length laws

@@ -51,6 +51,10 @@ struct ConformalStructure {
   double length_scale = 1;  //!< input lengths were multiplied by this (H2, S2)
 };
 
+//! Every vertex has eps = 0: the Yamabe flow's length law, whose edge flips (Ptolemy's relation)
+//! keep the discrete conformal class.
+bool is_yamabe(const ConformalStructure& structure);
+
 //! Checks the options that need no mesh: Thurston's angle in [0, pi/2], a positive virtual
 //! radius fraction, eps values in {+1, 0, -1}. \throws InvalidArgumentError naming the value.
 void check_scheme_options(const SchemeOptions& options);
