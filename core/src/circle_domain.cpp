@@ -51,6 +51,21 @@ BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop) {
   };
 }
 
+void reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
+                         const TargetCurvature& target, const UniformizationOptions& o,
+                         Uniformization& run) {
+  if (run.geometry == Geometry::Euclidean && is_yamabe(run.structure)) {
+    run.result = solver.solve_circle_domain(target, outer_loop);
+    run.totals.add(run.result);
+    if (run.result.converged) {
+      run.boundary_change = 0;  // the result's target is the circles' at the final lengths
+      return;
+    }
+    solver.restart();
+  }
+  fit_boundary_to_circles(solver, mesh, refit_on_mesh(mesh, outer_loop), target, o, run);
+}
+
 void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
                              const BoundaryRefit& refit, TargetCurvature target,
                              const UniformizationOptions& o, Uniformization& out) {

@@ -1,6 +1,7 @@
 // The unit disk and circle domain targets: the boundary curvature that puts every boundary loop
-// on a circle is a fixed point of flow -> circle_boundary_target (presets.h), found by repeated
-// flows; the layout is then moved onto the unit disk (not installed API).
+// on a circle (circle_boundary_target, presets.h), reached in one Newton solve or as a fixed point
+// of flow -> circle_boundary_target by repeated flows; the layout is then moved onto the unit
+// disk (not installed API).
 #pragma once
 
 #include <functional>
@@ -27,6 +28,14 @@ using BoundaryRefit = std::function<TargetCurvature(const FlowResult&)>;
 void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
                              const BoundaryRefit& refit, TargetCurvature target,
                              const UniformizationOptions& options, Uniformization& run);
+
+//! The disk preset on `mesh`: for the Euclidean Yamabe flow one solve with the circle condition
+//! in Newton's Jacobian (RicciFlowSolver::solve_circle_domain); where that does not converge, or
+//! for other schemes, fit_boundary_to_circles from the input's metric. Fills run as
+//! fit_boundary_to_circles does.
+void reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
+                         const TargetCurvature& target, const UniformizationOptions& options,
+                         Uniformization& run);
 
 //! The refit of a flow on `mesh` itself: its boundary edges are edges of the final metric.
 BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop);

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <utility>
 
+#include "circle_condition.h"
 #include "delaunay.h"
 #include "flow_steps.h"
 #include "pattern_obstruction.h"
@@ -50,8 +51,12 @@ struct RicciFlowSolver::State {
   FlowTimes times;
   MetricState metric;
   Eigen::VectorXd k;
-  double lm_weight = 1;  // S2: mu = lm_weight * |r|
+  double lm_weight = 1;  // S2 and circles: mu = lm_weight * |r|
   detail::StallWindow stall;
+  // solve_circle_domain(): the boundary loops on circles, whose target moves with u; goal is the
+  // target at the current u (otherwise the solve's target).
+  std::optional<detail::CircleCondition> circles;
+  TargetCurvature goal;
 
   bool spherical() const { return structure.geometry == Geometry::Spherical; }
   bool may_start_flipping() const {
@@ -67,7 +72,38 @@ struct RicciFlowSolver::State {
   double attainable_floor(const TargetCurvature& target) const;
   void normalize_scale(const TargetCurvature& target);
   void finish(const TargetCurvature& target);
+  void update_goal() {
+    if (circles && metric.valid()) circles->set_target(metric.lengths(), goal);
+  }
+  bool step_direction(const Eigen::VectorXd& r, Eigen::VectorXd& du);
+  FlowResult run(const Eigen::VectorXd* start);
 };
+
+// The Newton (S2: Levenberg-Marquardt) direction. With circles, the target's own change with u
+// is part of the Jacobian J = H - d goal/du, which is singular at the solution along the disk's
+// Moebius maps (they act on u as u + log |f'|) and indefinite away from it: Levenberg-Marquardt
+// steps (J + mu H) du = r with mu = lm_weight |r| (at most 1), by MINRES preconditioned with H,
+// to a relative residual that falls with |r| (inexact Newton, superlinear).
+bool RicciFlowSolver::State::step_direction(const Eigen::VectorXd& r, Eigen::VectorXd& du) {
+  if (!circles) return steps.solve(metric, r, spherical(), lm_weight, du, times);
+  circles->linearize(metric.lengths());
+  const auto coupling = [this](const Eigen::VectorXd& x) {
+    Eigen::VectorXd full = Eigen::VectorXd::Zero(u.size());
+    for (int v = 0; v < u.size(); ++v)
+      if (free_index[v] >= 0) full[v] = x[free_index[v]];
+    const Eigen::VectorXd c = circles->apply(full);
+    Eigen::VectorXd out(x.size());
+    for (int v = 0; v < u.size(); ++v)
+      if (free_index[v] >= 0) out[free_index[v]] = c[v];
+    return out;
+  };
+  const double rtol = std::clamp(r.cwiseAbs().maxCoeff(), 1e-12, 0.1);
+  const double damping = std::min(1.0, lm_weight * r.cwiseAbs().maxCoeff());
+  const int iterations = steps.solve_coupled(metric, r, coupling, damping, rtol, du, times);
+  if (iterations < 0) return false;
+  result.krylov_iterations += iterations;
+  return true;
+}
 
 void RicciFlowSolver::State::use_free_vertices(const TargetCurvature& target) {
   std::vector<int> index =
@@ -199,15 +235,15 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   const Eigen::VectorXd r = detail::free_residual(k, target, free_index, steps.num_free());
   Eigen::VectorXd du;
   std::ostringstream s;
-  if (!steps.solve(metric, r, spherical(), lm_weight, du, times)) {
+  if (!step_direction(r, du)) {
     s << "the Hessian could not be factorized at iteration " << it
       << " (max |K - Kbar| = " << result.residual << "); the metric is close to degenerate";
     return s.str();
   }
   const auto t = Clock::now();
-  detail::LineSearch step =
-      detail::search_line(triangulation, structure, target, free_index, u, du,
-                          0.5 * r.squaredNorm(), options.max_step_halvings, flipping);
+  detail::LineSearch step = detail::search_line(triangulation, structure, target, free_index, u, du,
+                                                0.5 * r.squaredNorm(), options.max_step_halvings,
+                                                flipping, circles ? &*circles : nullptr);
   times.line_search += seconds_since(t);
   const char* flips_help = flipping ? "" : " on this triangulation (edge flips help)";
   // Kbar = 0 on a closed surface is its uniformization: the metric exists, only the flow missed it.
@@ -258,7 +294,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
     }
     return s.str();
   }
-  if (spherical())
+  if (spherical() || circles)
     lm_weight = step.alpha == 1 ? std::max(lm_weight / 4, 1e-8) : std::min(lm_weight * 8, 1e8);
   result.step_history.push_back(step.alpha);
   u = std::move(step.u);
@@ -336,6 +372,30 @@ void RicciFlowSolver::restart() {
 FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::VectorXd* start) {
   State& s = *state_;
   check_target(s.mesh, s.structure.geometry, target);
+  s.circles.reset();
+  s.goal = target;
+  return s.run(start);
+}
+
+FlowResult RicciFlowSolver::solve_circle_domain(const TargetCurvature& target, int outer_loop) {
+  State& s = *state_;
+  if (s.structure.geometry != Geometry::Euclidean || !is_yamabe(s.structure) ||
+      target.num_fixed() > 0 || s.mesh.is_closed()) {
+    throw InvalidArgumentError(
+        "ricci flow: boundary loops on circles in one solve need the Euclidean Yamabe flow on a "
+        "surface with boundary and a curvature target at every vertex");
+  }
+  check_target(s.mesh, s.structure.geometry, target);
+  s.circles.emplace(s.mesh, outer_loop);
+  s.goal = target;
+  FlowResult r = s.run(nullptr);
+  s.circles.reset();
+  return r;
+}
+
+FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
+  State& s = *this;
+  const TargetCurvature& target = s.goal;
   const auto begin = Clock::now();
   const int analyses = s.steps.num_analyses(), factorizations = s.steps.num_factorizations();
   s.result = FlowResult();
@@ -361,6 +421,7 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
     }
     s.k = curvature(s.triangulation, s.metric);
     for (int it = 0;; ++it) {
+      s.update_goal();
       r.residual = detail::max_residual(s.k, target);
       r.residual_history.push_back(r.residual);
       r.iterations = it;
@@ -412,6 +473,8 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
       }
     }
     if (r.converged) s.normalize_scale(target);
+    s.update_goal();
+    r.residual = detail::max_residual(s.k, target);
   }
   s.finish(target);
   r.num_analyses = s.steps.num_analyses() - analyses;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "minres.h"
+
 namespace ricci::detail {
 
 Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& target,
@@ -54,13 +56,14 @@ std::vector<int> free_vertex_index(int num_vertices, Geometry geometry,
 void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& free_index) {
   assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
   analyzed_ = false;
+  coupled_factor_ = false;
 }
 
-bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
-                       double lm_weight, Eigen::VectorXd& du, FlowTimes& times) {
+bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
+                           double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times) {
   auto t = Clock::now();
   const SparseMatrix& h = assembler_->assemble(state);
-  Eigen::VectorXd rhs = r;
+  rhs = r;
   const SparseMatrix* system = &h;
   double shift = 0;
   if (spherical) {
@@ -88,11 +91,55 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
     ok = solver_.factorize(*system, shift + extra);
   }
   times.factorization += seconds_since(t);
-  if (!ok) return false;
-  t = Clock::now();
+  return ok;
+}
+
+bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
+                       double lm_weight, Eigen::VectorXd& du, FlowTimes& times) {
+  Eigen::VectorXd rhs;
+  coupled_factor_ = false;
+  if (!factorize(state, r, spherical, lm_weight, rhs, times)) return false;
+  const auto t = Clock::now();
   du = solver_.solve(rhs);
   times.solve += seconds_since(t);
   return du.allFinite();
+}
+
+int StepSolver::solve_coupled(const MetricState& state, const Eigen::VectorXd& r,
+                              const Coupling& coupling, double damping, double rtol,
+                              Eigen::VectorXd& du, FlowTimes& times) {
+  const auto run_minres = [&](int max_iterations) {
+    const auto t = Clock::now();
+    const SparseMatrix& h = assembler_->matrix();
+    const MinresResult m = minres(
+        [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+          return (1 + damping) * (h * x) - coupling(x);
+        },
+        [&](const Eigen::VectorXd& x) { return solver_.solve(x); }, r, rtol, max_iterations);
+    times.solve += seconds_since(t);
+    du = m.x;
+    return m;
+  };
+  // The last factorization, of an earlier H on this pattern, as the preconditioner while it keeps
+  // MINRES short: a factorization costs as much as some ten solves with it.
+  if (coupled_factor_ && last_krylov_ <= kReuseFactorBelow) {
+    const auto t = Clock::now();
+    assembler_->assemble(state);
+    times.assembly += seconds_since(t);
+    const MinresResult m = run_minres(kStaleKrylovIterations);
+    if (du.allFinite() && m.relative_residual <= rtol) {
+      last_krylov_ = m.iterations;
+      return m.iterations;
+    }
+  }
+  Eigen::VectorXd rhs;
+  coupled_factor_ = false;
+  if (!factorize(state, r, false, 0, rhs, times)) return -1;
+  coupled_factor_ = true;
+  const MinresResult m = run_minres(kMaxKrylovIterations);
+  last_krylov_ = m.iterations;
+  if (!du.allFinite() || !(m.relative_residual < 1)) return -1;
+  return m.iterations;
 }
 
 // === The line search
@@ -114,7 +161,7 @@ bool invalid_at_boundary(const Triangulation& mesh, const MetricState& state) {
 LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                        const TargetCurvature& target, const std::vector<int>& free_index,
                        const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
-                       int max_halvings, bool flip_invalid) {
+                       int max_halvings, bool flip_invalid, const CircleCondition* circles) {
   LineSearch s;
   s.u = u;
   const int n = static_cast<int>(du.size());
@@ -139,7 +186,14 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
       continue;
     }
     s.k = curvature(s.flipped ? *s.flipped : mesh, s.state);
-    const double trial_phi = 0.5 * free_residual(s.k, target, free_index, n).squaredNorm();
+    const TargetCurvature* trial_target = &target;
+    TargetCurvature moved;
+    if (circles) {
+      moved = target;
+      circles->set_target(s.state.lengths(), moved);
+      trial_target = &moved;
+    }
+    const double trial_phi = 0.5 * free_residual(s.k, *trial_target, free_index, n).squaredNorm();
     if (trial_phi <= (1 - 1e-4 * s.alpha) * phi) {
       s.accepted = true;
       break;

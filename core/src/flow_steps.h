@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -11,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "circle_condition.h"
 #include "delaunay.h"
 #include "hessian.h"
 #include "metric.h"
@@ -50,19 +52,40 @@ class StepSolver {
   //! A new pattern: a new triangulation (flips) or another set of free vertices.
   void set_pattern(const Triangulation& mesh, const std::vector<int>& free_index);
   int num_free() const { return assembler_->num_free(); }
+  const SparseMatrix& hessian() const { return assembler_->matrix(); }
 
   //! False when no shift makes the system factorizable, or the step is not finite.
   bool solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical, double lm_weight,
              Eigen::VectorXd& du, FlowTimes& times);
 
+  //! d target / d u, for a target that depends on u (the free rows and columns).
+  using Coupling = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
+  static constexpr int kMaxKrylovIterations = 300;
+  //! An earlier factorization stays the preconditioner while the last solve took at most this
+  //! many MINRES iterations, and is replaced when MINRES needs more than kStaleKrylovIterations.
+  static constexpr int kReuseFactorBelow = 12, kStaleKrylovIterations = 30;
+
+  //! The (damped) Newton step of a target that depends on u: ((1 + damping) H - C) du = r with
+  //! C du = coupling(du), symmetric and possibly indefinite, by MINRES preconditioned with a
+  //! factorization of H, to relative residual rtol (the preconditioner's norm). Returns the MINRES
+  //! iterations, or -1 when H could not be factorized or MINRES made no progress.
+  int solve_coupled(const MetricState& state, const Eigen::VectorXd& r, const Coupling& coupling,
+                    double damping, double rtol, Eigen::VectorXd& du, FlowTimes& times);
+
   int num_analyses() const { return solver_.num_analyses(); }
   int num_factorizations() const { return solver_.num_factorizations(); }
 
  private:
+  // Assembles and factorizes the step's system; rhs is r, or H r in S2.
+  bool factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
+                 double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times);
+
   std::unique_ptr<HessianAssembler> assembler_;
   LinearSolver solver_;
   SparseMatrix normal_matrix_;  // S2: H^2
   bool analyzed_ = false;
+  bool coupled_factor_ = false;  // the factorization is of H on the current pattern
+  int last_krylov_ = 0;          // MINRES iterations of the last coupled solve
 };
 
 //! The outcome of the backtracking line search along du.
@@ -85,10 +108,12 @@ struct LineSearch {
 //! triangles are invalid is first flipped to Delaunay on a copy when every flip is a Euclidean
 //! Ptolemy flip (all_ptolemy): the Delaunay triangulation of any u is valid there, so the search
 //! follows the flow's energy across triangulations instead of stopping at the first one's edge.
+//! With circles, the target's boundary curvature is that of each trial point's lengths.
 LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                        const TargetCurvature& target, const std::vector<int>& free_index,
                        const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
-                       int max_halvings, bool flip_invalid);
+                       int max_halvings, bool flip_invalid,
+                       const CircleCondition* circles = nullptr);
 
 //! A flow whose residual is within this factor of the angle sums' round-off (curvature_round_off)
 //! and that no step reduces has converged as far as double precision allows (on real meshes, such

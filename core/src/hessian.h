@@ -27,6 +27,8 @@ class HessianAssembler {
   //! H restricted to the free vertices (both triangles stored). \pre state.valid()
   const SparseMatrix& assemble(const MetricState& state);
 
+  //! The last assembled H.
+  const SparseMatrix& matrix() const { return matrix_; }
   int num_free() const { return static_cast<int>(matrix_.rows()); }
 
  private:

@@ -294,6 +294,7 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
   j << "  \"edge_flips\": " << totals.edge_flips << ",\n";
   j << "  \"symbolic_analyses\": " << totals.symbolic_analyses << ",\n";
   j << "  \"numeric_factorizations\": " << totals.numeric_factorizations << ",\n";
+  j << "  \"krylov_iterations\": " << totals.krylov_iterations << ",\n";
   j << "  \"last_flow\": {\"iterations\": " << result.iterations
     << ", \"residual_history\": " << array(result.residual_history)
     << ", \"step_history\": " << array(result.step_history)

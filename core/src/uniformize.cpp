@@ -209,6 +209,7 @@ void FlowTotals::add(const FlowResult& r) {
   one.edge_flips = r.num_flips;
   one.symbolic_analyses = r.num_analyses;
   one.numeric_factorizations = r.num_factorizations;
+  one.krylov_iterations = r.krylov_iterations;
   one.times = r.times;
   add(one);
 }
@@ -224,6 +225,7 @@ void FlowTotals::add(const FlowTotals& o) {
   edge_flips += o.edge_flips;
   symbolic_analyses += o.symbolic_analyses;
   numeric_factorizations += o.numeric_factorizations;
+  krylov_iterations += o.krylov_iterations;
   for (auto [to, from] : {std::pair{&times.setup, o.times.setup},
                           {&times.assembly, o.times.assembly},
                           {&times.analysis, o.times.analysis},
@@ -371,8 +373,7 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   run.structure = prepare_flow(mesh, run.geometry, o.scheme, target);
   RicciFlowSolver solver(mesh, run.structure, o.flow);
   if (run.preset == TargetPreset::UnitDisk) {
-    detail::fit_boundary_to_circles(solver, mesh, detail::refit_on_mesh(mesh, outer), target, o,
-                                    run);
+    detail::reach_circle_domain(solver, mesh, outer, target, o, run);
   } else {
     const std::optional<Eigen::VectorXd> start = flow_start(mesh, run.structure, target, o.flow);
     run.result = solver.solve(target, start ? &*start : nullptr);

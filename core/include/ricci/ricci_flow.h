@@ -124,6 +124,7 @@ struct FlowResult {
   std::vector<double> residual_history;          //!< residual before each iteration, and at the end
   std::vector<double> step_history;              //!< accepted step length alpha per iteration
   int num_analyses = 0, num_factorizations = 0;  //!< of this solve
+  int krylov_iterations = 0;  //!< MINRES iterations of this solve (solve_circle_domain)
   FlowTimes times;
 };
 
@@ -153,6 +154,17 @@ class RicciFlowSolver {
   //! Never throws for non-convergence: the result says why.
   //! \throws InvalidTargetError for a target that admits no flow.
   FlowResult solve(const TargetCurvature& target, const Eigen::VectorXd* start = nullptr);
+
+  //! Runs the Euclidean Yamabe flow to the metric whose boundary loops are circles: the interior
+  //! curvature as in `target`, at each boundary vertex the turning of a circle through its loop's
+  //! current chords (circle_boundary_target, presets.h; positive on loop `outer_loop`, negative on
+  //! the others). One solve: the boundary target's change with u is part of the Jacobian, singular
+  //! at the solution along the disk's Moebius maps, so the steps are Levenberg-Marquardt ones,
+  //! solved by MINRES preconditioned with a factorization of H (kept while MINRES stays short).
+  //! The result's target is the boundary curvature reached. Never throws for non-convergence.
+  //! \throws InvalidArgumentError for another geometry or scheme, a closed surface or u held
+  //!   fixed; InvalidTargetError as solve().
+  FlowResult solve_circle_domain(const TargetCurvature& target, int outer_loop);
 
   //! Back to the input triangulation, the input structure and u0.
   void restart();

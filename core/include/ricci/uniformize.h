@@ -77,6 +77,7 @@ struct FlowTotals {
   int edge_flips = 0;
   int symbolic_analyses = 0;
   int numeric_factorizations = 0;
+  int krylov_iterations = 0;  //!< MINRES iterations (the disk preset's one-solve flow)
   //! EdgeFlips::WhenNeeded: the Newton iteration, counted over the flows, from which edge flips
   //! were on, and why the input's triangulation was not enough; -1 and "": never needed.
   int flips_from_iteration = -1;
