@@ -53,8 +53,8 @@ BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop) {
 
 void reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
                          const TargetCurvature& target, const UniformizationOptions& o,
-                         Uniformization& run) {
-  if (run.geometry == Geometry::Euclidean && is_yamabe(run.structure)) {
+                         bool one_solve, Uniformization& run) {
+  if (one_solve) {
     run.result = solver.solve_circle_domain(target, outer_loop);
     run.totals.add(run.result);
     if (run.result.converged) {

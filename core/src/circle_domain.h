@@ -29,13 +29,13 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
                              const BoundaryRefit& refit, TargetCurvature target,
                              const UniformizationOptions& options, Uniformization& run);
 
-//! The disk preset on `mesh`: for the Euclidean Yamabe flow one solve with the circle condition
-//! in Newton's Jacobian (RicciFlowSolver::solve_circle_domain); where that does not converge, or
-//! for other schemes, fit_boundary_to_circles from the input's metric. Fills run as
+//! The disk preset on `mesh`: with one_solve (the Euclidean Yamabe flow only) one solve with the
+//! circle condition in the Jacobian (RicciFlowSolver::solve_circle_domain); where that does not
+//! converge, or without one_solve, fit_boundary_to_circles from the input's metric. Fills run as
 //! fit_boundary_to_circles does.
 void reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
                          const TargetCurvature& target, const UniformizationOptions& options,
-                         Uniformization& run);
+                         bool one_solve, Uniformization& run);
 
 //! The refit of a flow on `mesh` itself: its boundary edges are edges of the final metric.
 BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop);
