@@ -75,6 +75,7 @@ void run_command(benchmark::State& state, const std::string& input,
   state.counters["one_factorization_s"] = one;
   state.counters["read_s"] = report_number(json.str(), "read");
   state.counters["flows"] = report_number(json.str(), "flows");  // their number
+  state.counters["minres_iterations"] = report_number(json.str(), "krylov_iterations");
 }
 
 // range(0): subdivision level of lion-head.off (2: 267k faces, 3: 1.07M).
@@ -98,7 +99,7 @@ BENCHMARK(BM_CommandFreeBoundary)
     ->Repetitions(3)
     ->ReportAggregatesOnly(true);
 BENCHMARK(BM_CommandUnitDisk)
-    ->Arg(2)
+    ->DenseRange(2, 3)
     ->Unit(benchmark::kSecond)
     ->Iterations(1)
     ->Repetitions(3)
