@@ -103,7 +103,10 @@ bool RicciFlowSolver::State::step_direction(const Eigen::VectorXd& r, Eigen::Vec
       if (free_index[v] >= 0) out[free_index[v]] = c[v];
     return out;
   };
-  const double rtol = std::clamp(r.cwiseAbs().maxCoeff(), 1e-12, 0.1);
+  // The forcing term falls with |r| (quadratic convergence), but no lower than what the last step
+  // needs: a tenth of the tolerance left over.
+  const double size = r.cwiseAbs().maxCoeff();
+  const double rtol = std::clamp(std::max(size, 0.1 * options.tolerance / size), 1e-12, 0.1);
   const double damping = std::clamp(lm_weight * r.cwiseAbs().maxCoeff(), 1e-4, 1.0);
   const int iterations = steps.solve_coupled(metric, r, coupling, damping, rtol, du, times);
   if (iterations < 0) return false;
