@@ -144,7 +144,8 @@ TEST(CircleCondition, OneSolveGivesTheFixedPointIterationsMap) {
   EXPECT_LE(off_circle, 1e-9);
 }
 
-// Only the Euclidean Yamabe flow on a surface with boundary takes the one solve.
+// Only the Euclidean Yamabe flow on a surface with boundary, with one of its loops as the outer
+// one, takes the one solve.
 TEST(CircleCondition, OneSolveRefusesOtherFlows) {
   const CompactMesh disk = test::cgal_mesh("nefertiti.off");
   const int outer = outer_boundary_loop(disk, disk.input_lengths());
@@ -153,6 +154,8 @@ TEST(CircleCondition, OneSolveRefusesOtherFlows) {
   tangential.scheme = Scheme::Tangential;
   RicciFlowSolver solver(disk, prepare_flow(disk, Geometry::Euclidean, tangential, target));
   EXPECT_THROW(solver.solve_circle_domain(target, outer), InvalidArgumentError);
+  RicciFlowSolver yamabe(disk, prepare_flow(disk, Geometry::Euclidean, {}, target));
+  EXPECT_THROW(yamabe.solve_circle_domain(target, disk.num_boundary_loops()), InvalidArgumentError);
 }
 
 }  // namespace

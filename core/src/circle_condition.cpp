@@ -69,7 +69,10 @@ std::vector<double> central_angles(const std::vector<double>& l, std::vector<dou
   for (double& t : theta) t *= 2 * kPi / sum;
   if (weights) {
     weights->resize(l.size());
-    for (size_t i = 0; i < l.size(); ++i) (*weights)[i] = 2 * std::tan(0.5 * theta[i]);
+    // A chord near a diameter (angle near pi) has a steep derivative; past pi (by the rescaling's
+    // rounding) tan would change sign.
+    for (size_t i = 0; i < l.size(); ++i)
+      (*weights)[i] = 2 * std::tan(0.5 * std::min(theta[i], kPi * (1 - 1e-9)));
   }
   return theta;
 }

@@ -1,7 +1,7 @@
 // Boundary loops on circles: the boundary curvature that makes a flat metric's boundary loops
 // chords of circles, as a function of the boundary lengths, and its derivative in u for the
-// Euclidean Yamabe flow, so that one Newton solve reaches a circle domain (ricci_flow.h,
-// RicciFlowSolver::solve with a CircleCondition). Not installed API.
+// Euclidean Yamabe flow, so that one solve reaches a circle domain (ricci_flow.h,
+// RicciFlowSolver::solve_circle_domain). Not installed API.
 //
 // Loop c with edges e (lengths l_e) lies on a circle of radius R_c when the turning at each vertex
 // is half the central angles alpha_e = 2 asin(l_e / 2 R_c) of its two edges, with R_c set by

@@ -51,7 +51,7 @@ BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop) {
   };
 }
 
-void reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
+bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
                          const TargetCurvature& target, const UniformizationOptions& o,
                          bool one_solve, Uniformization& run) {
   if (one_solve) {
@@ -59,11 +59,13 @@ void reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int o
     run.totals.add(run.result);
     if (run.result.converged) {
       run.boundary_change = 0;  // the result's target is the circles' at the final lengths
-      return;
+      return true;
     }
+    if (run.result.stop == FlowStop::Cancelled) return true;
     solver.restart();
   }
   fit_boundary_to_circles(solver, mesh, refit_on_mesh(mesh, outer_loop), target, o, run);
+  return false;
 }
 
 void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,

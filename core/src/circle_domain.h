@@ -31,9 +31,10 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
 
 //! The disk preset on `mesh`: with one_solve (the Euclidean Yamabe flow only) one solve with the
 //! circle condition in the Jacobian (RicciFlowSolver::solve_circle_domain); where that does not
-//! converge, or without one_solve, fit_boundary_to_circles from the input's metric. Fills run as
-//! fit_boundary_to_circles does.
-void reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
+//! converge (unless cancelled), or without one_solve, fit_boundary_to_circles from the input's
+//! metric. Fills run as fit_boundary_to_circles does (the totals count both); true when the
+//! result kept is the one solve's.
+bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
                          const TargetCurvature& target, const UniformizationOptions& options,
                          bool one_solve, Uniformization& run);
 

@@ -76,6 +76,7 @@ struct RicciFlowSolver::State {
     if (circles && metric.valid()) circles->set_target(metric.lengths(), goal);
   }
   bool step_direction(const Eigen::VectorXd& r, Eigen::VectorXd& du);
+  std::string step_failure;  // why step_direction() failed, when H was factorized
   FlowResult run(const Eigen::VectorXd* start);
 };
 
@@ -91,6 +92,7 @@ struct RicciFlowSolver::State {
 // others a factor of about 2e-4 per step. The round-off's Moebius component is left in the
 // residual (1.5e-12 at the boundary of the 1.07M-face lion head), within the tolerance.
 bool RicciFlowSolver::State::step_direction(const Eigen::VectorXd& r, Eigen::VectorXd& du) {
+  step_failure.clear();
   if (!circles) return steps.solve(metric, r, spherical(), lm_weight, du, times);
   circles->linearize(metric.lengths());
   const auto coupling = [this](const Eigen::VectorXd& x) {
@@ -108,10 +110,12 @@ bool RicciFlowSolver::State::step_direction(const Eigen::VectorXd& r, Eigen::Vec
   const double size = r.cwiseAbs().maxCoeff();
   const double rtol = std::clamp(std::max(size, 0.1 * options.tolerance / size), 1e-12, 0.1);
   const double damping = std::clamp(lm_weight * r.cwiseAbs().maxCoeff(), 1e-4, 1.0);
-  const int iterations = steps.solve_coupled(metric, r, coupling, damping, rtol, du, times);
-  if (iterations < 0) return false;
-  result.krylov_iterations += iterations;
-  return true;
+  const detail::StepSolver::Krylov krylov =
+      steps.solve_coupled(metric, r, coupling, damping, rtol, du, times);
+  result.krylov_iterations += krylov.iterations;
+  if (krylov.factorized && !krylov.progress)
+    step_failure = "MINRES made no progress on the damped step";
+  return krylov.factorized && krylov.progress;
 }
 
 void RicciFlowSolver::State::use_free_vertices(const TargetCurvature& target) {
@@ -229,7 +233,7 @@ double RicciFlowSolver::State::attainable_floor(const TargetCurvature& target) c
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     if (free_index[v] >= 0 || target.is_fixed(v)) continue;
     const double pinned = std::abs(k[v] - target.curvature[v]);
-    if (pinned <= std::max(floor, options.tolerance)) continue;
+    if (pinned <= options.tolerance) continue;
     // The angle sums' Gauss-Bonnet defect as computed (a target's own defect is no round-off).
     long double sum = -2 * static_cast<long double>(kPi) * mesh.euler_characteristic();
     for (int w = 0; w < mesh.num_vertices(); ++w) sum += k[w];
@@ -247,8 +251,13 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   Eigen::VectorXd du;
   std::ostringstream s;
   if (!step_direction(r, du)) {
-    s << "the Hessian could not be factorized at iteration " << it
-      << " (max |K - Kbar| = " << result.residual << "); the metric is close to degenerate";
+    if (step_failure.empty()) {
+      s << "the Hessian could not be factorized at iteration " << it
+        << " (max |K - Kbar| = " << result.residual << "); the metric is close to degenerate";
+    } else {
+      s << step_failure << " at iteration " << it << " (max |K - Kbar| = " << result.residual
+        << ")";
+    }
     return s.str();
   }
   const auto t = Clock::now();
@@ -391,10 +400,12 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
 FlowResult RicciFlowSolver::solve_circle_domain(const TargetCurvature& target, int outer_loop) {
   State& s = *state_;
   if (s.structure.geometry != Geometry::Euclidean || !is_yamabe(s.structure) ||
-      target.num_fixed() > 0 || s.mesh.is_closed()) {
+      target.num_fixed() > 0 || s.mesh.is_closed() || s.mesh.genus() != 0 || outer_loop < 0 ||
+      outer_loop >= s.mesh.num_boundary_loops()) {
     throw InvalidArgumentError(
         "ricci flow: boundary loops on circles in one solve need the Euclidean Yamabe flow on a "
-        "surface with boundary and a curvature target at every vertex");
+        "genus-0 surface with boundary, a curvature target at every vertex and one of its "
+        "boundary loops as the outer one");
   }
   check_target(s.mesh, s.structure.geometry, target);
   s.circles.emplace(s.mesh, outer_loop);

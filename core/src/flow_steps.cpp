@@ -105,9 +105,9 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
   return du.allFinite();
 }
 
-int StepSolver::solve_coupled(const MetricState& state, const Eigen::VectorXd& r,
-                              const Coupling& coupling, double damping, double rtol,
-                              Eigen::VectorXd& du, FlowTimes& times) {
+StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eigen::VectorXd& r,
+                                             const Coupling& coupling, double damping, double rtol,
+                                             Eigen::VectorXd& du, FlowTimes& times) {
   const auto run_minres = [&](int max_iterations) {
     const auto t = Clock::now();
     const SparseMatrix& h = assembler_->matrix();
@@ -122,24 +122,29 @@ int StepSolver::solve_coupled(const MetricState& state, const Eigen::VectorXd& r
   };
   // The last factorization, of an earlier H on this pattern, as the preconditioner while it keeps
   // MINRES short: a factorization costs as much as some ten solves with it.
+  Krylov out;
   if (coupled_factor_ && last_krylov_ <= kReuseFactorBelow) {
     const auto t = Clock::now();
     assembler_->assemble(state);
     times.assembly += seconds_since(t);
     const MinresResult m = run_minres(kStaleKrylovIterations);
+    out.iterations = m.iterations;
     if (du.allFinite() && m.relative_residual <= rtol) {
       last_krylov_ = m.iterations;
-      return m.iterations;
+      out.progress = true;
+      return out;
     }
   }
   Eigen::VectorXd rhs;
   coupled_factor_ = false;
-  if (!factorize(state, r, false, 0, rhs, times)) return -1;
+  out.factorized = factorize(state, r, false, 0, rhs, times);
+  if (!out.factorized) return out;
   coupled_factor_ = true;
   const MinresResult m = run_minres(kMaxKrylovIterations);
   last_krylov_ = m.iterations;
-  if (!du.allFinite() || !(m.relative_residual < 1)) return -1;
-  return m.iterations;
+  out.iterations += m.iterations;
+  out.progress = du.allFinite() && m.relative_residual < 1;
+  return out;
 }
 
 // === The line search

@@ -52,7 +52,6 @@ class StepSolver {
   //! A new pattern: a new triangulation (flips) or another set of free vertices.
   void set_pattern(const Triangulation& mesh, const std::vector<int>& free_index);
   int num_free() const { return assembler_->num_free(); }
-  const SparseMatrix& hessian() const { return assembler_->matrix(); }
 
   //! False when no shift makes the system factorizable, or the step is not finite.
   bool solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical, double lm_weight,
@@ -65,12 +64,16 @@ class StepSolver {
   //! many MINRES iterations, and is replaced when MINRES needs more than kStaleKrylovIterations.
   static constexpr int kReuseFactorBelow = 12, kStaleKrylovIterations = 30;
 
+  struct Krylov {
+    bool factorized = true;  //!< H could be factorized (or an earlier factorization served)
+    bool progress = false;   //!< MINRES reduced the residual and the step is finite
+    int iterations = 0;      //!< MINRES iterations, with those on an earlier factorization
+  };
   //! The (damped) Newton step of a target that depends on u: ((1 + damping) H - C) du = r with
   //! C du = coupling(du), symmetric and possibly indefinite, by MINRES preconditioned with a
-  //! factorization of H, to relative residual rtol (the preconditioner's norm). Returns the MINRES
-  //! iterations, or -1 when H could not be factorized or MINRES made no progress.
-  int solve_coupled(const MetricState& state, const Eigen::VectorXd& r, const Coupling& coupling,
-                    double damping, double rtol, Eigen::VectorXd& du, FlowTimes& times);
+  //! factorization of H, to relative residual rtol (the preconditioner's norm).
+  Krylov solve_coupled(const MetricState& state, const Eigen::VectorXd& r, const Coupling& coupling,
+                       double damping, double rtol, Eigen::VectorXd& du, FlowTimes& times);
 
   int num_analyses() const { return solver_.num_analyses(); }
   int num_factorizations() const { return solver_.num_factorizations(); }

@@ -366,11 +366,13 @@ namespace {
 // The flow (the disk preset: by one solve when one_solve, else or where that does not converge by
 // the fixed point of repeated flows; the double where the surface's own triangulation stalls at
 // the boundary) and the layout of its result.
-void flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, int outer,
+// Returns true when the result is the disk preset's one solve.
+bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, int outer,
                       const TargetCurvature& target, bool one_solve, Uniformization& run) {
   RicciFlowSolver solver(mesh, run.structure, o.flow);
+  bool by_one_solve = false;
   if (run.preset == TargetPreset::UnitDisk) {
-    detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
+    by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
   } else {
     const std::optional<Eigen::VectorXd> start = flow_start(mesh, run.structure, target, o.flow);
     run.result = solver.solve(target, start ? &*start : nullptr);
@@ -391,6 +393,7 @@ void flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
     run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
   }
   if (run.result.converged) run.layout_failure = layout_failure(run);
+  return by_one_solve;
 }
 
 }  // namespace
@@ -408,12 +411,12 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   const bool one_solve = run.preset == TargetPreset::UnitDisk &&
                          run.geometry == Geometry::Euclidean && is_yamabe(run.structure);
   const Uniformization start = run;
-  flow_and_lay_out(mesh, o, outer, target, one_solve, run);
+  const bool by_one_solve = flow_and_lay_out(mesh, o, outer, target, one_solve, run);
   // The one solve leaves the disk's Moebius maps free, and can end at one that squeezes most of
   // the surface below what double precision lays out (pymeshlab's face scan: u from -65 to 4.6,
   // the circles lost); the repeated flows, each with a boundary target held fixed, end near the
   // input's own proportions.
-  if (one_solve && run.result.converged && !run.doubled && !run.layout_failure.empty()) {
+  if (by_one_solve && run.result.converged && !run.layout_failure.empty()) {
     Uniformization again = start;
     again.totals = run.totals;
     flow_and_lay_out(mesh, o, outer, target, false, again);
