@@ -57,7 +57,10 @@ MinresResult minres(const Apply& apply, const Precondition& precondition, const 
     const double gamma_bar = s * delta_bar - c * alpha;
     epsilon = s * beta;
     delta_bar = -c * beta;
-    const double gamma = std::max(std::hypot(gamma_bar, beta), std::numeric_limits<double>::min());
+    // sqrt rather than std::hypot: glibc 2.35's new hypot symbol would keep the wheel from its
+    // manylinux tag (auditwheel), and these entries are far from overflow.
+    const double gamma = std::max(std::sqrt(gamma_bar * gamma_bar + beta * beta),
+                                  std::numeric_limits<double>::min());
     c = gamma_bar / gamma;
     s = beta / gamma;
     const double phi = c * phi_bar;

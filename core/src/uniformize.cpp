@@ -359,10 +359,6 @@ std::string layout_failure(const Uniformization& run) {
   return s.str();
 }
 
-}  // namespace
-
-namespace {
-
 // The flow (the disk preset: by one solve when one_solve, else or where that does not converge by
 // the fixed point of repeated flows; the double where the surface's own triangulation stalls at
 // the boundary) and the layout of its result.
