@@ -7,6 +7,8 @@
 #include <map>
 #include <string>
 
+#include "ricci/mesh_io.h"
+#include "ricci/repair.h"
 #include "ricci/uniformize.h"
 #include "test_meshes.h"
 
@@ -28,39 +30,12 @@ double turn(Geometry g, const std::array<Vec3, 3>& p) {
   return signed_area2(p[0], p[1], p[2]);
 }
 
-struct Case {
-  std::string mesh;
-  Geometry geometry;
-  Scheme scheme;
-  TargetPreset preset;
-};
-
-std::ostream& operator<<(std::ostream& s, const Case& c) {
-  return s << c.mesh << " " << to_string(c.geometry) << " " << to_string(c.scheme);
-}
-
-class CommonSubdivisionTest : public ::testing::TestWithParam<Case> {};
-
-TEST_P(CommonSubdivisionTest, IsTheInputSurfaceLaidOutWithoutTurnedFaces) {
-  const Case& c = GetParam();
-  const CompactMesh mesh = test::cgal_mesh(c.mesh);
-  UniformizationOptions o;
-  o.preset = c.preset;
-  o.geometry = c.geometry;
-  o.scheme.scheme = c.scheme;
-  o.flow.edge_flips = EdgeFlips::Always;
-  const Uniformization run = uniformize(mesh, o);
-  ASSERT_TRUE(run.converged()) << run.result.failure;
-  ASSERT_GT(run.totals.edge_flips, 0);
-  ASSERT_GT(run.input_faces_turned_over, 0) << "this case no longer needs a subdivision";
-  ASSERT_TRUE(run.subdivision.has_value()) << run.subdivision_failure;
-  EXPECT_TRUE(run.valid()) << run.layout_failure;
-  const CommonSubdivision& s = *run.subdivision;
+// The delivered mesh is the input surface: the input's vertices unchanged, every new vertex on
+// its input face at its barycentric coordinates, each face inside its input face with its
+// orientation, and the faces' areas adding up to each input face's.
+void expect_input_surface(const CompactMesh& mesh, const CommonSubdivision& s) {
   const int nv = mesh.num_vertices();
-  ASSERT_EQ(s.faces.size(), run.corners.size());
   ASSERT_EQ(s.num_input_vertices, nv);
-
-  // The input's vertices unchanged; every new vertex on its input face at its coordinates.
   for (int v = 0; v < nv; ++v) ASSERT_EQ(s.positions[v], mesh.positions()[v]) << v;
   const double size = std::sqrt(mesh.input_area());
   for (size_t v = nv; v < s.positions.size(); ++v) {
@@ -96,6 +71,41 @@ TEST_P(CommonSubdivisionTest, IsTheInputSurfaceLaidOutWithoutTurnedFaces) {
               mesh.positions()[mesh.face_vertex(f, 2)]);
     EXPECT_NEAR(piece_area[f], want, 1e-9 * want + 1e-15) << "input face " << f;
   }
+}
+
+struct Case {
+  std::string mesh;
+  Geometry geometry;
+  Scheme scheme;
+  TargetPreset preset;
+};
+
+std::ostream& operator<<(std::ostream& s, const Case& c) {
+  return s << c.mesh << " " << to_string(c.geometry) << " " << to_string(c.scheme);
+}
+
+class CommonSubdivisionTest : public ::testing::TestWithParam<Case> {};
+
+TEST_P(CommonSubdivisionTest, IsTheInputSurfaceLaidOutWithoutTurnedFaces) {
+  const Case& c = GetParam();
+  const CompactMesh mesh = test::cgal_mesh(c.mesh);
+  UniformizationOptions o;
+  o.preset = c.preset;
+  o.geometry = c.geometry;
+  o.scheme.scheme = c.scheme;
+  o.flow.edge_flips = EdgeFlips::Always;
+  const Uniformization run = uniformize(mesh, o);
+  ASSERT_TRUE(run.converged()) << run.result.failure;
+  ASSERT_GT(run.totals.edge_flips, 0);
+  ASSERT_GT(run.input_faces_turned_over, 0) << "this case no longer needs a subdivision";
+  ASSERT_TRUE(run.subdivision.has_value()) << run.subdivision_failure;
+  EXPECT_TRUE(run.valid()) << run.layout_failure;
+  const CommonSubdivision& s = *run.subdivision;
+  const int nv = mesh.num_vertices();
+  ASSERT_EQ(s.faces.size(), run.corners.size());
+  ASSERT_EQ(s.num_input_vertices, nv);
+
+  expect_input_surface(mesh, s);
   // No face turned over in the layout.
   int turned = 0;
   for (const auto& t : run.corners) turned += !(turn(c.geometry, t) > 0);
@@ -167,6 +177,46 @@ INSTANTIATE_TEST_SUITE_P(
       }
       return name;
     });
+
+// A hyperbolic triangle is drawn with straight sides, but its sides are arcs bowing toward the
+// disk's centre: near the rim a thin face positive in the metric turns over as drawn. Netgen's
+// hinge (genus 5, no flips) has three such faces; they are split until none is turned.
+TEST(PoincareDiskDrawing, ThinFacesNearTheRimAreSplitUntilNoneTurns) {
+  const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/netgen-hinge.stl");
+  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  ASSERT_EQ(repaired.components.size(), 1u);
+  const CompactMesh& mesh = repaired.components[0].mesh;
+  UniformizationOptions o;
+  o.keep_input_triangulation = true;  // the input's faces as they are drawn
+  const Uniformization plain = uniformize(mesh, o);
+  ASSERT_TRUE(plain.converged()) << plain.result.failure;
+  ASSERT_EQ(plain.layout_kind, LayoutKind::PoincareDisk);
+  ASSERT_EQ(plain.totals.edge_flips, 0);
+  int turned_as_drawn = 0;
+  for (const auto& t : plain.corners) {
+    if (turn(Geometry::Hyperbolic, t) > 0) continue;
+    ++turned_as_drawn;
+    // Positive in the Klein model, where the sides are straight.
+    std::array<Vec3, 3> k;
+    for (int c = 0; c < 3; ++c) k[c] = 2 * t[c] / (1 + t[c].squaredNorm());
+    EXPECT_GT(turn(Geometry::Hyperbolic, k), 0);
+  }
+  ASSERT_GT(turned_as_drawn, 0) << "this mesh no longer shows the case";
+
+  const Uniformization run = uniformize(mesh, {});
+  EXPECT_TRUE(run.valid()) << run.layout_failure;
+  ASSERT_TRUE(run.subdivision.has_value());
+  const CommonSubdivision& s = *run.subdivision;
+  EXPECT_GT(s.disk_splits, 0);
+  EXPECT_EQ(s.positions.size(), mesh.positions().size() + static_cast<size_t>(s.disk_splits));
+  expect_input_surface(mesh, s);
+  int turned = 0;
+  for (const auto& t : run.corners) {
+    turned += !(turn(Geometry::Hyperbolic, t) > 0);
+    for (const auto& p : t) EXPECT_LT(p.norm(), 1);
+  }
+  EXPECT_EQ(turned, 0);
+}
 
 }  // namespace
 }  // namespace ricci

@@ -35,17 +35,7 @@ Eigen::Vector3d between(Geometry g, const Eigen::Vector3d& p, const Eigen::Vecto
     case Geometry::Spherical:
       return ((1 - t) * p + t * q).normalized();
     case Geometry::Hyperbolic: {
-      // Hyperboloid points (x, y, w) with w^2 - x^2 - y^2 = 1.
-      double x[3] = {0, 0, 0};
-      for (const auto& [z, weight] : {std::pair{&p, 1 - t}, std::pair{&q, t}}) {
-        const double r2 = z->x() * z->x() + z->y() * z->y(), k = weight / (1 - r2);
-        x[0] += 2 * z->x() * k;
-        x[1] += 2 * z->y() * k;
-        x[2] += (1 + r2) * k;
-      }
-      const double n = std::sqrt(std::max(1e-300, x[2] * x[2] - x[0] * x[0] - x[1] * x[1]));
-      const double w = x[2] / n;
-      const Eigen::Vector3d on_arc(x[0] / n / (1 + w), x[1] / n / (1 + w), 0.0);
+      const Eigen::Vector3d on_arc = detail::disk_geodesic_point(p, q, t);
       if (disk_points == DiskSidePoints::OnGeodesic) return on_arc;
       return detail::onto_drawn_side(p, q, on_arc);
     }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -37,6 +38,20 @@ Eigen::Vector3d onto_drawn_side(const Eigen::Vector3d& p, const Eigen::Vector3d&
                                 const Eigen::Vector3d& z) {
   const Eigen::Vector3d side = q - p;
   return p + std::clamp((z - p).dot(side) / side.squaredNorm(), 0.0, 1.0) * side;
+}
+
+Eigen::Vector3d disk_geodesic_point(const Eigen::Vector3d& p, const Eigen::Vector3d& q, double t) {
+  // Hyperboloid points (x, y, w) with w^2 - x^2 - y^2 = 1.
+  double x[3] = {0, 0, 0};
+  for (const auto& [z, weight] : {std::pair{&p, 1 - t}, std::pair{&q, t}}) {
+    const double r2 = z->x() * z->x() + z->y() * z->y(), k = weight / (1 - r2);
+    x[0] += 2 * z->x() * k;
+    x[1] += 2 * z->y() * k;
+    x[2] += (1 + r2) * k;
+  }
+  const double n = std::sqrt(std::max(1e-300, x[2] * x[2] - x[0] * x[0] - x[1] * x[1]));
+  const double w = x[2] / n;
+  return {x[0] / n / (1 + w), x[1] / n / (1 + w), 0.0};
 }
 
 int corner_of(const Triangulation& mesh, int f, int v) {

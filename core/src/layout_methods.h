@@ -37,6 +37,11 @@ Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<d
 Eigen::Vector3d onto_drawn_side(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
                                 const Eigen::Vector3d& z);
 
+//! The point of the geodesic from p to q in the Poincare disk whose hyperboloid vector is
+//! (1 - t) P + t Q, normalized (P, Q: the hyperboloid vectors of p and q): t = 1/2 is the
+//! geodesic's midpoint.
+Eigen::Vector3d disk_geodesic_point(const Eigen::Vector3d& p, const Eigen::Vector3d& q, double t);
+
 //! Fills the deck transformations (E2, H2), the closure error and the flipped-face count of a
 //! layout whose corners and cut are set.
 void glue_along_cut(const Triangulation& mesh, Layout& layout);

@@ -65,7 +65,8 @@ std::string layout_json(const Uniformization& run) {
     j << ", \"common_subdivision\": {\"vertices\": " << sub.positions.size()
       << ", \"new_vertices\": " << sub.positions.size() - sub.num_input_vertices
       << ", \"faces\": " << sub.faces.size() << ", \"flips_followed\": " << sub.num_flips
-      << ", \"seconds\": " << number(sub.seconds) << "}";
+      << ", \"disk_splits\": " << sub.disk_splits << ", \"seconds\": " << number(sub.seconds)
+      << "}";
   } else {
     j << ", \"common_subdivision\": null";
   }
@@ -220,11 +221,19 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
   if (run.subdivision) {
     const CommonSubdivision& sub = *run.subdivision;
     faces = "subdivision's faces";
-    line("Common subdivision: ", run.input_faces_turned_over,
-         " of the input's faces would turn over on the flipped triangulation, so the input is cut "
-         "along its edges: ",
-         sub.positions.size(), " vertices (", sub.positions.size() - mesh.num_vertices(),
-         " new, on input edges), ", sub.faces.size(), " faces (", sub.seconds, " s)");
+    if (run.input_faces_turned_over > 0) {
+      line("Common subdivision: ", run.input_faces_turned_over,
+           " of the input's faces would turn over on the flipped triangulation, so the input is "
+           "cut along its edges: ",
+           sub.positions.size(), " vertices (", sub.positions.size() - mesh.num_vertices(),
+           " new, on input edges), ", sub.faces.size(), " faces (", sub.seconds, " s)");
+    }
+    if (sub.disk_splits > 0) {
+      line("Poincare disk drawing: ", sub.disk_splits,
+           " sides split at their geodesic midpoints (a new vertex each, at the side's midpoint "
+           "on the surface), as thin faces near the rim turn over when drawn straight: ",
+           sub.positions.size(), " vertices, ", sub.faces.size(), " faces");
+    }
   } else if (run.input_faces_turned_over > 0 && !run.subdivision_failure.empty()) {
     line("No common subdivision: ", run.subdivision_failure);
   }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "circle_domain.h"
+#include "disk_drawing.h"
 #include "doubled_surface.h"
 #include "ricci/errors.h"
 #include "spherical_start.h"
@@ -186,6 +187,13 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
     } catch (const LayoutError& e) {
       run.subdivision_failure = e.what();
     }
+  }
+  // Thin faces near the Poincare disk's rim that turn over only as drawn (straight) are split.
+  if (run.layout_kind == LayoutKind::PoincareDisk && !o.keep_input_triangulation &&
+      (run.subdivision || run.input_faces_turned_over == 0) &&
+      detail::has_drawing_turned_faces(run.subdivision ? run.subdivision->corners : corners)) {
+    if (!run.subdivision) run.subdivision = detail::input_as_subdivision(mesh, run.result, corners);
+    run.subdivision->disk_splits = detail::split_turned_disk_faces(mesh, *run.subdivision);
   }
   const CommonSubdivision* sub = run.subdivision ? &*run.subdivision : nullptr;
   if (sub && per_vertex) {

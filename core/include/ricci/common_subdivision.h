@@ -36,7 +36,8 @@ struct CommonSubdivision {
   std::vector<int> vertex_input_face;
   std::vector<Eigen::Vector3d> vertex_barycentric;
   //! Per new vertex: the input edge it lies on and its parameter there (0 at the edge's first
-  //! vertex, 1 at its second).
+  //! vertex, 1 at its second); -1 and NaN for a vertex inside an input face (a side split for the
+  //! Poincare disk's drawing).
   std::vector<int> vertex_input_edge;
   std::vector<double> vertex_edge_parameter;
   //! The layout per face and corner, in the model of `layout` (before any normalization).
@@ -46,7 +47,10 @@ struct CommonSubdivision {
   //! Per vertex: u, the input's for input vertices, interpolated along the input edge for new
   //! ones.
   Eigen::VectorXd u;
-  int num_flips = 0;   //!< flips followed
+  int num_flips = 0;  //!< flips followed
+  //! Sides split at their geodesic midpoint so that faces near the Poincare disk's rim keep their
+  //! orientation drawn straight (each adds one vertex).
+  int disk_splits = 0;
   double seconds = 0;  //!< time to build it
 };
 

@@ -1,0 +1,222 @@
+#include "disk_drawing.h"
+
+#include <cmath>
+#include <unordered_map>
+#include <utility>
+
+#include "layout_methods.h"
+#include "ricci/layout.h"
+
+namespace ricci::detail {
+
+namespace {
+
+std::array<Eigen::Vector3d, 3> klein(const std::array<Eigen::Vector3d, 3>& poincare) {
+  std::array<Eigen::Vector3d, 3> k;
+  for (int c = 0; c < 3; ++c) k[c] = 2 * poincare[c] / (1 + poincare[c].squaredNorm());
+  return k;
+}
+
+// Turned over as drawn, positive as a hyperbolic triangle.
+bool turned_only_as_drawn(const std::array<Eigen::Vector3d, 3>& corners) {
+  return !(orientation(Geometry::Hyperbolic, corners) > 0) &&
+         orientation(Geometry::Hyperbolic, klein(corners)) > 0;
+}
+
+int corner_of_vertex(const CompactMesh& mesh, int f, int v) {
+  for (int c = 0; c < 3; ++c) {
+    if (mesh.face_vertex(f, c) == v) return c;
+  }
+  return -1;
+}
+
+// Where a delivered vertex lies in terms of the input: on input edge `edge` at parameter s (from
+// the edge's first vertex), or (edge < 0) inside an input face.
+struct EdgePoint {
+  int edge = -1;
+  double s = 0;
+};
+
+class Splitter {
+ public:
+  Splitter(const CompactMesh& mesh, CommonSubdivision& sub) : mesh_(mesh), sub_(sub) {}
+
+  // Barycentric coordinates of delivered vertex v in input face f, which holds it.
+  Eigen::Vector3d barycentric(int f, int v) const {
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    if (v < sub_.num_input_vertices) {
+      const int c = corner_of_vertex(mesh_, f, v);
+      if (c >= 0) {
+        b[c] = 1;
+        return b;
+      }
+    } else {
+      const EdgePoint p = on_edge(v);
+      if (p.edge >= 0) {
+        const auto [e0, e1] = mesh_.edge_vertices(p.edge);
+        const int c0 = corner_of_vertex(mesh_, f, e0), c1 = corner_of_vertex(mesh_, f, e1);
+        if (c0 >= 0 && c1 >= 0) {
+          b[c0] = 1 - p.s;
+          b[c1] = p.s;
+          return b;
+        }
+      } else if (sub_.vertex_input_face[v] == f) {
+        return sub_.vertex_barycentric[v];
+      }
+    }
+    // Not expected: least squares in the face's plane.
+    const Eigen::Vector3d a = mesh_.positions()[mesh_.face_vertex(f, 0)];
+    Eigen::Matrix<double, 3, 2> m;
+    m.col(0) = mesh_.positions()[mesh_.face_vertex(f, 1)] - a;
+    m.col(1) = mesh_.positions()[mesh_.face_vertex(f, 2)] - a;
+    const Eigen::Vector2d st = m.colPivHouseholderQr().solve(sub_.positions[v] - a);
+    return {1 - st[0] - st[1], st[0], st[1]};
+  }
+
+  EdgePoint on_edge(int v) const {
+    if (v < sub_.num_input_vertices) return {};
+    const size_t i = static_cast<size_t>(v - sub_.num_input_vertices);
+    return {sub_.vertex_input_edge[i], sub_.vertex_edge_parameter[i]};
+  }
+
+  // The input edge holding both a and b (a side of input face f), or edge -1.
+  EdgePoint common_edge(int f, int a, int b) const {
+    auto parameter_on = [&](int e, int v) {
+      const auto& ends = mesh_.edge_vertices(e);
+      if (v == ends[0]) return 0.0;
+      if (v == ends[1]) return 1.0;
+      const EdgePoint p = on_edge(v);
+      return p.edge == e ? p.s : std::nan("");
+    };
+    for (int c = 0; c < 3; ++c) {
+      const int e = mesh_.face_edge(f, c);
+      const double sa = parameter_on(e, a), sb = parameter_on(e, b);
+      if (!std::isnan(sa) && !std::isnan(sb)) return {e, (sa + sb) / 2};
+    }
+    return {};
+  }
+
+  // Splits the side from corner c to corner c + 1 of every face in `faces` (all on one side).
+  void split(const std::vector<std::pair<int, int>>& faces) {
+    const auto [f0, c0] = faces.front();
+    const int a = sub_.faces[f0][c0], b = sub_.faces[f0][(c0 + 1) % 3];
+    const int input = sub_.input_face[f0];
+    const int m = static_cast<int>(sub_.positions.size());
+    const EdgePoint along = common_edge(input, a, b);
+    if (along.edge >= 0) {
+      const auto [e0, e1] = mesh_.edge_vertices(along.edge);
+      sub_.positions.push_back((1 - along.s) * mesh_.positions()[e0] +
+                               along.s * mesh_.positions()[e1]);
+      sub_.vertex_input_face.push_back(input);
+      sub_.vertex_barycentric.push_back(Eigen::Vector3d::Zero());
+      sub_.vertex_barycentric.back()[corner_of_vertex(mesh_, input, e0)] = 1 - along.s;
+      sub_.vertex_barycentric.back()[corner_of_vertex(mesh_, input, e1)] = along.s;
+    } else {
+      sub_.positions.push_back((sub_.positions[a] + sub_.positions[b]) / 2);
+      sub_.vertex_input_face.push_back(input);
+      sub_.vertex_barycentric.push_back((barycentric(input, a) + barycentric(input, b)) / 2);
+    }
+    sub_.vertex_input_edge.push_back(along.edge);
+    sub_.vertex_edge_parameter.push_back(along.edge >= 0 ? along.s : std::nan(""));
+    sub_.u.conservativeResize(m + 1);
+    sub_.u[m] = (sub_.u[a] + sub_.u[b]) / 2;
+    sub_.vertex_layout.push_back(Eigen::Vector3d::Constant(std::nan("")));
+    for (const auto& [f, c] : faces) {
+      const std::array<int, 3> t = sub_.faces[f];
+      const std::array<Eigen::Vector3d, 3> p = sub_.corners[f];
+      const int d = (c + 1) % 3, o = (c + 2) % 3;
+      const Eigen::Vector3d mid = disk_geodesic_point(p[c], p[d], 0.5);
+      if (f == f0) sub_.vertex_layout[m] = mid;
+      sub_.faces[f] = {t[c], m, t[o]};
+      sub_.corners[f] = {p[c], mid, p[o]};
+      sub_.faces.push_back({m, t[d], t[o]});
+      sub_.corners.push_back({mid, p[d], p[o]});
+      sub_.input_face.push_back(sub_.input_face[f]);
+      sub_.final_face.push_back(sub_.final_face[f]);
+    }
+  }
+
+ private:
+  const CompactMesh& mesh_;
+  CommonSubdivision& sub_;
+};
+
+}  // namespace
+
+CommonSubdivision input_as_subdivision(const CompactMesh& mesh, const FlowResult& result,
+                                       const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
+  CommonSubdivision sub;
+  const int nv = mesh.num_vertices();
+  sub.num_input_vertices = nv;
+  sub.positions = mesh.positions();
+  sub.faces = mesh.faces();
+  sub.corners = corners;
+  sub.u = result.u.head(nv);
+  sub.vertex_input_face.assign(nv, -1);
+  sub.vertex_barycentric.assign(nv, Eigen::Vector3d::Zero());
+  sub.vertex_layout.assign(nv, Eigen::Vector3d::Constant(std::nan("")));
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    sub.input_face.push_back(f);
+    sub.final_face.push_back(f);
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.face_vertex(f, c);
+      if (sub.vertex_input_face[v] >= 0) continue;
+      sub.vertex_input_face[v] = f;
+      sub.vertex_barycentric[v][c] = 1;
+      sub.vertex_layout[v] = corners[f][c];
+    }
+  }
+  return sub;
+}
+
+bool has_drawing_turned_faces(const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
+  for (const auto& p : corners) {
+    if (turned_only_as_drawn(p)) return true;
+  }
+  return false;
+}
+
+int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int max_rounds) {
+  Splitter splitter(mesh, sub);
+  int splits = 0;
+  for (int round = 0; round < max_rounds; ++round) {
+    // The sides of the delivered faces, by their ends (smaller first): (face, corner it starts at).
+    std::unordered_map<long long, std::vector<std::pair<int, int>>> sides;
+    auto key = [&](int a, int b) {
+      return static_cast<long long>(std::min(a, b)) * static_cast<long long>(sub.positions.size()) +
+             std::max(a, b);
+    };
+    const int nf = static_cast<int>(sub.faces.size());
+    std::vector<long long> chosen;
+    for (int f = 0; f < nf; ++f) {
+      if (!turned_only_as_drawn(sub.corners[f])) continue;
+      int longest = 0;
+      for (int c = 1; c < 3; ++c) {
+        if ((sub.corners[f][(c + 1) % 3] - sub.corners[f][c]).norm() >
+            (sub.corners[f][(longest + 1) % 3] - sub.corners[f][longest]).norm()) {
+          longest = c;
+        }
+      }
+      chosen.push_back(key(sub.faces[f][longest], sub.faces[f][(longest + 1) % 3]));
+    }
+    if (chosen.empty()) break;
+    for (int f = 0; f < nf; ++f) {
+      for (int c = 0; c < 3; ++c) {
+        sides[key(sub.faces[f][c], sub.faces[f][(c + 1) % 3])].emplace_back(f, c);
+      }
+    }
+    std::vector<char> touched(nf, 0);
+    for (long long k : chosen) {
+      const auto& faces = sides[k];
+      bool free = !faces.empty();
+      for (const auto& fc : faces) free = free && !touched[fc.first];
+      if (!free) continue;
+      for (const auto& fc : faces) touched[fc.first] = 1;
+      splitter.split(faces);
+      ++splits;
+    }
+  }
+  return splits;
+}
+
+}  // namespace ricci::detail
