@@ -73,6 +73,34 @@ void expect_input_surface(const CompactMesh& mesh, const CommonSubdivision& s) {
   }
 }
 
+// Points of the plane inside two of the triangles, sampled on a 400 x 400 grid over their box.
+int overlaps(const std::vector<std::array<Vec3, 3>>& corners) {
+  Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& t : corners) {
+    for (const auto& p : t) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
+  }
+  const int n = 400;
+  std::map<long, int> cover;
+  int overlaps = 0;
+  for (const auto& t : corners) {
+    Eigen::Vector2d a = t[0].head<2>(), b = a;
+    for (const auto& p : t) a = a.cwiseMin(p.head<2>()), b = b.cwiseMax(p.head<2>());
+    const Eigen::Vector2d step = (hi - lo) / n;
+    for (int i = static_cast<int>((a.x() - lo.x()) / step.x()); i <= (b.x() - lo.x()) / step.x();
+         ++i) {
+      for (int j = static_cast<int>((a.y() - lo.y()) / step.y()); j <= (b.y() - lo.y()) / step.y();
+           ++j) {
+        const Vec3 x(lo.x() + (i + 0.5) * step.x(), lo.y() + (j + 0.5) * step.y(), 0);
+        const double total = signed_area2(t[0], t[1], t[2]);
+        const double w0 = signed_area2(x, t[1], t[2]) / total,
+                     w1 = signed_area2(t[0], x, t[2]) / total;
+        if (w0 > 1e-9 && w1 > 1e-9 && 1 - w0 - w1 > 1e-9) overlaps += cover[i * (n + 1L) + j]++ > 0;
+      }
+    }
+  }
+  return overlaps;
+}
+
 struct Case {
   std::string mesh;
   Geometry geometry;
@@ -132,30 +160,7 @@ TEST_P(CommonSubdivisionTest, IsTheInputSurfaceLaidOutWithoutTurnedFaces) {
   }
   if (run.layout_kind != LayoutKind::Plane) return;
   // One chart: no point of the plane inside two faces (sampled on a grid).
-  Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
-  for (const auto& t : run.corners) {
-    for (const auto& p : t) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
-  }
-  const int n = 400;
-  std::map<long, int> cover;
-  int overlaps = 0;
-  for (const auto& t : run.corners) {
-    Eigen::Vector2d a = t[0].head<2>(), b = a;
-    for (const auto& p : t) a = a.cwiseMin(p.head<2>()), b = b.cwiseMax(p.head<2>());
-    const Eigen::Vector2d step = (hi - lo) / n;
-    for (int i = static_cast<int>((a.x() - lo.x()) / step.x()); i <= (b.x() - lo.x()) / step.x();
-         ++i) {
-      for (int j = static_cast<int>((a.y() - lo.y()) / step.y()); j <= (b.y() - lo.y()) / step.y();
-           ++j) {
-        const Vec3 x(lo.x() + (i + 0.5) * step.x(), lo.y() + (j + 0.5) * step.y(), 0);
-        const double total = signed_area2(t[0], t[1], t[2]);
-        const double w0 = signed_area2(x, t[1], t[2]) / total,
-                     w1 = signed_area2(t[0], x, t[2]) / total;
-        if (w0 > 1e-9 && w1 > 1e-9 && 1 - w0 - w1 > 1e-9) overlaps += cover[i * (n + 1L) + j]++ > 0;
-      }
-    }
-  }
-  EXPECT_EQ(overlaps, 0);
+  EXPECT_EQ(overlaps(run.corners), 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -216,6 +221,50 @@ TEST(PoincareDiskDrawing, ThinFacesNearTheRimAreSplitUntilNoneTurns) {
     for (const auto& p : t) EXPECT_LT(p.norm(), 1);
   }
   EXPECT_EQ(turned, 0);
+}
+
+// CGAL's elephant with holes in H2 with geodesic boundary: its fundamental domain reaches
+// hyperbolic distance 24 from its centre, where faces are below what double precision draws in
+// the Poincare disk. It is drawn in charts, each within kChartRadius of its disk's centre, packed
+// side by side in the texture.
+TEST(PoincareDiskDrawing, FarReachingDomainsAreDrawnInCharts) {
+  const CompactMesh mesh = test::cgal_mesh("elephant-with-holes.off");
+  const Uniformization run = uniformize(mesh, {});
+  ASSERT_TRUE(run.valid()) << run.result.failure << run.layout_failure;
+  ASSERT_EQ(run.layout_kind, LayoutKind::PoincareDisk);
+  EXPECT_GT(run.layout.reach, kOneChartRadius);
+  const int charts = run.layout.num_charts();
+  EXPECT_GT(charts, 1);
+  ASSERT_TRUE(run.subdivision.has_value());
+  expect_input_surface(mesh, *run.subdivision);
+  ASSERT_EQ(run.face_chart.size(), run.corners.size());
+  // Every corner within a chart's radius of its disk's centre, every face counter-clockwise.
+  const double rim = std::tanh(kChartRadius / 2) + 1e-12;
+  int turned = 0;
+  std::vector<int> faces_in(static_cast<size_t>(charts), 0);
+  for (size_t f = 0; f < run.corners.size(); ++f) {
+    for (const auto& p : run.corners[f]) EXPECT_LT(p.norm(), rim) << "face " << f;
+    turned += !(turn(Geometry::Hyperbolic, run.corners[f]) > 0);
+    ++faces_in[static_cast<size_t>(run.face_chart[f])];
+  }
+  EXPECT_EQ(turned, 0);
+  for (int k = 0; k < charts; ++k) EXPECT_GT(faces_in[static_cast<size_t>(k)], 0) << "chart " << k;
+  // The charts glue along uncut edges by their transitions.
+  EXPECT_LE(run.layout.closure_error, 1e-8);
+  // In the texture, no point is covered twice: neither within a chart nor across charts.
+  const TextureCoordinates uv = texture_coordinates(run);
+  ASSERT_EQ(uv.wedge.size(), run.corners.size());
+  std::vector<std::array<Vec3, 3>> texture;
+  for (const auto& t : uv.wedge) {
+    std::array<Vec3, 3> p;
+    for (int c = 0; c < 3; ++c) {
+      p[c] = Vec3(t[c].x(), t[c].y(), 0);
+      EXPECT_GE(t[c].minCoeff(), 0);
+      EXPECT_LE(t[c].maxCoeff(), 1);
+    }
+    texture.push_back(p);
+  }
+  EXPECT_EQ(overlaps(texture), 0);
 }
 
 }  // namespace

@@ -92,15 +92,6 @@ struct Chart {
   Eigen::Vector2d offset = Eigen::Vector2d::Zero();     // where the box goes
 };
 
-std::vector<std::array<Eigen::Vector2d, 3>> planar_corners(const Uniformization& run) {
-  std::vector<std::array<Eigen::Vector2d, 3>> corners;
-  if (run.layout_kind == LayoutKind::None || run.layout_kind == LayoutKind::Sphere) return corners;
-  for (const auto& face : run.corners) {
-    corners.push_back({face[0].head<2>(), face[1].head<2>(), face[2].head<2>()});
-  }
-  return corners;
-}
-
 // Each chart scaled to its surface's area, then the boxes packed on shelves, tallest first.
 void pack(std::vector<Chart>& charts, const std::vector<double>& surface_area) {
   double total = 0, widest = 0;
@@ -181,7 +172,7 @@ void gather_texture(MeshUniformization& out) {
   std::vector<double> area(n);
   bool any = false, all_per_vertex = true;
   for (size_t k = 0; k < n; ++k) {
-    charts[k].corners = planar_corners(out.components[k]);
+    charts[k].corners = drawn_corners(out.components[k]);
     area[k] = out.mesh.components[k].mesh.input_area();
     any = any || !charts[k].corners.empty();
     all_per_vertex = all_per_vertex && out.components[k].layout_kind == LayoutKind::Plane;

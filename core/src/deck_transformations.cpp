@@ -70,7 +70,33 @@ void detail::glue_along_cut(const Triangulation& mesh, Layout& layout) {
   const auto at = [&](int f, int v) { return p[f][corner_of(mesh, f, v)]; };
   layout.deck.clear();
   layout.closure_error = 0;
-  if (planar) {
+  const bool charts = !layout.chart.empty();
+  // Position of vertex v in face f, in the chart of face g: up the chart tree from f's chart to
+  // the lowest common ancestor, then down to g's (charts that meet are near each other).
+  const auto at_in_chart_of = [&](int f, int v, int g) -> Eigen::Vector3d {
+    const Eigen::Vector3d x = at(f, v);
+    if (!charts || layout.chart[f] == layout.chart[g]) return x;
+    const auto depth = [&](int k) {
+      int d = 0;
+      for (; layout.chart_parent[k] >= 0; k = layout.chart_parent[k]) ++d;
+      return d;
+    };
+    int from = layout.chart[f], to = layout.chart[g];
+    DiskIsometry up{Geometry::Hyperbolic, 1.0, 0.0}, down = up;  // from's to the ancestor's; ...
+    int df = depth(from), dt = depth(to);
+    while (from != to) {
+      if (df >= dt) {
+        up = layout.chart_from_parent[from].inverse() * up;
+        from = layout.chart_parent[from], --df;
+      } else {
+        down = down * layout.chart_from_parent[to];
+        to = layout.chart_parent[to], --dt;
+      }
+    }
+    const Complex z = (down * up)(to_complex(x));
+    return {z.real(), z.imag(), 0};
+  };
+  if (planar && !charts) {
     for (const CutPath& path : layout.cut.paths) {
       const int a = path.vertices[0], b = path.vertices[1];
       const auto [left, right] = sides(path.edges[0], a);
@@ -84,9 +110,15 @@ void detail::glue_along_cut(const Triangulation& mesh, Layout& layout) {
     const auto [a, b] = mesh.edge_vertices(e);
     if (!layout.cut.cut[e]) {
       const auto [f, g] = mesh.edge_faces(e);
-      layout.closure_error = std::max(
-          {layout.closure_error, (at(f, a) - at(g, a)).norm(), (at(f, b) - at(g, b)).norm()});
-    } else if (planar) {
+      for (int v : {a, b}) {
+        const double gap = (at_in_chart_of(f, v, g) - at(g, v)).norm();
+        if (std::isnan(gap) || std::isnan(layout.closure_error)) {
+          layout.closure_error = std::nan("");
+        } else {
+          layout.closure_error = std::max(layout.closure_error, gap);
+        }
+      }
+    } else if (planar && !charts) {
       const int from = walked_from[e];
       const int to = from == a ? b : a;
       const auto [left, right] = sides(e, from);

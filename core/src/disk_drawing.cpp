@@ -1,6 +1,7 @@
 #include "disk_drawing.h"
 
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 #include <utility>
 
@@ -179,6 +180,7 @@ bool has_drawing_turned_faces(const std::vector<std::array<Eigen::Vector3d, 3>>&
 int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int max_rounds) {
   Splitter splitter(mesh, sub);
   int splits = 0;
+  size_t before = std::numeric_limits<size_t>::max();
   for (int round = 0; round < max_rounds; ++round) {
     // The sides of the delivered faces, by their ends (smaller first): (face, corner it starts at).
     std::unordered_map<long long, std::vector<std::pair<int, int>>> sides;
@@ -199,7 +201,10 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
       }
       chosen.push_back(key(sub.faces[f][longest], sub.faces[f][(longest + 1) % 3]));
     }
-    if (chosen.empty()) break;
+    // Where halving does not reduce them, the faces are not thin arcs' drawings but at the limits
+    // of double precision near the rim: splitting them would only multiply them.
+    if (chosen.empty() || chosen.size() >= before) break;
+    before = chosen.size();
     for (int f = 0; f < nf; ++f) {
       for (int c = 0; c < 3; ++c) {
         sides[key(sub.faces[f][c], sub.faces[f][(c + 1) % 3])].emplace_back(f, c);

@@ -37,6 +37,7 @@ std::vector<std::array<double, 3>> face_angles(const Triangulation& mesh, Geomet
 Eigen::Vector3d onto_drawn_side(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
                                 const Eigen::Vector3d& z) {
   const Eigen::Vector3d side = q - p;
+  if (!(side.squaredNorm() > 0)) return p;  // a side below double precision
   return p + std::clamp((z - p).dot(side) / side.squaredNorm(), 0.0, 1.0) * side;
 }
 
@@ -72,7 +73,8 @@ Layout lay_out(const Triangulation& mesh, Geometry geometry, const std::vector<d
     layout = detail::develop(mesh, geometry, lengths);
     detail::glue_along_cut(mesh, layout);
   }
-  layout.relation_error = surface_group_relation_error(mesh, layout);
+  layout.relation_error =
+      layout.chart.empty() ? surface_group_relation_error(mesh, layout) : std::nan("");
   return layout;
 }
 

@@ -80,6 +80,9 @@ std::string layout_json(const Uniformization& run) {
     << ", \"closure_error\": " << number(m.closure_error)
     << ", \"relation_error\": " << number(m.relation_error)
     << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators;
+  if (run.geometry == Geometry::Hyperbolic) {
+    j << ", \"reach\": " << number(m.reach) << ", \"charts\": " << m.num_charts();
+  }
   if (!run.periods.empty()) {
     j << ", \"periods\": [" << complex_pair(run.periods[0]) << ", " << complex_pair(run.periods[1])
       << "]";
@@ -254,6 +257,13 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
   }
   if (!run.layout_failure.empty()) line("Invalid layout: ", run.layout_failure);
   const Layout& m = run.layout;
+  if (m.num_charts() > 1) {
+    line("Poincare disk in ", m.num_charts(), " charts: the domain reaches hyperbolic distance ",
+         m.reach,
+         " from its centre, where double precision no longer draws its faces in one disk; ",
+         "each chart is a piece of it moved within ", kChartRadius,
+         " of a disk's centre, the disks side by side in the texture (no deck transformations)");
+  }
   if (!m.cut.paths.empty()) {
     line("Cut into a disk along ", m.cut.paths.size(), " paths (", m.cut.num_generators,
          " generators): closure error ", m.closure_error, ", relation error ", m.relation_error);

@@ -188,6 +188,17 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
       run.subdivision_failure = e.what();
     }
   }
+  // A layout in several charts is delivered as a subdivision, each face in one chart (input faces
+  // drawn over flipped faces could straddle two).
+  if (run.layout.num_charts() > 1 && !run.subdivision) {
+    try {
+      run.subdivision = run.result.flip_sequence.empty()
+                            ? detail::input_as_subdivision(mesh, run.result, corners)
+                            : common_subdivision(mesh, run.structure, run.result, run.layout);
+    } catch (const LayoutError& e) {
+      run.subdivision_failure = e.what();
+    }
+  }
   // Thin faces near the Poincare disk's rim that turn over only as drawn (straight) are split.
   if (run.layout_kind == LayoutKind::PoincareDisk && !o.keep_input_triangulation &&
       (run.subdivision || run.input_faces_turned_over == 0) &&
@@ -196,6 +207,9 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
     run.subdivision->disk_splits = detail::split_turned_disk_faces(mesh, *run.subdivision);
   }
   const CommonSubdivision* sub = run.subdivision ? &*run.subdivision : nullptr;
+  if (run.layout.num_charts() > 1 && sub) {
+    for (int f : sub->final_face) run.face_chart.push_back(run.layout.chart[f]);
+  }
   if (sub && per_vertex) {
     position.insert(position.end(), sub->vertex_layout.begin() + mesh.num_vertices(),
                     sub->vertex_layout.end());
@@ -272,6 +286,21 @@ std::string to_string(LayoutKind k) {
   return "?";
 }
 
+std::vector<std::array<Eigen::Vector2d, 3>> drawn_corners(const Uniformization& run) {
+  std::vector<std::array<Eigen::Vector2d, 3>> drawn;
+  if (run.layout_kind == LayoutKind::None || run.layout_kind == LayoutKind::Sphere) return drawn;
+  const int charts = run.face_chart.empty() ? 1 : run.layout.num_charts();
+  const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(charts))));
+  for (size_t f = 0; f < run.corners.size(); ++f) {
+    const int k = run.face_chart.empty() ? 0 : run.face_chart[f];
+    const Eigen::Vector2d offset(2.25 * (k % columns), -2.25 * (k / columns));
+    std::array<Eigen::Vector2d, 3> t;
+    for (int c = 0; c < 3; ++c) t[c] = run.corners[f][c].head<2>() + offset;
+    drawn.push_back(t);
+  }
+  return drawn;
+}
+
 TextureCoordinates texture_coordinates(const Uniformization& run) {
   TextureCoordinates t;
   if (run.layout_kind == LayoutKind::Plane) {
@@ -281,10 +310,10 @@ TextureCoordinates texture_coordinates(const Uniformization& run) {
   } else if (run.layout_kind == LayoutKind::PlaneCut ||
              run.layout_kind == LayoutKind::PoincareDisk) {
     std::vector<Eigen::Vector2d> flat;
-    for (const auto& face : run.corners) {
-      for (const auto& p : face) flat.push_back(p.head<2>());
+    for (const auto& face : drawn_corners(run)) {
+      for (const auto& p : face) flat.push_back(p);
     }
-    if (run.layout_kind == LayoutKind::PlaneCut) {
+    if (run.layout_kind == LayoutKind::PlaneCut || !run.face_chart.empty()) {
       flat = normalized_texture_coordinates(flat);
     } else {
       for (auto& p : flat) p = (p + Eigen::Vector2d::Ones()) / 2;

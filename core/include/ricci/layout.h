@@ -62,7 +62,26 @@ struct Layout {
   //! E2: max | |x_head - x_tail| / l - 1 | over the faces' edges.
   double max_relative_length_error = 0;
   int num_flipped_faces = 0;  //!< faces with non-positive orientation in the model
+  //! H2 domains reaching farther from their centre than double precision draws in one Poincare
+  //! disk (kOneChartRadius) are drawn in charts, each a piece of the domain moved by an isometry
+  //! to lie within kChartRadius of the disk's centre. Per face: its chart (empty: one chart, the
+  //! domain itself). Chart k > 0 is chart_parent[k]'s coordinates moved by chart_from_parent[k];
+  //! deck transformations are then not computed (deck empty, relation error NaN), and the closure
+  //! error is over uncut edges, across charts by their transitions.
+  std::vector<int> chart;
+  std::vector<int> chart_parent;
+  std::vector<DiskIsometry> chart_from_parent;
+  //! Largest hyperbolic distance of a corner from the centre of the single-chart domain (H2).
+  double reach = 0;
+
+  int num_charts() const { return chart.empty() ? 1 : static_cast<int>(chart_parent.size()); }
 };
+
+//! H2: a domain whose corners all lie within this hyperbolic distance of the disk's centre is
+//! drawn in one chart (1 - |z| > 3e-8 there, which leaves thin faces a few digits in double).
+inline constexpr double kOneChartRadius = 18;
+//! H2: the radius of each chart when the domain is drawn in several (1 - |z| > 1.2e-5).
+inline constexpr double kChartRadius = 12;
 
 //! Lays out `lengths`, a metric of the geometry with angle sum 2 pi at interior vertices (a
 //! converged flow's), by the method for its geometry (see the top of this file).

@@ -108,6 +108,9 @@ struct Uniformization {
   //! Every layout: positions per face and corner of the delivered mesh (the input's, or the
   //! common subdivision's).
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  //! PoincareDisk laid out in several charts (Layout::chart): per delivered face, the chart its
+  //! corners are in; empty for one chart.
+  std::vector<int> face_chart;
   //! When the flow flipped edges and the input's faces drawn by their corners would turn over:
   //! the mesh delivered instead (common_subdivision.h); `position` and `corners` are then its.
   std::optional<CommonSubdivision> subdivision;
@@ -149,9 +152,14 @@ LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geomet
 //! \throws InvalidTargetError, InvalidArgumentError for requests that admit no solution (named).
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& options);
 
+//! The delivered faces' corners drawn in the plane (x, y): the layout's, except that a Poincare
+//! disk layout in several charts has chart k's disk moved to its own place in a grid of disks
+//! (row-major, 2.25 apart). Empty for the sphere and no layout.
+std::vector<std::array<Eigen::Vector2d, 3>> drawn_corners(const Uniformization& run);
+
 //! Texture coordinates in [0, 1]^2 of a layout: per vertex for Plane (scaled with the aspect ratio
-//! kept), per face corner for PlaneCut (the same) and PoincareDisk ((z + 1) / 2); none for the
-//! sphere.
+//! kept), per face corner for PlaneCut (the same) and PoincareDisk ((z + 1) / 2 for one chart,
+//! the grid of drawn_corners scaled like PlaneCut for several); none for the sphere.
 struct TextureCoordinates {
   std::vector<Eigen::Vector2d> vertex;
   std::vector<std::array<Eigen::Vector2d, 3>> wedge;
