@@ -163,6 +163,7 @@ double surface_group_relation_error(const Triangulation& mesh, const Layout& lay
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     if (cut_degree[v] < 3 || mesh.is_boundary_vertex(v)) continue;
     DiskIsometry product{layout.geometry, 1.0, 0.0};  // from the current face to the first
+    double largest = 1;  // H2: the largest |a| of the partial products (rounding scales with it)
     const int first = face_at[v];
     int f = first;
     do {
@@ -176,13 +177,16 @@ double surface_group_relation_error(const Triangulation& mesh, const Layout& lay
             mesh.halfedge_tail(mesh.twin(h)) == from && mesh.halfedge_head(mesh.twin(h)) == to;
         const DiskIsometry& deck = layout.deck[path_of[e]];
         product = product * (into_left ? deck.inverse() : deck);
+        largest = std::max(largest, std::abs(product.a));
       }
       f = g;
     } while (f != first);
-    const double a = layout.geometry == Geometry::Hyperbolic
-                         ? std::min(std::abs(product.a - 1.0), std::abs(product.a + 1.0))
-                         : std::abs(product.a - 1.0);
-    error = std::max({error, a, std::abs(product.b) / extent});
+    if (layout.geometry == Geometry::Hyperbolic) {
+      const double a = std::min(std::abs(product.a - 1.0), std::abs(product.a + 1.0));
+      error = std::max(error, std::max(a, std::abs(product.b)) / largest);
+    } else {
+      error = std::max({error, std::abs(product.a - 1.0), std::abs(product.b) / extent});
+    }
   }
   return error;
 }

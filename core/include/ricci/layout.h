@@ -104,8 +104,10 @@ std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid
 //! paths meet, the deck transformations of the paths crossed compose to the identity (Poincare's
 //! polygon theorem: these vertex cycles generate the relations, for a single-vertex cut
 //! [a1, b1] ... [ag, bg] = 1). Returns the largest distance of such a product from the identity:
-//! max(|a -/+ 1|, |b| / extent) with extent the layout's largest coordinate in E2, 1 in H2;
-//! 0 for S2 and for cuts without such vertices.
+//! E2: max(|a - 1|, |b| / extent) with extent the layout's largest coordinate; H2:
+//! max(|a -/+ 1|, |b|) relative to the largest |a| of the partial products (the entries the
+//! composition went through, which rounding scales with: far-reaching domains compose isometries
+//! with entries ~e^(distance / 2)); 0 for S2 and for cuts without such vertices.
 double surface_group_relation_error(const Triangulation& mesh, const Layout& layout);
 
 //! S2: the Moebius transformation of the sphere that moves the points' centre of mass to the
