@@ -7,7 +7,8 @@ Meshes default to those listed in meshes/real-meshes.tsv (fetched by scripts/rea
 third_party/real-meshes/) and CGAL's set. A result counts as valid when ricci-flow exited 0 and the
 written PLY, read here by a reader of this script's own, has every face laid out with positive
 orientation: in the texture (per vertex or per face corner), on the unit sphere (layout_x/y/z), in
-the Poincare disk. Prints one row per mesh and a summary; writes OUT_DIR/results.tsv.
+the Poincare disk. Prints one row per mesh and a summary; writes OUT_DIR/results.tsv, and each
+run's JSON report beside its PLY.
 """
 import argparse
 import os
@@ -163,11 +164,13 @@ def main():
     for path, category in meshes:
         name = os.path.basename(path)
         out = os.path.join(args.out, name + ".ply")
-        if os.path.exists(out):
-            os.remove(out)
+        report = os.path.join(args.out, name + ".json")
+        for old in (out, report):
+            if os.path.exists(old):
+                os.remove(old)
         start = time.time()
         try:
-            r = subprocess.run([args.tool, path, "-o", out, "--quiet"], capture_output=True,
+            r = subprocess.run([args.tool, path, "-o", out, "--report", report, "--quiet"], capture_output=True,
                                text=True, timeout=args.timeout)
             code, message = r.returncode, r.stderr.strip().replace("\n", " ")
         except subprocess.TimeoutExpired:

@@ -470,6 +470,29 @@ TEST(Cli, FlipsThatTurnInputFacesDeliverTheCommonSubdivision) {
   EXPECT_NE(kept.err.find("of the input's faces are turned over"), std::string::npos) << kept.err;
 }
 
+// Poincare disk layouts that straight drawing would turn over: thin faces near the rim (Netgen's
+// hinge, no flips) are split; a domain reaching hyperbolic distance 24 (CGAL's elephant with
+// holes) is drawn in charts. Both exit 0 with every face counter-clockwise in the texture.
+TEST(Cli, PoincareDiskLayoutsAreSplitOrChartedUntilNoFaceTurns) {
+  for (const auto& [input, says] :
+       {std::pair{std::string(RICCI_REAL_MESH_DIR) + "/netgen-hinge.stl",
+                  "Poincare disk drawing: "},
+        std::pair{cgal("elephant-with-holes.off"), "Poincare disk in "}}) {
+    const std::string out = temp("poincare.ply");
+    const CliRun r = ricci_flow(input + " -o " + out + " --report " + temp("poincare.json"));
+    ASSERT_EQ(r.exit_code, 0) << input << ": " << r.err;
+    EXPECT_NE(r.out.find(says), std::string::npos) << r.out;
+    const ricci::test::PlyData ply = ricci::test::read_ply(out);
+    ASSERT_EQ(ply.face_texcoords_double.size(), ply.faces.size());
+    int turned = 0;
+    for (const auto& t : ply.face_texcoords_double) {
+      const double a = (t[2] - t[0]) * (t[5] - t[1]) - (t[3] - t[1]) * (t[4] - t[0]);
+      turned += !(a > 0);
+    }
+    EXPECT_EQ(turned, 0) << input;
+  }
+}
+
 TEST(Cli, FailedRunWritesNoMesh) {
   const std::string out = temp("never.ply");
   std::remove(out.c_str());

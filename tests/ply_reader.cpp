@@ -87,6 +87,8 @@ PlyData read_ply(const std::string& path) {
           for (int c = 0; c < 3 && c < n; ++c) face[c] = static_cast<int>(values[c]);
         } else if (e == "face" && p.name == "texcoord") {
           ply.face_texcoords.push_back(values);
+        } else if (e == "face" && p.name == "texcoord_double") {
+          ply.face_texcoords_double.push_back(values);
         }
       }
       if (e == "face") ply.faces.push_back(face);

@@ -15,7 +15,8 @@ struct PlyData {
   std::map<std::string, std::string> vertex_types;
   std::map<std::string, std::vector<double>> vertex;  //!< values by property name
   std::vector<std::array<int, 3>> faces;
-  std::vector<std::vector<double>> face_texcoords;  //!< the per-face texcoord list, if any
+  std::vector<std::vector<double>> face_texcoords;         //!< the per-face texcoord list, if any
+  std::vector<std::vector<double>> face_texcoords_double;  //!< texcoord_double, if any
   bool has_vertex(const std::string& name) const { return vertex.count(name) > 0; }
 };
 
