@@ -143,6 +143,17 @@ nb::dict uniformize_arrays(const Points& v, const Triangles& f, std::vector<std:
   d["target"] = vector(run.target);
   d["position"] = run.position.empty() ? nb::none() : points(run.position);
   d["corner_layout"] = corner_layout(run);
+  std::vector<int> chart;  // per delivered face: its Poincare disk chart (0 where one chart)
+  bool charts = false;
+  for (const Uniformization& c : run.components) {
+    charts = charts || !c.face_chart.empty();
+    if (c.face_chart.empty()) {
+      chart.insert(chart.end(), c.corners.size(), 0);
+    } else {
+      chart.insert(chart.end(), c.face_chart.begin(), c.face_chart.end());
+    }
+  }
+  d["face_chart"] = charts && chart.size() == run.faces.size() ? indices(chart) : nb::none();
   std::vector<std::string> kinds;
   for (const Uniformization& c : run.components) kinds.push_back(to_string(c.layout_kind));
   d["layout_kinds"] = kinds;

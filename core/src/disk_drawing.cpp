@@ -1,7 +1,6 @@
 #include "disk_drawing.h"
 
 #include <cmath>
-#include <limits>
 #include <unordered_map>
 #include <utility>
 
@@ -178,18 +177,19 @@ bool has_drawing_turned_faces(const std::vector<std::array<Eigen::Vector3d, 3>>&
 }
 
 int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int max_rounds) {
-  Splitter splitter(mesh, sub);
-  int splits = 0;
-  size_t before = std::numeric_limits<size_t>::max();
-  for (int round = 0; round < max_rounds; ++round) {
-    // The sides of the delivered faces, by their ends (smaller first): (face, corner it starts at).
-    std::unordered_map<long long, std::vector<std::pair<int, int>>> sides;
-    auto key = [&](int a, int b) {
+  const auto not_positive = [&] {
+    int n = 0;
+    for (const auto& p : sub.corners) n += !(orientation(Geometry::Hyperbolic, p) > 0);
+    return n;
+  };
+  int splits = 0, turned = not_positive();
+  for (int round = 0; round < max_rounds && turned > 0; ++round) {
+    const int nf = static_cast<int>(sub.faces.size());
+    const auto key = [&](int a, int b) {
       return static_cast<long long>(std::min(a, b)) * static_cast<long long>(sub.positions.size()) +
              std::max(a, b);
     };
-    const int nf = static_cast<int>(sub.faces.size());
-    std::vector<long long> chosen;
+    std::vector<long long> chosen;  // per face to mend: its longest drawn side
     for (int f = 0; f < nf; ++f) {
       if (!turned_only_as_drawn(sub.corners[f])) continue;
       int longest = 0;
@@ -201,25 +201,46 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
       }
       chosen.push_back(key(sub.faces[f][longest], sub.faces[f][(longest + 1) % 3]));
     }
-    // Where halving does not reduce them, the faces are not thin arcs' drawings but at the limits
-    // of double precision near the rim: splitting them would only multiply them.
-    if (chosen.empty() || chosen.size() >= before) break;
-    before = chosen.size();
+    if (chosen.empty()) break;
+    // The sides of the delivered faces by their ends: (face, corner the side starts at).
+    std::unordered_map<long long, std::vector<std::pair<int, int>>> sides;
     for (int f = 0; f < nf; ++f) {
       for (int c = 0; c < 3; ++c) {
         sides[key(sub.faces[f][c], sub.faces[f][(c + 1) % 3])].emplace_back(f, c);
       }
     }
+    const CommonSubdivision before = sub;
+    int split_here = 0;
     std::vector<char> touched(nf, 0);
     for (long long k : chosen) {
       const auto& faces = sides[k];
-      bool free = !faces.empty();
+      // One side: in one face, or in two that run it in opposite directions (two sides with the
+      // same ends would be pinched into one vertex).
+      bool one_side = faces.size() == 1;
+      if (faces.size() == 2) {
+        const auto& [f, c] = faces[0];
+        const auto& [g, d] = faces[1];
+        one_side = sub.faces[f][c] == sub.faces[g][(d + 1) % 3];
+      }
+      bool free = one_side;
       for (const auto& fc : faces) free = free && !touched[fc.first];
       if (!free) continue;
       for (const auto& fc : faces) touched[fc.first] = 1;
-      splitter.split(faces);
-      ++splits;
+      Splitter(mesh, sub).split(faces);
+      ++split_here;
     }
+    // Where halving does not reduce the faces turned as drawn, they are not thin arcs' drawings
+    // but at the limits of double precision near the rim: splitting would only multiply them.
+    const int now = not_positive();
+    if (split_here == 0 || now >= turned) {
+      if (now > turned)
+        sub = before;
+      else
+        splits += split_here;
+      break;
+    }
+    splits += split_here;
+    turned = now;
   }
   return splits;
 }

@@ -80,7 +80,7 @@ std::string layout_json(const Uniformization& run) {
     << ", \"closure_error\": " << number(m.closure_error)
     << ", \"relation_error\": " << number(m.relation_error)
     << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators;
-  if (run.geometry == Geometry::Hyperbolic) {
+  if (run.geometry == Geometry::Hyperbolic && m.reach > 0) {
     j << ", \"reach\": " << number(m.reach) << ", \"charts\": " << m.num_charts();
   }
   if (!run.periods.empty()) {
@@ -229,7 +229,8 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
            " of the input's faces would turn over on the flipped triangulation, so the input is "
            "cut along its edges: ",
            sub.positions.size(), " vertices (", sub.positions.size() - mesh.num_vertices(),
-           " new, on input edges), ", sub.faces.size(), " faces (", sub.seconds, " s)");
+           " new: on input edges, and any rim splits below), ", sub.faces.size(), " faces (",
+           sub.seconds, " s)");
     }
     if (sub.disk_splits > 0) {
       line("Poincare disk drawing: ", sub.disk_splits,

@@ -188,9 +188,9 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
       run.subdivision_failure = e.what();
     }
   }
-  // A layout in several charts is delivered as a subdivision, each face in one chart (input faces
-  // drawn over flipped faces could straddle two).
-  if (run.layout.num_charts() > 1 && !run.subdivision) {
+  // The input as a subdivision of itself (no flips), or cut along the flipped triangulation.
+  const auto deliver_subdivision = [&] {
+    if (run.subdivision || !run.subdivision_failure.empty()) return;
     try {
       run.subdivision = run.result.flip_sequence.empty()
                             ? detail::input_as_subdivision(mesh, run.result, corners)
@@ -198,13 +198,20 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
     } catch (const LayoutError& e) {
       run.subdivision_failure = e.what();
     }
+  };
+  // A layout in several charts is delivered as a subdivision, each face in one chart (input faces
+  // drawn over flipped faces could straddle two).
+  if (run.layout.num_charts() > 1 &&
+      !(o.keep_input_triangulation && !run.result.flip_sequence.empty())) {
+    deliver_subdivision();
   }
   // Thin faces near the Poincare disk's rim that turn over only as drawn (straight) are split.
   if (run.layout_kind == LayoutKind::PoincareDisk && !o.keep_input_triangulation &&
-      (run.subdivision || run.input_faces_turned_over == 0) &&
       detail::has_drawing_turned_faces(run.subdivision ? run.subdivision->corners : corners)) {
-    if (!run.subdivision) run.subdivision = detail::input_as_subdivision(mesh, run.result, corners);
-    run.subdivision->disk_splits = detail::split_turned_disk_faces(mesh, *run.subdivision);
+    deliver_subdivision();
+    if (run.subdivision) {
+      run.subdivision->disk_splits = detail::split_turned_disk_faces(mesh, *run.subdivision);
+    }
   }
   const CommonSubdivision* sub = run.subdivision ? &*run.subdivision : nullptr;
   if (run.layout.num_charts() > 1 && sub) {
@@ -363,8 +370,19 @@ namespace {
 // What makes a converged layout no map: faces turned over, the unit disk's loops off circles.
 std::string layout_failure(const Uniformization& run) {
   std::ostringstream s;
+  if (run.layout.num_charts() > 1 && run.face_chart.empty()) {
+    s << "the Poincare disk layout needs " << run.layout.num_charts()
+      << " charts (the domain reaches hyperbolic distance " << run.layout.reach
+      << "), and the input's faces over the flipped triangulation cannot be drawn in them";
+    if (!run.subdivision_failure.empty()) {
+      s << " (the common subdivision could not be built: " << run.subdivision_failure << ")";
+    } else {
+      s << " (--keep-input-triangulation)";
+    }
+    return s.str();
+  }
   if (run.subdivision && run.quality.flipped_faces > 0) {
-    s << run.quality.flipped_faces << " faces of the common subdivision are turned over (first: "
+    s << run.quality.flipped_faces << " faces of the delivered subdivision are turned over (first: "
       << "face " << run.quality.first_flipped_face << ")";
     return s.str();
   }

@@ -86,6 +86,9 @@ class Result:
         component's layout has one point per vertex; else None.
     corner_layout: per face corner, (m, 3, 2) in the plane or the Poincare disk, (m, 3, 3) when a
         component lies on the sphere; None where a component has no layout.
+    face_chart: per face, the Poincare disk chart its corners are in, where a hyperbolic domain
+        reaches too far from its centre for one disk in double precision (else None): each chart
+        is a piece of the domain moved near the centre of its own disk.
     layout_kinds: per component: "plane", "plane-cut", "poincare-disk", "sphere" or "none".
     texcoord: the texture atlas in [0, 1]^2, per vertex (n, 2) or per corner (m, 3, 2).
     u, radius, curvature, target: per vertex (NaN where a vertex is in no face; target NaN where
@@ -111,6 +114,7 @@ class Result:
         planar = all(k in _PLANAR for k in self.layout_kinds)
         corners = d["corner_layout"]
         self.corner_layout = None if corners is None else (corners[:, :, :2] if planar else corners)
+        self.face_chart = d["face_chart"]
         per_vertex = all(k in ("plane", "sphere") for k in self.layout_kinds)
         position = d["position"]
         self.layout = None

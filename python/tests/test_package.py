@@ -111,6 +111,23 @@ def test_flips_that_turn_input_faces_give_the_common_subdivision():
     assert np.all(signed_areas(r.corner_layout) > 0)
 
 
+def test_far_reaching_hyperbolic_domains_come_in_charts():
+    # CGAL's elephant with holes: its H2 domain reaches hyperbolic distance 24 from its centre.
+    path = os.path.join(ROOT, "third_party", "cgal-data", "data", "meshes",
+                        "elephant-with-holes.off")
+    V, F = ricci_flow.read_mesh(path)
+    r = ricci_flow.uniformize(V, F)
+    assert r.converged
+    assert r.layout_kinds == ["poincare-disk"]
+    assert r.quality["charts"] > 1
+    assert r.face_chart is not None and len(r.face_chart) == len(r.faces)
+    assert set(np.unique(r.face_chart)) == set(range(r.quality["charts"]))
+    # Each chart inside its disk, every face counter-clockwise in it and in the texture.
+    assert np.max(np.linalg.norm(r.corner_layout, axis=2)) < 1
+    assert np.all(signed_areas(r.corner_layout) > 0)
+    assert np.all(signed_areas(r.texcoord) > 0)
+
+
 def test_dirty_input_is_repaired_and_reported():
     V, F = mesh("nefertiti.off")
     V2 = np.vstack([V, [[9.0, 9.0, 9.0]]])                  # an unreferenced vertex

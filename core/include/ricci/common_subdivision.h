@@ -10,7 +10,9 @@
 // both, and fan-triangulated.
 //
 // Vertices: the input's first, unchanged and in order; then one per crossing of an input edge with
-// an edge of T', input edge after input edge, in the order along each.
+// an edge of T', input edge after input edge, in the order along each. The Poincare disk's
+// drawing may split sides further (disk_drawing.h): those vertices come last, at the midpoint of
+// their side, on an input edge or inside an input face.
 #pragma once
 
 #include <array>
@@ -42,10 +44,11 @@ struct CommonSubdivision {
   std::vector<double> vertex_edge_parameter;
   //! The layout per face and corner, in the model of `layout` (before any normalization).
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
-  //! Per vertex: its position in the layout from the first face that holds it.
+  //! Per vertex: its position in the layout from the first face that holds it (H2 in charts: in
+  //! that face's chart).
   std::vector<Eigen::Vector3d> vertex_layout;
   //! Per vertex: u, the input's for input vertices, interpolated along the input edge for new
-  //! ones.
+  //! ones (the mean of its side's ends for a split side's midpoint).
   Eigen::VectorXd u;
   int num_flips = 0;  //!< flips followed
   //! Sides split at their geodesic midpoint so that faces near the Poincare disk's rim keep their

@@ -71,7 +71,8 @@ struct Layout {
   std::vector<int> chart;
   std::vector<int> chart_parent;
   std::vector<DiskIsometry> chart_from_parent;
-  //! Largest hyperbolic distance of a corner from the centre of the single-chart domain (H2).
+  //! Largest hyperbolic distance of a corner from the centre of the single-chart domain (H2; a
+  //! lower bound beyond about 37, where |z| rounds to 1).
   double reach = 0;
 
   int num_charts() const { return chart.empty() ? 1 : static_cast<int>(chart_parent.size()); }
@@ -107,7 +108,9 @@ std::vector<std::array<Eigen::Vector3d, 3>> corners_on(const Triangulation& laid
 //! E2: max(|a - 1|, |b| / extent) with extent the layout's largest coordinate; H2:
 //! max(|a -/+ 1|, |b|) relative to the largest |a| of the partial products (the entries the
 //! composition went through, which rounding scales with: far-reaching domains compose isometries
-//! with entries ~e^(distance / 2)); 0 for S2 and for cuts without such vertices.
+//! with entries ~e^(distance / 2); rounding grows faster than that, so far-reaching domains still
+//! show larger errors, and a relation broken by O(1) shows smaller); 0 for S2 and for cuts without
+//! such vertices.
 double surface_group_relation_error(const Triangulation& mesh, const Layout& layout);
 
 //! S2: the Moebius transformation of the sphere that moves the points' centre of mass to the

@@ -111,8 +111,10 @@ struct Uniformization {
   //! PoincareDisk laid out in several charts (Layout::chart): per delivered face, the chart its
   //! corners are in; empty for one chart.
   std::vector<int> face_chart;
-  //! When the flow flipped edges and the input's faces drawn by their corners would turn over:
-  //! the mesh delivered instead (common_subdivision.h); `position` and `corners` are then its.
+  //! The mesh delivered instead of the input's: when the flow flipped edges and the input's faces
+  //! drawn by their corners would turn over (common_subdivision.h); when the Poincare disk's
+  //! drawing split sides (disk_drawing.h) or needs charts (Layout::chart). `position` and
+  //! `corners` are then its.
   std::optional<CommonSubdivision> subdivision;
   //! Input faces that turned over when drawn by their corners on the flipped triangulation.
   int input_faces_turned_over = 0;
