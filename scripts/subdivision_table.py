@@ -7,7 +7,8 @@ One Markdown row per component delivered as a subdivision of its input (after ed
 input faces would turn over, sides split for the Poincare disk's drawing, or a Poincare disk in
 charts): mesh (component), topology and geometry, edge flips during the flow, input faces that
 would have turned over, rim splits, charts, the subdivision's size against the input's, the
-subdivision's seconds against the flow's, and the status check_real_meshes.py gave the mesh.
+subdivision's seconds against the flow's, the delivered faces turned over and collapsed (the
+tool's own count), and the status check_real_meshes.py gave the whole mesh.
 """
 import json
 import os
@@ -24,8 +25,8 @@ def main():
             status[cells[0]] = cells[2]
     print("| mesh (component) | topology, geometry | flips | input faces that would turn | "
           "rim splits | charts | subdivision: vertices (new), faces (input) | "
-          "subdivision s / flow s | result |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "subdivision s / flow s | delivered faces turned, collapsed | mesh's result |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     rows = 0
     for name in sorted(status):
         path = os.path.join(out, name + ".json")
@@ -40,11 +41,12 @@ def main():
                 continue
             label = name + (" (%d)" % k if len(components) > 1 else "")
             mesh = c["mesh"]
-            print("| %s | %s, %s | %d | %d | %d | %s | %d (%d), %d (%d) | %.3f / %.2f | %s |" % (
+            print("| %s | %s, %s | %d | %d | %d | %s | %d (%d), %d (%d) | %.3f / %.2f | %d, %d | %s |" % (
                 label, mesh["topology"], c["geometry"], c["edge_flips"],
                 layout.get("input_faces_turned_over", 0), sub.get("disk_splits", 0),
                 layout.get("charts", 1), sub["vertices"], sub["new_vertices"], sub["faces"],
-                mesh["faces"], sub["seconds"], c["seconds"]["flows"], status[name]))
+                mesh["faces"], sub["seconds"], c["seconds"]["flows"], layout["flipped_faces"],
+                layout["collapsed_faces"], status[name]))
             rows += 1
     print("\n%d components delivered as a subdivision" % rows)
 

@@ -72,7 +72,17 @@ void detail::glue_along_cut(const Triangulation& mesh, Layout& layout) {
   layout.closure_error = 0;
   const bool charts = !layout.chart.empty();
   // Position of vertex v in face f, in the chart of face g: up the chart tree from f's chart to
-  // the lowest common ancestor, then down to g's (charts that meet are near each other).
+  // the lowest common ancestor, then down to g's (charts that meet are near each other). The
+  // transitions' entries grow like e^(d / 2) with the distance d between chart centres, and
+  // composing them cancels most digits: in long double.
+  using Wide = std::complex<long double>;
+  struct WideMoebius {
+    Wide a = 1, b = 0;
+    WideMoebius operator*(const WideMoebius& o) const {
+      return {a * o.a + b * std::conj(o.b), a * o.b + b * std::conj(o.a)};
+    }
+  };
+  const auto wide = [](const DiskIsometry& m) { return WideMoebius{Wide(m.a), Wide(m.b)}; };
   const auto at_in_chart_of = [&](int f, int v, int g) -> Eigen::Vector3d {
     const Eigen::Vector3d x = at(f, v);
     if (!charts || layout.chart[f] == layout.chart[g]) return x;
@@ -82,19 +92,21 @@ void detail::glue_along_cut(const Triangulation& mesh, Layout& layout) {
       return d;
     };
     int from = layout.chart[f], to = layout.chart[g];
-    DiskIsometry up{Geometry::Hyperbolic, 1.0, 0.0}, down = up;  // from's to the ancestor's; ...
+    WideMoebius up, down;  // from f's chart up to the ancestor's; from the ancestor's down to g's
     int df = depth(from), dt = depth(to);
     while (from != to) {
       if (df >= dt) {
-        up = layout.chart_from_parent[from].inverse() * up;
+        up = wide(layout.chart_from_parent[from].inverse()) * up;
         from = layout.chart_parent[from], --df;
       } else {
-        down = down * layout.chart_from_parent[to];
+        down = down * wide(layout.chart_from_parent[to]);
         to = layout.chart_parent[to], --dt;
       }
     }
-    const Complex z = (down * up)(to_complex(x));
-    return {z.real(), z.imag(), 0};
+    const WideMoebius m = down * up;
+    const Wide z(x.x(), x.y());
+    const Wide moved = (m.a * z + m.b) / (std::conj(m.b) * z + std::conj(m.a));
+    return {static_cast<double>(moved.real()), static_cast<double>(moved.imag()), 0};
   };
   if (planar && !charts) {
     for (const CutPath& path : layout.cut.paths) {
