@@ -223,6 +223,27 @@ TEST(PoincareDiskDrawing, ThinFacesNearTheRimAreSplitUntilNoneTurns) {
   EXPECT_EQ(turned, 0);
 }
 
+// Caps near the rim: with tangential circle packing, the genus-97 printer part's H2 layout has thin
+// faces whose third corner lies close to an arc; halving does not mend them (6 stayed turned), a
+// split at the foot of the perpendicular from that corner does.
+TEST(PoincareDiskDrawing, CapsAreSplitAtTheFootOfTheirPerpendicular) {
+  const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/cura-zav-maxpro.stl");
+  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  const CompactMesh& mesh = repaired.components[0].mesh;
+  ASSERT_EQ(mesh.genus(), 97);
+  UniformizationOptions o;
+  o.scheme.scheme = Scheme::Tangential;
+  const Uniformization run = uniformize(mesh, o);
+  ASSERT_TRUE(run.converged()) << run.result.failure;
+  EXPECT_TRUE(run.valid()) << run.layout_failure;
+  ASSERT_TRUE(run.subdivision.has_value());
+  EXPECT_GT(run.subdivision->disk_splits, 0);
+  expect_input_surface(mesh, *run.subdivision);
+  int turned = 0;
+  for (const auto& t : run.corners) turned += !(turn(Geometry::Hyperbolic, t) > 0);
+  EXPECT_EQ(turned, 0);
+}
+
 // CGAL's elephant with holes in H2 with geodesic boundary: its fundamental domain reaches
 // hyperbolic distance 24 from its centre, where faces are below what double precision draws in
 // the Poincare disk. It is drawn in charts, each within kChartRadius of its disk's centre, packed

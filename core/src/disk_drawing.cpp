@@ -1,6 +1,9 @@
 #include "disk_drawing.h"
 
+#include <algorithm>
 #include <cmath>
+#include <complex>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -36,6 +39,38 @@ struct EdgePoint {
   int edge = -1;
   double s = 0;
 };
+
+Eigen::Vector3d lift(std::complex<double> z) {  // onto the hyperboloid w^2 - x^2 - y^2 = 1
+  const double r2 = std::norm(z);
+  return Eigen::Vector3d(2 * z.real(), 2 * z.imag(), 1 + r2) / (1 - r2);
+}
+
+double minkowski(const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+  return x[0] * y[0] + x[1] * y[1] - x[2] * y[2];
+}
+
+// The hyperboloid weight toward q of the foot of the perpendicular from r onto the geodesic from p
+// to q, in [0.05, 0.95] (computed with p moved to the disk's centre).
+double foot_weight(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
+  const DiskIsometry m = DiskIsometry::moving_to_origin({p.x(), p.y()});
+  const Eigen::Vector3d A(0, 0, 1), B = lift(m({q.x(), q.y()})), C = lift(m({r.x(), r.y()}));
+  Eigen::Matrix2d gram;
+  gram << minkowski(A, A), minkowski(A, B), minkowski(A, B), minkowski(B, B);
+  const Eigen::Vector2d x =
+      gram.fullPivLu().solve(Eigen::Vector2d(minkowski(C, A), minkowski(C, B)));
+  const double w = x[1] / (x[0] + x[1]);
+  return std::isfinite(w) ? std::clamp(w, 0.05, 0.95) : 0.5;
+}
+
+// The fraction of the geodesic's length from p to the point of hyperboloid weight w toward q.
+double length_fraction(const Eigen::Vector3d& p, const Eigen::Vector3d& q, double w) {
+  const DiskIsometry m = DiskIsometry::moving_to_origin({p.x(), p.y()});
+  const std::complex<double> at =
+      m({disk_geodesic_point(p, q, w).x(), disk_geodesic_point(p, q, w).y()});
+  const double whole = std::atanh(std::abs(m({q.x(), q.y()})));
+  const double t = std::atanh(std::abs(at)) / whole;
+  return std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.5;
+}
 
 class Splitter {
  public:
@@ -79,8 +114,9 @@ class Splitter {
     return {sub_.vertex_input_edge[i], sub_.vertex_edge_parameter[i]};
   }
 
-  // The input edge holding both a and b (a side of input face f), or edge -1.
-  EdgePoint common_edge(int f, int a, int b) const {
+  // The input edge holding both a and b (a side of input face f), with the parameter there of the
+  // point dividing a-b at fraction t; or edge -1.
+  EdgePoint common_edge(int f, int a, int b, double t) const {
     auto parameter_on = [&](int e, int v) {
       const auto& ends = mesh_.edge_vertices(e);
       if (v == ends[0]) return 0.0;
@@ -91,18 +127,22 @@ class Splitter {
     for (int c = 0; c < 3; ++c) {
       const int e = mesh_.face_edge(f, c);
       const double sa = parameter_on(e, a), sb = parameter_on(e, b);
-      if (!std::isnan(sa) && !std::isnan(sb)) return {e, (sa + sb) / 2};
+      if (!std::isnan(sa) && !std::isnan(sb)) return {e, (1 - t) * sa + t * sb};
     }
     return {};
   }
 
-  // Splits the side from corner c to corner c + 1 of every face in `faces` (all on one side).
-  void split(const std::vector<std::pair<int, int>>& faces) {
+  // Splits the side from corner c to corner c + 1 of every face in `faces` (all on one side) at the
+  // point of the geodesic with hyperboloid weight w toward the second end of faces[0]'s side
+  // (isometries act linearly on the hyperboloid: the weight names one point of the surface in
+  // every copy of the side). In 3D the new vertex divides the side as it divides the geodesic.
+  void split(const std::vector<std::pair<int, int>>& faces, double w) {
     const auto [f0, c0] = faces.front();
     const int a = sub_.faces[f0][c0], b = sub_.faces[f0][(c0 + 1) % 3];
     const int input = sub_.input_face[f0];
     const int m = static_cast<int>(sub_.positions.size());
-    const EdgePoint along = common_edge(input, a, b);
+    const double t = length_fraction(sub_.corners[f0][c0], sub_.corners[f0][(c0 + 1) % 3], w);
+    EdgePoint along = common_edge(input, a, b, t);
     if (along.edge >= 0) {
       const auto [e0, e1] = mesh_.edge_vertices(along.edge);
       sub_.positions.push_back((1 - along.s) * mesh_.positions()[e0] +
@@ -112,25 +152,26 @@ class Splitter {
       sub_.vertex_barycentric.back()[corner_of_vertex(mesh_, input, e0)] = 1 - along.s;
       sub_.vertex_barycentric.back()[corner_of_vertex(mesh_, input, e1)] = along.s;
     } else {
-      sub_.positions.push_back((sub_.positions[a] + sub_.positions[b]) / 2);
+      sub_.positions.push_back((1 - t) * sub_.positions[a] + t * sub_.positions[b]);
       sub_.vertex_input_face.push_back(input);
-      sub_.vertex_barycentric.push_back((barycentric(input, a) + barycentric(input, b)) / 2);
+      sub_.vertex_barycentric.push_back((1 - t) * barycentric(input, a) +
+                                        t * barycentric(input, b));
     }
     sub_.vertex_input_edge.push_back(along.edge);
     sub_.vertex_edge_parameter.push_back(along.edge >= 0 ? along.s : std::nan(""));
     sub_.u.conservativeResize(m + 1);
-    sub_.u[m] = (sub_.u[a] + sub_.u[b]) / 2;
+    sub_.u[m] = (1 - t) * sub_.u[a] + t * sub_.u[b];
     sub_.vertex_layout.push_back(Eigen::Vector3d::Constant(std::nan("")));
     for (const auto& [f, c] : faces) {
-      const std::array<int, 3> t = sub_.faces[f];
+      const std::array<int, 3> v = sub_.faces[f];
       const std::array<Eigen::Vector3d, 3> p = sub_.corners[f];
       const int d = (c + 1) % 3, o = (c + 2) % 3;
-      const Eigen::Vector3d mid = disk_geodesic_point(p[c], p[d], 0.5);
-      if (f == f0) sub_.vertex_layout[m] = mid;
-      sub_.faces[f] = {t[c], m, t[o]};
-      sub_.corners[f] = {p[c], mid, p[o]};
-      sub_.faces.push_back({m, t[d], t[o]});
-      sub_.corners.push_back({mid, p[d], p[o]});
+      const Eigen::Vector3d at = disk_geodesic_point(p[c], p[d], v[c] == a ? w : 1 - w);
+      if (f == f0) sub_.vertex_layout[m] = at;
+      sub_.faces[f] = {v[c], m, v[o]};
+      sub_.corners[f] = {p[c], at, p[o]};
+      sub_.faces.push_back({m, v[d], v[o]});
+      sub_.corners.push_back({at, p[d], p[o]});
       sub_.input_face.push_back(sub_.input_face[f]);
       sub_.final_face.push_back(sub_.final_face[f]);
     }
@@ -182,14 +223,26 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
     for (const auto& p : sub.corners) n += !(orientation(Geometry::Hyperbolic, p) > 0);
     return n;
   };
-  int splits = 0, turned = not_positive();
-  for (int round = 0; round < max_rounds && turned > 0; ++round) {
+  // Halving a side can turn a neighbour over for a round: the best state seen is kept. Faces at
+  // the limits of double precision near the rim only multiply when split: the rounds stop when
+  // the turned faces grow far past their number at the start.
+  const int first = not_positive();
+  int splits = 0, turned = first, best = first, best_splits = 0;
+  CommonSubdivision best_state;
+  for (int round = 0; round < max_rounds && turned > 0 && turned <= 4 * first + 16; ++round) {
+    if (turned <= best) {
+      best = turned, best_splits = splits;
+      best_state = sub;
+    }
     const int nf = static_cast<int>(sub.faces.size());
     const auto key = [&](int a, int b) {
       return static_cast<long long>(std::min(a, b)) * static_cast<long long>(sub.positions.size()) +
              std::max(a, b);
     };
-    std::vector<long long> chosen;  // per face to mend: its longest drawn side
+    // Per face to mend: its longest drawn side and where to split it: at its midpoint when both
+    // halves are then drawn positive, else at the foot of the perpendicular from the third corner
+    // (a cap, its third corner close to the side's arc: halves meeting at the foot are positive).
+    std::vector<std::tuple<long long, int, double>> chosen;
     for (int f = 0; f < nf; ++f) {
       if (!turned_only_as_drawn(sub.corners[f])) continue;
       int longest = 0;
@@ -199,7 +252,13 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
           longest = c;
         }
       }
-      chosen.push_back(key(sub.faces[f][longest], sub.faces[f][(longest + 1) % 3]));
+      const auto& p = sub.corners[f];
+      const Eigen::Vector3d &a = p[longest], &b = p[(longest + 1) % 3], &c = p[(longest + 2) % 3];
+      const Eigen::Vector3d mid = disk_geodesic_point(a, b, 0.5);
+      const bool halves_positive = orientation(Geometry::Hyperbolic, {a, mid, c}) > 0 &&
+                                   orientation(Geometry::Hyperbolic, {mid, b, c}) > 0;
+      chosen.emplace_back(key(sub.faces[f][longest], sub.faces[f][(longest + 1) % 3]), f,
+                          halves_positive ? 0.5 : foot_weight(a, b, c));
     }
     if (chosen.empty()) break;
     // The sides of the delivered faces by their ends: (face, corner the side starts at).
@@ -209,11 +268,11 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
         sides[key(sub.faces[f][c], sub.faces[f][(c + 1) % 3])].emplace_back(f, c);
       }
     }
-    const CommonSubdivision before = sub;
     int split_here = 0;
     std::vector<char> touched(nf, 0);
-    for (long long k : chosen) {
-      const auto& faces = sides[k];
+    for (const auto& [k, trigger, w] : chosen) {
+      std::vector<std::pair<int, int>> faces = sides[k];
+      if (faces.size() == 2 && faces[1].first == trigger) std::swap(faces[0], faces[1]);
       // One side: in one face, or in two that run it in opposite directions (two sides with the
       // same ends would be pinched into one vertex).
       bool one_side = faces.size() == 1;
@@ -226,21 +285,18 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
       for (const auto& fc : faces) free = free && !touched[fc.first];
       if (!free) continue;
       for (const auto& fc : faces) touched[fc.first] = 1;
-      Splitter(mesh, sub).split(faces);
+      Splitter(mesh, sub).split(faces, w);
       ++split_here;
     }
     // Where halving does not reduce the faces turned as drawn, they are not thin arcs' drawings
     // but at the limits of double precision near the rim: splitting would only multiply them.
-    const int now = not_positive();
-    if (split_here == 0 || now >= turned) {
-      if (now > turned)
-        sub = before;
-      else
-        splits += split_here;
-      break;
-    }
+    if (split_here == 0) break;
     splits += split_here;
-    turned = now;
+    turned = not_positive();
+  }
+  if (turned > best) {
+    sub = std::move(best_state);
+    splits = best_splits;
   }
   return splits;
 }

@@ -6,8 +6,10 @@
 // hyperbolic triangle (its Klein-model drawing, where geodesics are straight, keeps the
 // orientation) and turned over as drawn. Halving that side at its geodesic midpoint quarters the
 // bow of each half against its length, so a few rounds of halving give a drawing with every face
-// positive. The new vertex is the midpoint of the side in 3D as well, on the user's surface, so
-// the delivered mesh is a subdivision of the input like the common subdivision.
+// positive; a cap, whose third corner lies close to the arc, is split at the foot of the
+// perpendicular from it instead (its halves meet there and are drawn positive). The new vertex
+// divides the side in 3D as it divides the geodesic, on the user's surface, so the delivered mesh
+// is a subdivision of the input like the common subdivision.
 #pragma once
 
 #include <array>
@@ -31,11 +33,14 @@ CommonSubdivision input_as_subdivision(const CompactMesh& mesh, const FlowResult
 bool has_drawing_turned_faces(const std::vector<std::array<Eigen::Vector3d, 3>>& corners);
 
 //! Round after round, splits the longest drawn side of every face that is turned over as drawn
-//! but positive in the Klein model, at its geodesic midpoint in the disk and its midpoint in 3D,
-//! in every face on that side (one side per face and round). A new vertex gets its input face,
-//! its barycentric coordinates there and its input edge where it lies on one (else -1), u the mean
-//! of its ends'. Stops when no such face is left or after max_rounds; faces turned in the Klein
-//! model too are left as they are. Returns the number of sides split.
+//! but positive in the Klein model, on its geodesic: at the midpoint when both halves are then
+//! drawn positive, else (a cap) at the foot of the perpendicular from the third corner. The new
+//! vertex divides the side in 3D as it divides the geodesic's length, and every face on that side
+//! is split (one side per face and round). A new vertex gets its input face, its barycentric
+//! coordinates there and its input edge where it lies on one (else -1), u interpolated along the
+//! side. Keeps the best state seen, and stops when no such face is left, after max_rounds, or when
+//! the turned faces grow far past their number at the start; faces turned in the Klein model
+//! too are left as they are. Returns the number of sides split.
 int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int max_rounds = 60);
 
 }  // namespace ricci::detail

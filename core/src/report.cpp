@@ -234,8 +234,9 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     }
     if (sub.disk_splits > 0) {
       line("Poincare disk drawing: ", sub.disk_splits,
-           " sides split at their geodesic midpoints (a new vertex each, at the side's midpoint "
-           "on the surface), as thin faces near the rim turn over when drawn straight: ",
+           " sides split on their geodesics (at the midpoint, or for a cap at the foot of the "
+           "perpendicular from its third corner; a new vertex each, dividing the side on the "
+           "surface alike), as thin faces near the rim turn over when drawn straight: ",
            sub.positions.size(), " vertices, ", sub.faces.size(), " faces");
     }
   } else if (run.input_faces_turned_over > 0 && !run.subdivision_failure.empty()) {
