@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <tuple>
 #include <unordered_map>
 #include <utility>
 
 #include "layout_methods.h"
 #include "ricci/layout.h"
+#include "ricci/layout_quality.h"
 
 namespace ricci::detail {
 
@@ -20,10 +20,10 @@ std::array<Eigen::Vector3d, 3> klein(const std::array<Eigen::Vector3d, 3>& poinc
   return k;
 }
 
-// Turned over as drawn, positive as a hyperbolic triangle.
+// Turned over as drawn (beyond what rounding decides), positive as a hyperbolic triangle.
 bool turned_only_as_drawn(const std::array<Eigen::Vector3d, 3>& corners) {
   return !(orientation(Geometry::Hyperbolic, corners) > 0) &&
-         orientation(Geometry::Hyperbolic, klein(corners)) > 0;
+         orientation(Geometry::Hyperbolic, klein(corners)) > 0 && !orientation_unresolved(corners);
 }
 
 int corner_of_vertex(const CompactMesh& mesh, int f, int v) {
@@ -182,6 +182,31 @@ class Splitter {
   CommonSubdivision& sub_;
 };
 
+// Where to split the side from corner c to c + 1 of `faces` (faces[0] the one to mend): the
+// hyperboloid weight toward faces[0]'s second end. The midpoint when every half on the side is
+// then drawn positive, else the foot of the perpendicular from faces[0]'s third corner when that
+// makes them positive, else whichever leaves fewer halves turned.
+double split_weight(const CommonSubdivision& sub, const std::vector<std::pair<int, int>>& faces) {
+  const auto [f0, c0] = faces.front();
+  const auto& p0 = sub.corners[f0];
+  const int a = sub.faces[f0][c0];
+  const double foot = foot_weight(p0[c0], p0[(c0 + 1) % 3], p0[(c0 + 2) % 3]);
+  const auto turned_halves = [&](double w) {
+    int n = 0;
+    for (const auto& [f, c] : faces) {
+      const auto& p = sub.corners[f];
+      const Eigen::Vector3d &from = p[c], &to = p[(c + 1) % 3], &third = p[(c + 2) % 3];
+      const Eigen::Vector3d at = disk_geodesic_point(from, to, sub.faces[f][c] == a ? w : 1 - w);
+      n += !(orientation(Geometry::Hyperbolic, {from, at, third}) > 0);
+      n += !(orientation(Geometry::Hyperbolic, {at, to, third}) > 0);
+    }
+    return n;
+  };
+  const int at_middle = turned_halves(0.5);
+  if (at_middle == 0) return 0.5;
+  return turned_halves(foot) < at_middle ? foot : 0.5;
+}
+
 }  // namespace
 
 CommonSubdivision input_as_subdivision(const CompactMesh& mesh, const FlowResult& result,
@@ -218,31 +243,31 @@ bool has_drawing_turned_faces(const std::vector<std::array<Eigen::Vector3d, 3>>&
 }
 
 int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int max_rounds) {
-  const auto not_positive = [&] {
+  const auto to_mend = [&] {
     int n = 0;
-    for (const auto& p : sub.corners) n += !(orientation(Geometry::Hyperbolic, p) > 0);
+    for (const auto& p : sub.corners) n += turned_only_as_drawn(p);
     return n;
   };
-  // Halving a side can turn a neighbour over for a round: the best state seen is kept. Faces at
-  // the limits of double precision near the rim only multiply when split: the rounds stop when
-  // the turned faces grow far past their number at the start.
-  const int first = not_positive();
-  int splits = 0, turned = first, best = first, best_splits = 0;
+  // A split can turn a neighbour over for a round: the best state seen is kept, and the rounds
+  // stop after 20 without progress or when the faces to mend grow far past their first number.
+  const int first = to_mend();
+  int splits = 0, turned = first, best = first, best_splits = 0, since_best = 0;
   CommonSubdivision best_state;
-  for (int round = 0; round < max_rounds && turned > 0 && turned <= 4 * first + 16; ++round) {
-    if (turned <= best) {
-      best = turned, best_splits = splits;
+  for (int round = 0;
+       round < max_rounds && turned > 0 && since_best < 20 && turned <= 4 * first + 16; ++round) {
+    if (turned < best || round == 0) {
+      best = turned, best_splits = splits, since_best = 0;
       best_state = sub;
+    } else {
+      ++since_best;
     }
     const int nf = static_cast<int>(sub.faces.size());
     const auto key = [&](int a, int b) {
       return static_cast<long long>(std::min(a, b)) * static_cast<long long>(sub.positions.size()) +
              std::max(a, b);
     };
-    // Per face to mend: its longest drawn side and where to split it: at its midpoint when both
-    // halves are then drawn positive, else at the foot of the perpendicular from the third corner
-    // (a cap, its third corner close to the side's arc: halves meeting at the foot are positive).
-    std::vector<std::tuple<long long, int, double>> chosen;
+    // Per face to mend: its longest drawn side (where on it: split_weight).
+    std::vector<std::pair<long long, int>> chosen;
     for (int f = 0; f < nf; ++f) {
       if (!turned_only_as_drawn(sub.corners[f])) continue;
       int longest = 0;
@@ -252,13 +277,7 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
           longest = c;
         }
       }
-      const auto& p = sub.corners[f];
-      const Eigen::Vector3d &a = p[longest], &b = p[(longest + 1) % 3], &c = p[(longest + 2) % 3];
-      const Eigen::Vector3d mid = disk_geodesic_point(a, b, 0.5);
-      const bool halves_positive = orientation(Geometry::Hyperbolic, {a, mid, c}) > 0 &&
-                                   orientation(Geometry::Hyperbolic, {mid, b, c}) > 0;
-      chosen.emplace_back(key(sub.faces[f][longest], sub.faces[f][(longest + 1) % 3]), f,
-                          halves_positive ? 0.5 : foot_weight(a, b, c));
+      chosen.emplace_back(key(sub.faces[f][longest], sub.faces[f][(longest + 1) % 3]), f);
     }
     if (chosen.empty()) break;
     // The sides of the delivered faces by their ends: (face, corner the side starts at).
@@ -270,7 +289,7 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
     }
     int split_here = 0;
     std::vector<char> touched(nf, 0);
-    for (const auto& [k, trigger, w] : chosen) {
+    for (const auto& [k, trigger] : chosen) {
       std::vector<std::pair<int, int>> faces = sides[k];
       if (faces.size() == 2 && faces[1].first == trigger) std::swap(faces[0], faces[1]);
       // One side: in one face, or in two that run it in opposite directions (two sides with the
@@ -285,14 +304,14 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
       for (const auto& fc : faces) free = free && !touched[fc.first];
       if (!free) continue;
       for (const auto& fc : faces) touched[fc.first] = 1;
-      Splitter(mesh, sub).split(faces, w);
+      Splitter(mesh, sub).split(faces, split_weight(sub, faces));
       ++split_here;
     }
     // Where halving does not reduce the faces turned as drawn, they are not thin arcs' drawings
     // but at the limits of double precision near the rim: splitting would only multiply them.
     if (split_here == 0) break;
     splits += split_here;
-    turned = not_positive();
+    turned = to_mend();
   }
   if (turned > best) {
     sub = std::move(best_state);

@@ -33,13 +33,14 @@ CommonSubdivision input_as_subdivision(const CompactMesh& mesh, const FlowResult
 bool has_drawing_turned_faces(const std::vector<std::array<Eigen::Vector3d, 3>>& corners);
 
 //! Round after round, splits the longest drawn side of every face that is turned over as drawn
-//! but positive in the Klein model, on its geodesic: at the midpoint when both halves are then
-//! drawn positive, else (a cap) at the foot of the perpendicular from the third corner. The new
-//! vertex divides the side in 3D as it divides the geodesic's length, and every face on that side
-//! is split (one side per face and round). A new vertex gets its input face, its barycentric
-//! coordinates there and its input edge where it lies on one (else -1), u interpolated along the
-//! side. Keeps the best state seen, and stops when no such face is left, after max_rounds, or when
-//! the turned faces grow far past their number at the start; faces turned in the Klein model
+//! (beyond what rounding decides) but positive in the Klein model, on its geodesic: at the midpoint
+//! when every half on that side is then drawn positive, else at the foot of the perpendicular from
+//! the face's third corner (a cap) when that leaves fewer halves turned. The new vertex divides the
+//! side in 3D as it divides the geodesic's length, and every face on that side is split (one side
+//! per face and round). A new vertex gets its input face, its barycentric coordinates there and
+//! its input edge where it lies on one (else -1), u interpolated along the side. Keeps the best
+//! state seen; stops when no such face is left, after max_rounds, after 20 rounds without
+//! progress, or when such faces grow far past their first number. Faces turned in the Klein model
 //! too are left as they are. Returns the number of sides split.
 int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int max_rounds = 60);
 

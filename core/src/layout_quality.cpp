@@ -71,19 +71,12 @@ std::vector<std::array<double, 3>> face_sides(const std::vector<Eigen::Vector3d>
   return sides;
 }
 
-namespace {
-
-// A triangle whose orientation the double-precision corners do not determine: |orientation| within
-// what rounding the corners (each off by about 2^-52 of its magnitude, allowed 64 times that)
-// can make of it. Such a face is degenerate in double precision (counted as collapsed), not turned.
-bool unresolved(const std::array<Eigen::Vector3d, 3>& p) {
+bool orientation_unresolved(const std::array<Eigen::Vector3d, 3>& p) {
   const Eigen::Vector3d u = p[1] - p[0], v = p[2] - p[0];
   const double magnitude = std::max({p[0].norm(), p[1].norm(), p[2].norm()});
   const double noise = 64 * 2.220446049250313e-16 * magnitude * (u.norm() + v.norm());
   return u.cross(v).norm() <= noise;
 }
-
-}  // namespace
 
 LayoutQuality measure_layout(const std::vector<std::array<double, 3>>& input_sides,
                              Geometry geometry, const FlowResult& result,
@@ -112,7 +105,7 @@ LayoutQuality measure_layout(const std::vector<std::array<double, 3>>& input_sid
     layout_area[f] = triangle_area(to);
     input_total += input_area[f];
     layout_total += layout_area[f];
-    if (!(orientation(geometry, p) > 0) && !unresolved(p)) {
+    if (!(orientation(geometry, p) > 0) && !orientation_unresolved(p)) {
       if (q.flipped_faces++ == 0) q.first_flipped_face = f;
     }
   }
@@ -120,7 +113,7 @@ LayoutQuality measure_layout(const std::vector<std::array<double, 3>>& input_sid
   for (int f = 0; f < nf; ++f) {
     const bool positive = orientation(geometry, corners[f]) > 0;
     if ((layout_area[f] <= 1e-12 * layout_total / nf && positive) ||
-        (!positive && unresolved(corners[f]))) {
+        (!positive && orientation_unresolved(corners[f]))) {
       if (q.collapsed_faces++ == 0) q.first_collapsed_face = f;
     }
     area_ratio[f] = (layout_area[f] / layout_total) / (input_area[f] / input_total);

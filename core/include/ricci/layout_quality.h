@@ -32,6 +32,12 @@ struct LayoutQuality {
   int first_collapsed_face = -1;
 };
 
+//! A triangle whose orientation its double-precision corners do not determine: |orientation|
+//! within what rounding the corners (each off by about 2^-52 of its magnitude, allowed 64 times
+//! that) can make of it. Such a face is degenerate in double precision (counted as collapsed),
+//! not turned.
+bool orientation_unresolved(const std::array<Eigen::Vector3d, 3>& corners);
+
 //! Measures a layout given per input face and corner: points in the plane (z = 0), in the
 //! Poincare disk (z = 0, measured in its Euclidean coordinates, as a texture shows them), or on
 //! the unit sphere (chords; orientation against the outward normal).
