@@ -69,7 +69,7 @@ double length_fraction(const Eigen::Vector3d& p, const Eigen::Vector3d& q, doubl
       m({disk_geodesic_point(p, q, w).x(), disk_geodesic_point(p, q, w).y()});
   const double whole = std::atanh(std::abs(m({q.x(), q.y()})));
   const double t = std::atanh(std::abs(at)) / whole;
-  return std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.5;
+  return std::isfinite(whole) && whole > 0 && std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.5;
 }
 
 class Splitter {
@@ -197,8 +197,10 @@ double split_weight(const CommonSubdivision& sub, const std::vector<std::pair<in
       const auto& p = sub.corners[f];
       const Eigen::Vector3d &from = p[c], &to = p[(c + 1) % 3], &third = p[(c + 2) % 3];
       const Eigen::Vector3d at = disk_geodesic_point(from, to, sub.faces[f][c] == a ? w : 1 - w);
-      n += !(orientation(Geometry::Hyperbolic, {from, at, third}) > 0);
-      n += !(orientation(Geometry::Hyperbolic, {at, to, third}) > 0);
+      for (const std::array<Eigen::Vector3d, 3>& half :
+           {std::array<Eigen::Vector3d, 3>{from, at, third}, {at, to, third}}) {
+        n += !(orientation(Geometry::Hyperbolic, half) > 0) && !orientation_unresolved(half);
+      }
     }
     return n;
   };
@@ -248,8 +250,9 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
     for (const auto& p : sub.corners) n += turned_only_as_drawn(p);
     return n;
   };
-  // A split can turn a neighbour over for a round: the best state seen is kept, and the rounds
-  // stop after 20 without progress or when the faces to mend grow far past their first number.
+  // A split can turn a neighbour over for a round: the best state seen (fewest faces to mend, then
+  // fewest splits) is kept, and the rounds stop after 20 without progress or when the faces to
+  // mend grow far past their first number.
   const int first = to_mend();
   int splits = 0, turned = first, best = first, best_splits = 0, since_best = 0;
   CommonSubdivision best_state;
@@ -258,8 +261,6 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
     if (turned < best || round == 0) {
       best = turned, best_splits = splits, since_best = 0;
       best_state = sub;
-    } else {
-      ++since_best;
     }
     const int nf = static_cast<int>(sub.faces.size());
     const auto key = [&](int a, int b) {
@@ -280,17 +281,19 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
       chosen.emplace_back(key(sub.faces[f][longest], sub.faces[f][(longest + 1) % 3]), f);
     }
     if (chosen.empty()) break;
-    // The sides of the delivered faces by their ends: (face, corner the side starts at).
+    // The chosen sides' faces, by the sides' ends: (face, corner the side starts at).
     std::unordered_map<long long, std::vector<std::pair<int, int>>> sides;
+    for (const auto& [k, trigger] : chosen) sides[k];
     for (int f = 0; f < nf; ++f) {
       for (int c = 0; c < 3; ++c) {
-        sides[key(sub.faces[f][c], sub.faces[f][(c + 1) % 3])].emplace_back(f, c);
+        const auto side = sides.find(key(sub.faces[f][c], sub.faces[f][(c + 1) % 3]));
+        if (side != sides.end()) side->second.emplace_back(f, c);
       }
     }
     int split_here = 0;
     std::vector<char> touched(nf, 0);
     for (const auto& [k, trigger] : chosen) {
-      std::vector<std::pair<int, int>> faces = sides[k];
+      std::vector<std::pair<int, int>>& faces = sides[k];
       if (faces.size() == 2 && faces[1].first == trigger) std::swap(faces[0], faces[1]);
       // One side: in one face, or in two that run it in opposite directions (two sides with the
       // same ends would be pinched into one vertex).
@@ -307,13 +310,12 @@ int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int
       Splitter(mesh, sub).split(faces, split_weight(sub, faces));
       ++split_here;
     }
-    // Where halving does not reduce the faces turned as drawn, they are not thin arcs' drawings
-    // but at the limits of double precision near the rim: splitting would only multiply them.
     if (split_here == 0) break;
     splits += split_here;
     turned = to_mend();
+    since_best = turned < best ? 0 : since_best + 1;
   }
-  if (turned > best) {
+  if (turned > best || (turned == best && splits > best_splits)) {
     sub = std::move(best_state);
     splits = best_splits;
   }

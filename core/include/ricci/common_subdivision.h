@@ -11,8 +11,8 @@
 //
 // Vertices: the input's first, unchanged and in order; then one per crossing of an input edge with
 // an edge of T', input edge after input edge, in the order along each. The Poincare disk's
-// drawing may split sides further (disk_drawing.h): those vertices come last, at the midpoint of
-// their side, on an input edge or inside an input face.
+// drawing may split sides further (disk_drawing.h): those vertices come last, each on its side
+// (dividing it as the split divides the geodesic), on an input edge or inside an input face.
 #pragma once
 
 #include <array>
@@ -48,10 +48,10 @@ struct CommonSubdivision {
   //! that face's chart).
   std::vector<Eigen::Vector3d> vertex_layout;
   //! Per vertex: u, the input's for input vertices, interpolated along the input edge for new
-  //! ones (the mean of its side's ends for a split side's midpoint).
+  //! ones (for a vertex of a split side, interpolated along the side).
   Eigen::VectorXd u;
   int num_flips = 0;  //!< flips followed
-  //! Sides split at their geodesic midpoint so that faces near the Poincare disk's rim keep their
+  //! Sides split on their geodesics so that faces near the Poincare disk's rim keep their
   //! orientation drawn straight (each adds one vertex).
   int disk_splits = 0;
   double seconds = 0;  //!< time to build it
