@@ -77,21 +77,29 @@ double disk_distance(Complex a, Complex b) {
   return std::acosh(1 + 2 * std::norm(a - b) / ((1 - std::norm(a)) * (1 - std::norm(b))));
 }
 
-// H2, again breadth-first from the seed, with a chart change wherever a face would be placed
-// beyond kChartRadius from its chart's centre: into a chart of the same parent whose centre is
-// within kChartRadius / 2, or a new one centred where the face would go. A face's two shared
-// corners are moved into its chart by the transition, its third corner placed there.
-void develop_in_charts(const Triangulation& mesh, const std::vector<double>& lengths,
-                       const std::vector<std::array<double, 3>>& angles, int seed, Layout& layout) {
+// Breadth-first from the placed seed across uncut edges, each face from the two corners it shares
+// with a placed face. In charts (H2): a face that would be placed beyond kChartRadius from its
+// chart's centre goes into a chart of the same parent whose centre is within kChartRadius / 2, or
+// a new one centred where the face would go; its two shared corners are moved into that chart by
+// the transition, its third corner placed there.
+void develop_faces(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
+                   const std::vector<std::array<double, 3>>& angles, int seed, bool in_charts,
+                   Layout& layout) {
   const int nf = mesh.num_faces();
   const double rim = std::tanh(kChartRadius / 2);
   auto& p = layout.corners;
-  layout.chart.assign(nf, -1);
-  layout.chart_parent = {-1};
-  layout.chart_from_parent = {DiskIsometry{Geometry::Hyperbolic, 1.0, 0.0}};
-  std::vector<Complex> centre = {0.0};  // in the parent's coordinates
-  std::vector<std::vector<int>> children(1);
-  layout.chart[seed] = 0;
+  std::vector<Complex> centre;  // per chart, in its parent's coordinates
+  std::vector<std::vector<int>> children;
+  if (in_charts) {
+    layout.chart.assign(nf, -1);
+    layout.chart[seed] = 0;
+    layout.chart_parent = {-1};
+    layout.chart_from_parent = {DiskIsometry{Geometry::Hyperbolic, 1.0, 0.0}};
+    centre = {0.0};
+    children.resize(1);
+  }
+  std::vector<char> placed(nf, 0);
+  placed[seed] = 1;
   std::queue<int> queue;
   queue.push(seed);
   while (!queue.empty()) {
@@ -99,38 +107,42 @@ void develop_in_charts(const Triangulation& mesh, const std::vector<double>& len
     queue.pop();
     for (int c = 0; c < 3; ++c) {
       const int t = mesh.twin(3 * f + c);
-      if (t < 0 || layout.cut.cut[mesh.face_edge(f, c)] || layout.chart[t / 3] >= 0) continue;
+      if (t < 0 || layout.cut.cut[mesh.face_edge(f, c)] || placed[t / 3]) continue;
       const int g = t / 3, ct = t % 3, c1 = (ct + 1) % 3, c2 = (ct + 2) % 3;
       const double side = lengths[mesh.face_edge(g, c2)];
       Eigen::Vector3d a = p[f][(c + 2) % 3], b = p[f][(c + 1) % 3];
-      Eigen::Vector3d x = place_third(Geometry::Hyperbolic, a, b, side, angles[g][c1]);
-      int k = layout.chart[f];
-      if (x.norm() > rim) {
-        int j = -1;
-        for (int child : children[static_cast<size_t>(k)]) {
-          if (disk_distance(centre[static_cast<size_t>(child)], to_complex(x)) < kChartRadius / 2) {
-            j = child;
-            break;
+      Eigen::Vector3d x = place_third(geometry, a, b, side, angles[g][c1]);
+      if (in_charts) {
+        int k = layout.chart[f];
+        if (x.norm() > rim) {
+          int j = -1;
+          for (int child : children[static_cast<size_t>(k)]) {
+            if (disk_distance(centre[static_cast<size_t>(child)], to_complex(x)) <
+                kChartRadius / 2) {
+              j = child;
+              break;
+            }
           }
+          if (j < 0) {
+            j = static_cast<int>(centre.size());
+            centre.push_back(to_complex(x));
+            children[static_cast<size_t>(k)].push_back(j);
+            children.emplace_back();
+            layout.chart_parent.push_back(k);
+            layout.chart_from_parent.push_back(DiskIsometry::moving_to_origin(centre.back()));
+          }
+          const DiskIsometry& move = layout.chart_from_parent[static_cast<size_t>(j)];
+          a = from_complex(move(to_complex(a)));
+          b = from_complex(move(to_complex(b)));
+          x = place_third(geometry, a, b, side, angles[g][c1]);
+          k = j;
         }
-        if (j < 0) {
-          j = static_cast<int>(centre.size());
-          centre.push_back(to_complex(x));
-          children[static_cast<size_t>(k)].push_back(j);
-          children.emplace_back();
-          layout.chart_parent.push_back(k);
-          layout.chart_from_parent.push_back(DiskIsometry::moving_to_origin(centre.back()));
-        }
-        const DiskIsometry& move = layout.chart_from_parent[static_cast<size_t>(j)];
-        a = from_complex(move(to_complex(a)));
-        b = from_complex(move(to_complex(b)));
-        x = place_third(Geometry::Hyperbolic, a, b, side, angles[g][c1]);
-        k = j;
+        layout.chart[g] = k;
       }
       p[g][c1] = a;
       p[g][c2] = b;
       p[g][ct] = x;
-      layout.chart[g] = k;
+      placed[g] = 1;
       queue.push(g);
     }
   }
@@ -151,7 +163,8 @@ Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<d
   const int seed =
       geometry == Geometry::Hyperbolic ? layout.cut.root : deepest_face(mesh, layout.cut.cut);
 
-  // --- the seed face, then breadth-first across uncut edges
+  // --- the seed face, then breadth-first across uncut edges; H2 again in charts where the domain
+  // reaches beyond kOneChartRadius
   const auto edge_length_at = [&](int f, int corner) { return lengths[mesh.face_edge(f, corner)]; };
   auto& p = layout.corners;
   if (geometry == Geometry::Spherical) {
@@ -165,31 +178,16 @@ Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<d
   }
   p[seed][2] =
       place_third(geometry, p[seed][0], p[seed][1], edge_length_at(seed, 1), angles[seed][0]);
-  std::vector<char> placed(nf, 0);
-  placed[seed] = 1;
-  std::queue<int> queue;
-  queue.push(seed);
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop();
-    for (int c = 0; c < 3; ++c) {
-      const int t = mesh.twin(3 * f + c);
-      if (t < 0 || layout.cut.cut[mesh.face_edge(f, c)] || placed[t / 3]) continue;
-      const int g = t / 3, ct = t % 3, c1 = (ct + 1) % 3, c2 = (ct + 2) % 3;
-      p[g][c1] = p[f][(c + 2) % 3];
-      p[g][c2] = p[f][(c + 1) % 3];
-      p[g][ct] = place_third(geometry, p[g][c1], p[g][c2], edge_length_at(g, c2), angles[g][c1]);
-      placed[g] = 1;
-      queue.push(g);
-    }
-  }
+  develop_faces(mesh, geometry, lengths, angles, seed, false, layout);
   if (geometry == Geometry::Hyperbolic) {
     double far = 0;
     for (const auto& face : p) {
       for (const auto& z : face) far = std::max(far, z.norm());
     }
     layout.reach = 2 * std::atanh(std::min(far, 1 - 1e-16));
-    if (layout.reach > kOneChartRadius) develop_in_charts(mesh, lengths, angles, seed, layout);
+    if (layout.reach > kOneChartRadius) {
+      develop_faces(mesh, geometry, lengths, angles, seed, true, layout);
+    }
   }
   return layout;
 }

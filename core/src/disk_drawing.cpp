@@ -65,8 +65,8 @@ double foot_weight(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eig
 // The fraction of the geodesic's length from p to the point of hyperboloid weight w toward q.
 double length_fraction(const Eigen::Vector3d& p, const Eigen::Vector3d& q, double w) {
   const DiskIsometry m = DiskIsometry::moving_to_origin({p.x(), p.y()});
-  const std::complex<double> at =
-      m({disk_geodesic_point(p, q, w).x(), disk_geodesic_point(p, q, w).y()});
+  const Eigen::Vector3d point = disk_geodesic_point(p, q, w);
+  const std::complex<double> at = m({point.x(), point.y()});
   const double whole = std::atanh(std::abs(m({q.x(), q.y()})));
   const double t = std::atanh(std::abs(at)) / whole;
   return std::isfinite(whole) && whole > 0 && std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.5;
