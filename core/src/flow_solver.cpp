@@ -93,7 +93,8 @@ struct RicciFlowSolver::State {
 // residual (1.5e-12 at the boundary of the 1.07M-face lion head), within the tolerance.
 bool RicciFlowSolver::State::step_direction(const Eigen::VectorXd& r, Eigen::VectorXd& du) {
   step_failure.clear();
-  if (!circles) return steps.solve(metric, r, spherical(), lm_weight, du, times);
+  const double rtol = detail::forcing_term(r, options.tolerance);
+  if (!circles) return steps.solve(metric, r, spherical(), lm_weight, rtol, du, times);
   circles->linearize(metric.lengths());
   const auto coupling = [this](const Eigen::VectorXd& x) {
     Eigen::VectorXd full = Eigen::VectorXd::Zero(u.size());
@@ -105,14 +106,9 @@ bool RicciFlowSolver::State::step_direction(const Eigen::VectorXd& r, Eigen::Vec
       if (free_index[v] >= 0) out[free_index[v]] = c[v];
     return out;
   };
-  // The forcing term falls with |r| (quadratic convergence), but no lower than what the last step
-  // needs: a tenth of the tolerance left over.
-  const double size = r.cwiseAbs().maxCoeff();
-  const double rtol = std::clamp(std::max(size, 0.1 * options.tolerance / size), 1e-12, 0.1);
   const double damping = std::clamp(lm_weight * r.cwiseAbs().maxCoeff(), 1e-4, 1.0);
   const detail::StepSolver::Krylov krylov =
       steps.solve_coupled(metric, r, coupling, damping, rtol, du, times);
-  result.krylov_iterations += krylov.iterations;
   if (krylov.factorized && !krylov.progress)
     step_failure = "MINRES made no progress on the damped step";
   return krylov.factorized && krylov.progress;
@@ -419,7 +415,8 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
   State& s = *this;
   const TargetCurvature& target = s.goal;
   const auto begin = Clock::now();
-  const int analyses = s.steps.num_analyses(), factorizations = s.steps.num_factorizations();
+  const int analyses = s.steps.num_analyses(), factorizations = s.steps.num_factorizations(),
+            krylov = s.steps.num_krylov_iterations();
   s.result = FlowResult();
   s.times = FlowTimes();
   s.lm_weight = 1;
@@ -501,6 +498,7 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
   s.finish(target);
   r.num_analyses = s.steps.num_analyses() - analyses;
   r.num_factorizations = s.steps.num_factorizations() - factorizations;
+  r.krylov_iterations = s.steps.num_krylov_iterations() - krylov;
   s.times.total = seconds_since(begin);
   r.times = s.times;
   return std::move(s.result);

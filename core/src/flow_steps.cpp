@@ -4,8 +4,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "minres.h"
-
 namespace ricci::detail {
 
 Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& target,
@@ -16,6 +14,12 @@ Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& t
       r[free_index[v]] = target.curvature[static_cast<int>(v)] - k[static_cast<int>(v)];
   }
   return r;
+}
+
+double forcing_term(const Eigen::VectorXd& r, double tolerance) {
+  const double size = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;
+  if (!(size > 0)) return 0.1;
+  return std::clamp(std::max(size, 0.1 * tolerance / size), 1e-12, 0.1);
 }
 
 double max_residual(const Eigen::VectorXd& k, const TargetCurvature& target) {
@@ -56,7 +60,7 @@ std::vector<int> free_vertex_index(int num_vertices, Geometry geometry,
 void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& free_index) {
   assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
   analyzed_ = false;
-  coupled_factor_ = false;
+  factor_of_h_ = false;
 }
 
 bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
@@ -94,11 +98,39 @@ bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, b
   return ok;
 }
 
+template <class Apply>
+MinresResult StepSolver::precondition_with_factor(const Apply& apply, const Eigen::VectorXd& r,
+                                                  double rtol, int max_iterations,
+                                                  Eigen::VectorXd& du, FlowTimes& times) {
+  const auto t = Clock::now();
+  MinresResult m = minres(
+      apply, [&](const Eigen::VectorXd& x) { return solver_.solve(x); }, r, rtol, max_iterations);
+  times.solve += seconds_since(t);
+  krylov_iterations_ += m.iterations;
+  du = std::move(m.x);
+  return m;
+}
+
 bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
-                       double lm_weight, Eigen::VectorXd& du, FlowTimes& times) {
+                       double lm_weight, double rtol, Eigen::VectorXd& du, FlowTimes& times) {
+  const double size = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;
+  // Near the solution H changes little from one step to the next: the factorization of an earlier
+  // H preconditions the current one to within a few MINRES iterations, each a solve with that
+  // factor (a tenth of a factorization or less).
+  if (!spherical && factor_of_h_ && size <= kReuseFactorBelowResidual * factor_residual_) {
+    auto t = Clock::now();
+    const SparseMatrix& h = assembler_->assemble(state);
+    times.assembly += seconds_since(t);
+    const MinresResult m =
+        precondition_with_factor([&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return h * x; },
+                                 r, rtol, kStaleSolveIterations, du, times);
+    if (m.relative_residual <= rtol && du.allFinite()) return true;
+  }
   Eigen::VectorXd rhs;
-  coupled_factor_ = false;
+  factor_of_h_ = false;
   if (!factorize(state, r, spherical, lm_weight, rhs, times)) return false;
+  factor_of_h_ = !spherical;
+  factor_residual_ = size;
   const auto t = Clock::now();
   du = solver_.solve(rhs);
   times.solve += seconds_since(t);
@@ -108,26 +140,19 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
 StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eigen::VectorXd& r,
                                              const Coupling& coupling, double damping, double rtol,
                                              Eigen::VectorXd& du, FlowTimes& times) {
-  const auto run_minres = [&](int max_iterations) {
-    const auto t = Clock::now();
-    const SparseMatrix& h = assembler_->matrix();
-    const MinresResult m = minres(
-        [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-          return (1 + damping) * (h * x) - coupling(x);
-        },
-        [&](const Eigen::VectorXd& x) { return solver_.solve(x); }, r, rtol, max_iterations);
-    times.solve += seconds_since(t);
-    du = m.x;
-    return m;
+  const SparseMatrix& h = assembler_->matrix();
+  const auto damped = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+    return (1 + damping) * (h * x) - coupling(x);
   };
   // The last factorization, of an earlier H on this pattern, as the preconditioner while it keeps
   // MINRES short: a factorization costs as much as some ten solves with it.
   Krylov out;
-  if (coupled_factor_ && last_krylov_ <= kReuseFactorBelow) {
+  if (factor_of_h_ && last_krylov_ <= kReuseFactorBelow) {
     const auto t = Clock::now();
     assembler_->assemble(state);
     times.assembly += seconds_since(t);
-    const MinresResult m = run_minres(kStaleKrylovIterations);
+    const MinresResult m =
+        precondition_with_factor(damped, r, rtol, kStaleKrylovIterations, du, times);
     out.iterations = m.iterations;
     if (du.allFinite() && m.relative_residual <= rtol) {
       last_krylov_ = m.iterations;
@@ -136,11 +161,12 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
     }
   }
   Eigen::VectorXd rhs;
-  coupled_factor_ = false;
+  factor_of_h_ = false;
   out.factorized = factorize(state, r, false, 0, rhs, times);
   if (!out.factorized) return out;
-  coupled_factor_ = true;
-  const MinresResult m = run_minres(kMaxKrylovIterations);
+  factor_of_h_ = true;
+  factor_residual_ = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;
+  const MinresResult m = precondition_with_factor(damped, r, rtol, kMaxKrylovIterations, du, times);
   last_krylov_ = m.iterations;
   out.iterations += m.iterations;
   out.progress = du.allFinite() && m.relative_residual < 1;

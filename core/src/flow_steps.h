@@ -16,6 +16,7 @@
 #include "delaunay.h"
 #include "hessian.h"
 #include "metric.h"
+#include "minres.h"
 #include "ricci/linear_solver.h"
 #include "ricci/ricci_flow.h"
 #include "ricci/target.h"
@@ -30,6 +31,10 @@ inline double seconds_since(Clock::time_point start) {
 //! Kbar - K on the rows of the free vertices.
 Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& target,
                               const std::vector<int>& free_index, int num_free);
+
+//! The relative residual an inexact Newton step is solved to: it falls with max |r| (quadratic
+//! convergence), but no lower than what the last step needs, a tenth of the tolerance left over.
+double forcing_term(const Eigen::VectorXd& r, double tolerance);
 
 //! max |K - Kbar| over every vertex with a curvature target (a pinned gauge vertex included).
 double max_residual(const Eigen::VectorXd& k, const TargetCurvature& target);
@@ -53,9 +58,15 @@ class StepSolver {
   void set_pattern(const Triangulation& mesh, const std::vector<int>& free_index);
   int num_free() const { return assembler_->num_free(); }
 
-  //! False when no shift makes the system factorizable, or the step is not finite.
+  //! False when no shift makes the system factorizable, or the step is not finite. In E2 and H2,
+  //! once the residual has fallen to kReuseFactorBelowResidual of what it was at the last
+  //! factorization of H on this pattern, that factorization preconditions MINRES on the current H
+  //! to relative residual rtol (inexact Newton) for at most kStaleSolveIterations, and H is
+  //! factorized again only when that falls short.
   bool solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical, double lm_weight,
-             Eigen::VectorXd& du, FlowTimes& times);
+             double rtol, Eigen::VectorXd& du, FlowTimes& times);
+  static constexpr double kReuseFactorBelowResidual = 0.25;
+  static constexpr int kStaleSolveIterations = 8;
 
   //! d target / d u, for a target that depends on u (the free rows and columns).
   using Coupling = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
@@ -77,18 +88,26 @@ class StepSolver {
 
   int num_analyses() const { return solver_.num_analyses(); }
   int num_factorizations() const { return solver_.num_factorizations(); }
+  //! MINRES iterations, over every solve so far.
+  int num_krylov_iterations() const { return krylov_iterations_; }
 
  private:
   // Assembles and factorizes the step's system; rhs is r, or H r in S2.
   bool factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
                  double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times);
+  // MINRES on A x = r, preconditioned with the held factorization, into du.
+  template <class Apply>
+  MinresResult precondition_with_factor(const Apply& apply, const Eigen::VectorXd& r, double rtol,
+                                        int max_iterations, Eigen::VectorXd& du, FlowTimes& times);
 
   std::unique_ptr<HessianAssembler> assembler_;
   LinearSolver solver_;
   SparseMatrix normal_matrix_;  // S2: H^2
   bool analyzed_ = false;
-  bool coupled_factor_ = false;  // the factorization is of H on the current pattern
-  int last_krylov_ = 0;          // MINRES iterations of the last coupled solve
+  bool factor_of_h_ = false;    // the factorization is of H on the current pattern (not S2's)
+  double factor_residual_ = 0;  // max |r| when it was made
+  int last_krylov_ = 0;         // MINRES iterations of the last coupled solve
+  int krylov_iterations_ = 0;
 };
 
 //! The outcome of the backtracking line search along du.

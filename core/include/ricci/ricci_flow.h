@@ -124,7 +124,7 @@ struct FlowResult {
   std::vector<double> residual_history;          //!< residual before each iteration, and at the end
   std::vector<double> step_history;              //!< accepted step length alpha per iteration
   int num_analyses = 0, num_factorizations = 0;  //!< of this solve
-  int krylov_iterations = 0;  //!< MINRES iterations of this solve (solve_circle_domain)
+  int krylov_iterations = 0;  //!< MINRES iterations of this solve (see StepSolver)
   FlowTimes times;
 };
 
