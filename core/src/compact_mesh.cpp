@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <utility>
 
 #include "mesh_checks.h"
@@ -11,6 +10,7 @@ namespace ricci {
 
 using detail::fail;
 using detail::first_indices;
+using detail::repeated_triangles;
 
 CompactMesh::CompactMesh(std::vector<Eigen::Vector3d> positions,
                          std::vector<std::array<int, 3>> faces)
@@ -128,14 +128,8 @@ void CompactMesh::check_elements() {
          "remove them, e.g. MeshLab's Filters > Cleaning and Repairing > Remove Unreferenced "
          "Vertices");
   }
-  std::map<std::array<int, 3>, int> seen;
-  std::vector<int> duplicates;
-  for (int f = 0; f < num_faces(); ++f) {
-    std::array<int, 3> key = faces_[f];
-    std::sort(key.begin(), key.end());
-    auto [it, inserted] = seen.emplace(key, f);
-    if (!inserted) duplicates.push_back(f);
-  }
+  const std::vector<int> duplicates =
+      repeated_triangles(n, num_faces(), [&](int f) { return faces_[f]; });
   if (!duplicates.empty()) {
     fail(std::to_string(duplicates.size()) + " duplicate faces (same three vertices as another)",
          first_indices("face", duplicates),

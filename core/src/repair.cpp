@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
@@ -99,9 +100,14 @@ void split_fans_and_components(const std::vector<Face>& faces, RepairedMesh& out
     components = UnionFind(nf);
     Reporter attempt_reporter;
     split = split_fans(faces, edges, cut_all, out, components, attempt_reporter);
-    std::vector<Face> split_faces(nf);
-    for (int f = 0; f < nf; ++f) split_faces[f] = {split[f], faces[f].input};
-    const EdgeMap split_edges(split_faces);
+    // Without copies of vertices the split faces are the faces.
+    std::optional<EdgeMap> split_map;
+    if (out.positions.size() > input_vertices) {
+      std::vector<Face> split_faces(nf);
+      for (int f = 0; f < nf; ++f) split_faces[f] = {split[f], faces[f].input};
+      split_map.emplace(split_faces);
+    }
+    const EdgeMap& split_edges = split_map ? *split_map : edges;
     const size_t before = cut_all.size();
     for (int f = 0; f < nf; ++f) {
       for (int c = 0; c < 3; ++c) {
@@ -129,10 +135,21 @@ void split_fans_and_components(const std::vector<Face>& faces, RepairedMesh& out
   for (auto& [first, list] : by_first) ordered.push_back(std::move(list));
   std::vector<int> local(out.positions.size(), -1);
   for (const std::vector<int>& list : ordered) {
+    // The component's vertices in increasing order.
     std::vector<int> vertices;
-    for (int f : list) vertices.insert(vertices.end(), split[f].begin(), split[f].end());
-    std::sort(vertices.begin(), vertices.end());
-    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    for (int f : list) {
+      for (int v : split[f]) {
+        if (local[v] == -1) vertices.push_back(v), local[v] = -2;
+      }
+    }
+    if (vertices.size() > out.positions.size() / 8) {
+      vertices.clear();
+      for (int v = 0; v < static_cast<int>(out.positions.size()); ++v) {
+        if (local[v] == -2) vertices.push_back(v);
+      }
+    } else {
+      std::sort(vertices.begin(), vertices.end());
+    }
     std::vector<Eigen::Vector3d> positions;
     for (size_t i = 0; i < vertices.size(); ++i) {
       local[vertices[i]] = static_cast<int>(i);

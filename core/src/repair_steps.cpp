@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "mesh_checks.h"
 #include "ricci/errors.h"
@@ -98,23 +97,32 @@ std::vector<Face> drop_degenerate(const std::vector<Eigen::Vector3d>& p,
   for (int v = 0; v < n; ++v) smallest[weld.find(v)] = std::min(smallest[weld.find(v)], v);
   represented_by.resize(n);
   for (int v = 0; v < n; ++v) represented_by[v] = smallest[weld.find(v)];
-  std::vector<Face> faces;
-  std::map<std::array<int, 3>, int> seen;
+  const auto welded_face = [&](int f) -> std::array<int, 3> {
+    return {represented_by[input[f][0]], represented_by[input[f][1]], represented_by[input[f][2]]};
+  };
+  const auto repeats_a_vertex = [&](int f) {
+    const std::array<int, 3> v = welded_face(f);
+    return v[0] == v[1] || v[1] == v[2] || v[2] == v[0];
+  };
+  // Faces with three distinct vertices; a later one on the same three is a duplicate.
+  std::vector<int> proper;
   for (int f = 0; f < static_cast<int>(input.size()); ++f) {
-    Face face{
-        {represented_by[input[f][0]], represented_by[input[f][1]], represented_by[input[f][2]]}, f};
-    const auto& v = face.v;
-    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) {
+    if (!repeats_a_vertex(f)) proper.push_back(f);
+  }
+  std::vector<char> duplicate(input.size(), 0);
+  for (int k : repeated_triangles(n, static_cast<int>(proper.size()),
+                                  [&](int k) { return welded_face(proper[k]); })) {
+    duplicate[proper[k]] = 1;
+  }
+  std::vector<Face> faces;
+  for (int f = 0; f < static_cast<int>(input.size()); ++f) {
+    if (repeats_a_vertex(f)) {
       reporter.add("faces with a repeated vertex dropped", "face", f);
-      continue;
-    }
-    std::array<int, 3> key = v;
-    std::sort(key.begin(), key.end());
-    if (!seen.emplace(key, f).second) {
+    } else if (duplicate[f]) {
       reporter.add("duplicate faces dropped", "face", f);
-      continue;
+    } else {
+      faces.push_back({welded_face(f), f});
     }
-    faces.push_back(face);
   }
   return faces;
 }
@@ -193,6 +201,9 @@ int cap_corner(const std::vector<Eigen::Vector3d>& p, const Face& f) {
 void remove_caps(const std::vector<Eigen::Vector3d>& p, std::vector<Face>& faces,
                  Reporter& reporter) {
   for (int pass = 0; pass < 20; ++pass) {
+    if (std::none_of(faces.begin(), faces.end(),
+                     [&](const Face& f) { return cap_corner(p, f) >= 0; }))
+      return;
     const EdgeMap edges(faces);
     std::vector<char> touched(faces.size(), 0), dropped(faces.size(), 0);
     std::vector<Face> added;

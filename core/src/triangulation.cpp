@@ -48,15 +48,21 @@ void Triangulation::build_edges(const std::vector<std::array<int, 2>>* keys, int
     const auto [c, d] = ends(h);
     return std::min(a, b) == std::min(c, d) && std::max(a, b) == std::max(c, d);
   };
-  std::vector<std::pair<int, size_t>> groups;  // (first halfedge, its position in by_pair)
+  // The position in by_pair of each group's first halfedge, indexed by that halfedge (else -1).
+  std::vector<int> group_at(3 * static_cast<size_t>(nf), -1);
+  int num_groups = 0;
   for (size_t i = 0; i < by_pair.size(); ++i) {
-    if (i == 0 || !same_pair(by_pair[i], by_pair[i - 1])) groups.emplace_back(by_pair[i], i);
+    if (i == 0 || !same_pair(by_pair[i], by_pair[i - 1])) {
+      group_at[by_pair[i]] = static_cast<int>(i);
+      ++num_groups;
+    }
   }
-  std::sort(groups.begin(), groups.end());
-  edge_vertices_.reserve(groups.size());
-  edge_faces_.reserve(groups.size());
+  edge_vertices_.reserve(num_groups);
+  edge_faces_.reserve(num_groups);
   std::vector<std::pair<int, int>> nonmanifold_at, misoriented_at;  // (halfedge, edge)
-  for (const auto& [first, position] : groups) {
+  for (int first = 0; first < 3 * nf; ++first) {
+    if (group_at[first] < 0) continue;
+    const size_t position = group_at[first];
     const int e = num_edges();
     const int a = halfedge_tail(first), b = halfedge_head(first);
     edge_vertices_.push_back({std::min(a, b), std::max(a, b)});

@@ -34,9 +34,9 @@ void split_tokens(std::string_view line, std::vector<std::string_view>& out) {
   out.clear();
   size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < line.size() && is_space(line[i])) ++i;
     const size_t start = i;
-    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < line.size() && !is_space(line[i])) ++i;
     if (i > start) out.push_back(line.substr(start, i - start));
   }
 }

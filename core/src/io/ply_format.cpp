@@ -73,9 +73,9 @@ class PlyBody {
   }
 
   double ascii_value() {
-    while (pos_ < body_.size() && std::isspace(static_cast<unsigned char>(body_[pos_]))) ++pos_;
+    while (pos_ < body_.size() && is_space(body_[pos_])) ++pos_;
     const size_t start = pos_;
-    while (pos_ < body_.size() && !std::isspace(static_cast<unsigned char>(body_[pos_]))) ++pos_;
+    while (pos_ < body_.size() && !is_space(body_[pos_])) ++pos_;
     if (start == pos_) fail("the file ends inside its data");
     const std::string text(body_.substr(start, pos_ - start));
     char* end = nullptr;

@@ -15,6 +15,11 @@ namespace ricci::io {
 //! The whole file. \throws IoError when it cannot be opened or read.
 std::string read_file(const std::string& path);
 
+//! std::isspace in the "C" locale, without a call per character.
+inline bool is_space(char c) {
+  return c == ' ' || (c >= '\t' && c <= '\r');
+}
+
 //! Splits a line into whitespace-separated tokens.
 std::vector<std::string_view> tokens(std::string_view line);
 //! The same into `out`, reusing its storage.
