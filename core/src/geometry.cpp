@@ -107,10 +107,15 @@ double radius_from_conformal_factor(Geometry g, double u) {
 }
 
 EdgeLength edge_length(Geometry g, double ui, double uj, int eps_i, int eps_j, double eta) {
+  return edge_length_of_exponentials(g, std::exp(ui), std::exp(uj), eps_i, eps_j, eta);
+}
+
+EdgeLength edge_length_of_exponentials(Geometry g, double xi, double xj, int eps_i, int eps_j,
+                                       double eta) {
   EdgeLength r;
-  const double a = eps_i * std::exp(2 * ui);
-  const double b = eps_j * std::exp(2 * uj);
-  const double c = 2 * eta * std::exp(ui + uj);
+  const double a = eps_i * xi * xi;
+  const double b = eps_j * xj * xj;
+  const double c = 2 * eta * xi * xj;
   const double m = c + a + b;  // m = 2 eta e^(ui+uj) + eps_i e^(2ui) + eps_j e^(2uj)
   const double di = denominator_factor(g, a);
   const double dj = denominator_factor(g, b);
@@ -179,21 +184,33 @@ TriangleAngles corner_angles(Geometry g, const std::array<double, 3>& l) {
   const double s = (l[0] + l[1] + l[2]) / 2;
   // Half-angle law: tan^2(theta_i/2) = s(s-lj) s(s-lk) / (s(s) s(s-li)), with s() as above.
   const double ss = s_of(g, s);
+  // Sine and cosine from the half angle's tangent h: sin = 2h / (1 + h^2), cos = (1 - h^2) /
+  // (1 + h^2), without calls to sin and cos (beyond where h^2 overflows).
+  std::array<double, 3> sine, cosine;
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
     const double num = s_of(g, s - l[j]) * s_of(g, s - l[k]);
     const double den = ss * s_of(g, s - l[i]);
-    t.angle[i] = 2 * std::atan(std::sqrt(num / den));
+    const double h = std::sqrt(num / den);
+    t.angle[i] = 2 * std::atan(h);
+    if (h < 1e150) {
+      const double q = 1 / (1 + h * h);
+      sine[i] = 2 * h * q;
+      cosine[i] = (1 - h * h) * q;
+    } else {
+      sine[i] = std::sin(t.angle[i]);
+      cosine[i] = std::cos(t.angle[i]);
+    }
   }
   // d theta_i / d l_i = s(l_i)/A, d theta_i / d l_j = -s(l_i) cos(theta_k)/A with
   // A = sin(theta_i) s(l_j) s(l_k), symmetric in i, j, k by the sine law.
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
-    const double area_term = std::sin(t.angle[i]) * s_of(g, l[j]) * s_of(g, l[k]);
+    const double area_term = sine[i] * s_of(g, l[j]) * s_of(g, l[k]);
     const double di = s_of(g, l[i]) / area_term;
     t.d_angle_d_length[i][i] = di;
-    t.d_angle_d_length[i][j] = -di * std::cos(t.angle[k]);
-    t.d_angle_d_length[i][k] = -di * std::cos(t.angle[j]);
+    t.d_angle_d_length[i][j] = -di * cosine[k];
+    t.d_angle_d_length[i][k] = -di * cosine[j];
   }
   t.valid = true;
   for (int i = 0; i < 3; ++i) {

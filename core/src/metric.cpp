@@ -27,10 +27,11 @@ MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure&
   MetricState state;
   const Geometry g = structure.geometry;
   state.edges.resize(mesh.num_edges());
+  const Eigen::VectorXd x = u.array().exp();
   for (int e = 0; e < mesh.num_edges(); ++e) {
     const auto [i, j] = mesh.edge_vertices(e);
-    state.edges[e] =
-        edge_length(g, u[i], u[j], structure.eps[i], structure.eps[j], structure.eta[e]);
+    state.edges[e] = edge_length_of_exponentials(g, x[i], x[j], structure.eps[i], structure.eps[j],
+                                                 structure.eta[e]);
     if (!state.edges[e].valid) ++state.num_invalid_edges;
   }
   state.faces.resize(mesh.num_faces());

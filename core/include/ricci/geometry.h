@@ -44,6 +44,9 @@ struct EdgeLength {
 
 //! Length of edge ij from the conformal factors, scheme coefficients and conformal structure.
 EdgeLength edge_length(Geometry g, double ui, double uj, int eps_i, int eps_j, double eta);
+//! The same from xi = e^ui and xj = e^uj (a metric computes them once per vertex).
+EdgeLength edge_length_of_exponentials(Geometry g, double xi, double xj, int eps_i, int eps_j,
+                                       double eta);
 
 //! The eta for which edge_length(g, ui, uj, eps_i, eps_j, eta).length == length.
 double conformal_structure_from_length(Geometry g, double length, double ui, double uj, int eps_i,
