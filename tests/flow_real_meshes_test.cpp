@@ -95,13 +95,14 @@ TEST(RealMesh, FixedTriangulationStallsWhereFlipsConverge) {
   const FlowResult stalled =
       run_ricci_flow(mesh, prepare_flow(mesh, Geometry::Euclidean, scheme, target), target, fixed);
   EXPECT_FALSE(stalled.converged);
-  // By default, flips begin where the fixed triangulation's steps are cut short by degenerating
-  // triangles, and the flow goes on from there.
+  // By default, flips begin where the fixed triangulation's steps are cut ever shorter to keep
+  // its triangles valid, and the flow goes on from there.
   const FlowResult flipped =
       run_ricci_flow(mesh, prepare_flow(mesh, Geometry::Euclidean, scheme, target), target);
   EXPECT_TRUE(flipped.converged);
   ASSERT_GT(flipped.flips_from_iteration, 0);
-  EXPECT_NE(flipped.without_flips.find("degenerating"), std::string::npos) << flipped.without_flips;
+  EXPECT_NE(flipped.without_flips.find("to keep triangles valid"), std::string::npos)
+      << flipped.without_flips;
   EXPECT_EQ(flipped.residual_history.front(), stalled.residual_history.front());
   // The same flow up to there (the residual of the flips' iteration is measured after them).
   EXPECT_EQ(flipped.residual_history[flipped.flips_from_iteration - 1],

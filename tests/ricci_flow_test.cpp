@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "flow_steps.h"
 #include "metric.h"
 #include "ricci/errors.h"
 #include "ricci/presets.h"
@@ -109,6 +110,34 @@ TEST(RicciFlow, NearTheSolutionAnEarlierFactorizationServesTheStep) {
   for (size_t i = 1; i < r.residual_history.size(); ++i)
     EXPECT_LT(r.residual_history[i], r.residual_history[i - 1]);
   expect_gauss_bonnet(mesh, Geometry::Euclidean, r);
+}
+
+// Which runs of accepted steps start edge flips by default (EdgeFlips::WhenNeeded).
+TEST(StallWindow, FlipsAreCalledForByStepsCutEverShorterOrBouncing) {
+  // Each step: its length, and whether degenerating triangles cut it (negative here).
+  const auto first_call = [](const std::vector<double>& steps) {
+    detail::StallWindow window;
+    std::vector<double> residuals = {1};
+    for (size_t i = 0; i < steps.size(); ++i) {
+      detail::LineSearch step;
+      step.alpha = std::abs(steps[i]);
+      step.blocked_by_validity = steps[i] < 0;
+      residuals.push_back(0.9 * residuals.back());
+      window.stalled(step, residuals);
+      if (!window.flips_called_for().empty()) return static_cast<int>(i);
+    }
+    return -1;
+  };
+  // qtdv-oilrig.obj, which converges without flips: cut steps that grow again.
+  EXPECT_EQ(first_call({1, 1, 1, 1, -0.125, -0.0625, -0.125, -0.25, -0.5, 1, 1, 1, 1}), -1);
+  // Cut ever shorter (cow.off).
+  EXPECT_EQ(first_call({-0.25, -0.125, -0.0625, -0.03125}), 3);
+  // Bouncing off the valid set's boundary (homer.off).
+  EXPECT_EQ(first_call({1, -0.5, 1, -0.25, 1, -0.25}), 5);
+  // Two steps in a row of at most 1/64.
+  EXPECT_EQ(first_call({-1.0 / 64, -1.0 / 128}), 1);
+  // Steps the residual cut (Armijo), not the triangles.
+  EXPECT_EQ(first_call({0.125, 0.0625, 0.03125, 1, 0.25, 1, 0.25, 1.0 / 128, 1.0 / 256}), -1);
 }
 
 TEST(RicciFlow, EverySchemeConvergesOnTorusInE2) {

@@ -111,10 +111,10 @@ TEST(Uniformize, EdgeFlipsOnlyWhereTheFlowStalls) {
   const Uniformization run = uniformize(hand, o);
   ASSERT_TRUE(run.valid()) << run.result.failure << run.layout_failure;
   ASSERT_GT(run.totals.flips_from_iteration, 0);
-  // Newton stalls, or its steps are cut short, on the input's triangulation.
+  // Newton stalls, or its steps are cut ever shorter, on the input's triangulation.
   const std::string& why = run.totals.without_flips;
   EXPECT_TRUE(why.find("no step of length") != std::string::npos ||
-              why.find("were cut to at most 1/64") != std::string::npos)
+              why.find("to keep triangles valid") != std::string::npos)
       << why;
   EXPECT_LE(run.totals.newton_iterations - run.totals.flips_from_iteration, 10);
   EXPECT_GT(run.totals.edge_flips, 0);

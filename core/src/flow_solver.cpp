@@ -320,10 +320,9 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   keep_delaunay();
   k = result.num_flips > flips_before + step.flips.flips ? curvature(triangulation, metric)
                                                          : std::move(step.k);
-  if (may_start_flipping() && stall.short_steps() >= detail::StallWindow::kLengthBeforeFlips) {
-    s << "the steps of iterations " << it + 1 - stall.short_steps() << " to " << it
-      << " were cut to at most 1/64 to keep triangles from degenerating";
-    start_flipping(it + 1, s.str());
+  if (may_start_flipping()) {
+    const std::string why = stall.flips_called_for();
+    if (!why.empty()) start_flipping(it + 1, "up to iteration " + std::to_string(it) + ", " + why);
   }
   return "";
 }

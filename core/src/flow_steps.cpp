@@ -235,8 +235,33 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
 
 bool StallWindow::stalled(const LineSearch& step, const std::vector<double>& residual_history) {
   short_steps_ = (step.blocked_by_validity && step.alpha <= kShortStep) ? short_steps_ + 1 : 0;
+  recent_.push_back(step.blocked_by_validity ? -step.alpha : step.alpha);
+  if (recent_.size() > 6) recent_.erase(recent_.begin());
   const size_t n = residual_history.size();
   return short_steps_ >= kLength && residual_history[n - 1] > 0.5 * residual_history[n - kLength];
+}
+
+std::string StallWindow::flips_called_for() const {
+  std::ostringstream s;
+  if (short_steps_ >= kLengthBeforeFlips) {
+    s << short_steps_ << " steps in a row were cut to at most 1/64 to keep triangles valid";
+    return s.str();
+  }
+  const auto cut = [](double step) { return step < 0 ? -step : 2.0; };  // 2: not cut by triangles
+  const size_t n = recent_.size();
+  if (n >= 3 && cut(recent_[n - 3]) <= 0.125 && cut(recent_[n - 2]) <= cut(recent_[n - 3]) &&
+      cut(recent_[n - 1]) <= cut(recent_[n - 2])) {
+    s << "three steps in a row were cut ever shorter (" << cut(recent_[n - 3]) << ", "
+      << cut(recent_[n - 2]) << ", " << cut(recent_[n - 1]) << ") to keep triangles valid";
+    return s.str();
+  }
+  int bounces = 0;
+  for (size_t i = 1; i < n; ++i) bounces += recent_[i - 1] == 1 && cut(recent_[i]) <= 0.25;
+  if (bounces >= 2) {
+    s << "within " << n << " steps, full steps were followed " << bounces
+      << " times by steps cut to at most 1/4 to keep triangles valid";
+  }
+  return s.str();
 }
 
 }  // namespace ricci::detail

@@ -150,17 +150,27 @@ inline constexpr double kShortStep = 1.0 / 64;
 class StallWindow {
  public:
   static constexpr int kLength = 10;
-  //! Without flips, this many short steps in a row already call for them (EdgeFlips::WhenNeeded):
-  //! on real meshes whose own triangulation converges, a step cut below 1/64 was never followed
-  //! by another (scripts/compare_flip_modes.py).
-  static constexpr int kLengthBeforeFlips = 2;
   //! Records an accepted step; true when the flow has stalled.
   bool stalled(const LineSearch& step, const std::vector<double>& residual_history);
   //! The number of short steps in a row so far.
   int short_steps() const { return short_steps_; }
+  //! Without flips (EdgeFlips::WhenNeeded), whether the steps so far call for them, and why; ""
+  //! when they do not. Each pattern is one of steps cut to keep triangles valid:
+  //! - kLengthBeforeFlips steps in a row of at most kShortStep;
+  //! - three in a row of at most 1/8, each no longer than the one before (the flow runs into the
+  //!   valid set's boundary);
+  //! - twice within the last six steps, a full step followed by one cut to at most 1/4 (Newton
+  //!   bounces off that boundary).
+  //! On the real meshes and CGAL's scans that converge without flips, none of these came up
+  //! (scripts/compare_flip_modes.py); on those that need flips, they came 1 to 59 iterations
+  //! before the flow stopped without them.
+  std::string flips_called_for() const;
+  static constexpr int kLengthBeforeFlips = 2;
 
  private:
   int short_steps_ = 0;
+  // The accepted steps' lengths, negated where triangles cut them (the last few).
+  std::vector<double> recent_;
 };
 
 }  // namespace ricci::detail
