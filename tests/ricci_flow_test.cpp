@@ -131,7 +131,9 @@ TEST(StallWindow, FlipsAreCalledForByStepsCutEverShorterOrBouncing) {
   // qtdv-oilrig.obj, which converges without flips: cut steps that grow again.
   EXPECT_EQ(first_call({1, 1, 1, 1, -0.125, -0.0625, -0.125, -0.25, -0.5, 1, 1, 1, 1}), -1);
   // Cut ever shorter (cow.off).
-  EXPECT_EQ(first_call({-0.25, -0.125, -0.0625, -0.03125}), 3);
+  EXPECT_EQ(first_call({-0.125, -0.0625, -0.03125, -0.03125}), 3);
+  // geomview-hook.off's disk, which converges without flips: cut to 1/8 twice, then recovering.
+  EXPECT_EQ(first_call({1, -0.5, -0.5, -0.5, -0.25, -0.25, -0.125, -0.125, -0.03125, 1, 1}), -1);
   // Bouncing off the valid set's boundary (homer.off).
   EXPECT_EQ(first_call({1, -0.5, 1, -0.25, 1, -0.25}), 5);
   // Two steps in a row of at most 1/64.

@@ -76,7 +76,8 @@ struct RicciFlowSolver::State {
     if (circles && metric.valid()) circles->set_target(metric.lengths(), goal);
   }
   bool step_direction(const Eigen::VectorXd& r, Eigen::VectorXd& du);
-  std::string step_failure;  // why step_direction() failed, when H was factorized
+  std::string step_failure;           // why step_direction() failed, when H was factorized
+  bool blocked_by_triangles = false;  // the last line search met triangles that degenerate
   FlowResult run(const Eigen::VectorXd* start);
 };
 
@@ -246,6 +247,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   const Eigen::VectorXd r = detail::free_residual(k, target, free_index, steps.num_free());
   Eigen::VectorXd du;
   std::ostringstream s;
+  blocked_by_triangles = false;
   if (!step_direction(r, du)) {
     if (step_failure.empty()) {
       s << "the Hessian could not be factorized at iteration " << it
@@ -261,6 +263,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
                                                 0.5 * r.squaredNorm(), options.max_step_halvings,
                                                 flipping, circles ? &*circles : nullptr);
   times.line_search += seconds_since(t);
+  blocked_by_triangles = step.blocked_by_validity;
   const char* flips_help = flipping ? "" : " on this triangulation (edge flips help)";
   // Kbar = 0 on a closed surface is its uniformization: the metric exists, only the flow missed it.
   const bool exists =
@@ -477,7 +480,9 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
         r.stop = FlowStop::Converged;
         break;
       }
-      if (!stop.empty() && s.may_start_flipping()) {
+      // With circles, a stop that no degenerating triangle caused is left to the repeated flows
+      // (circle_domain.h), which run on the input's triangulation as far as it goes.
+      if (!stop.empty() && s.may_start_flipping() && (!s.circles || s.blocked_by_triangles)) {
         // The step that was not taken is taken again on the flipped triangulation.
         s.start_flipping(it, stop);
         r.residual_history.pop_back();

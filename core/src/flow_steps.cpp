@@ -249,7 +249,7 @@ std::string StallWindow::flips_called_for() const {
   }
   const auto cut = [](double step) { return step < 0 ? -step : 2.0; };  // 2: not cut by triangles
   const size_t n = recent_.size();
-  if (n >= 3 && cut(recent_[n - 3]) <= 0.125 && cut(recent_[n - 2]) <= cut(recent_[n - 3]) &&
+  if (n >= 3 && cut(recent_[n - 3]) <= 0.0625 && cut(recent_[n - 2]) <= cut(recent_[n - 3]) &&
       cut(recent_[n - 1]) <= cut(recent_[n - 2])) {
     s << "three steps in a row were cut ever shorter (" << cut(recent_[n - 3]) << ", "
       << cut(recent_[n - 2]) << ", " << cut(recent_[n - 1]) << ") to keep triangles valid";

@@ -157,8 +157,8 @@ class StallWindow {
   //! Without flips (EdgeFlips::WhenNeeded), whether the steps so far call for them, and why; ""
   //! when they do not. Each pattern is one of steps cut to keep triangles valid:
   //! - kLengthBeforeFlips steps in a row of at most kShortStep;
-  //! - three in a row of at most 1/8, each no longer than the one before (the flow runs into the
-  //!   valid set's boundary);
+  //! - three in a row of at most 1/16, each no longer than the one before (the flow runs into
+  //!   the valid set's boundary);
   //! - twice within the last six steps, a full step followed by one cut to at most 1/4 (Newton
   //!   bounces off that boundary).
   //! On the real meshes and CGAL's scans that converge without flips, none of these came up
