@@ -92,7 +92,7 @@ TEST(RicciFlow, EverySchemeConvergesOnDisksInE2) {
 }
 
 // Near the solution, an earlier factorization of H preconditions MINRES on the current H (inexact
-// Newton): fewer factorizations than iterations, and the same tolerance reached as fast.
+// Newton): fewer factorizations than iterations, the same tolerance, still few iterations.
 TEST(RicciFlow, NearTheSolutionAnEarlierFactorizationServesTheStep) {
   const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
   FlowOptions options;
@@ -106,7 +106,7 @@ TEST(RicciFlow, NearTheSolutionAnEarlierFactorizationServesTheStep) {
   EXPECT_LT(r.num_factorizations, r.iterations);
   EXPECT_GT(r.krylov_iterations, 0);
   // Each MINRES solve is short: at most StepSolver::kStaleSolveIterations per iteration.
-  EXPECT_LE(r.krylov_iterations, 8 * (r.iterations - r.num_factorizations));
+  EXPECT_LE(r.krylov_iterations, detail::StepSolver::kStaleSolveIterations * r.iterations);
   for (size_t i = 1; i < r.residual_history.size(); ++i)
     EXPECT_LT(r.residual_history[i], r.residual_history[i - 1]);
   expect_gauss_bonnet(mesh, Geometry::Euclidean, r);
@@ -136,6 +136,8 @@ TEST(StallWindow, FlipsAreCalledForByStepsCutEverShorterOrBouncing) {
   EXPECT_EQ(first_call({1, -0.5, -0.5, -0.5, -0.25, -0.25, -0.125, -0.125, -0.03125, 1, 1}), -1);
   // Bouncing off the valid set's boundary (homer.off).
   EXPECT_EQ(first_call({1, -0.5, 1, -0.25, 1, -0.25}), 5);
+  // Bounces more than six steps apart.
+  EXPECT_EQ(first_call({1, -0.25, 1, 1, 1, 1, 1, -0.25}), -1);
   // Two steps in a row of at most 1/64.
   EXPECT_EQ(first_call({-1.0 / 64, -1.0 / 128}), 1);
   // Steps the residual cut (Armijo), not the triangles.

@@ -424,6 +424,7 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
   s.lm_weight = 1;
   s.stall = detail::StallWindow();
   s.blocked_walk.reset();
+  s.steps.begin_solve();
   s.use_free_vertices(target);
   s.metric = evaluate_metric(s.triangulation, s.structure, s.u);
   s.times.setup = seconds_since(begin);

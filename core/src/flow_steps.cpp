@@ -61,12 +61,18 @@ void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& 
   assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
   analyzed_ = false;
   factor_of_h_ = false;
+  last_krylov_ = 0;
+}
+
+void StepSolver::begin_solve() {
+  factor_of_h_ = false;
 }
 
 bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
-                           double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times) {
+                           double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times,
+                           bool assembled) {
   auto t = Clock::now();
-  const SparseMatrix& h = assembler_->assemble(state);
+  const SparseMatrix& h = assembled ? assembler_->matrix() : assembler_->assemble(state);
   rhs = r;
   const SparseMatrix* system = &h;
   double shift = 0;
@@ -117,18 +123,24 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
   // Near the solution H changes little from one step to the next: the factorization of an earlier
   // H preconditions the current one to within a few MINRES iterations, each a solve with that
   // factor (a tenth of a factorization or less).
+  bool assembled = false;
   if (!spherical && factor_of_h_ && size <= kReuseFactorBelowResidual * factor_residual_) {
+    assembled = true;
     auto t = Clock::now();
     const SparseMatrix& h = assembler_->assemble(state);
     times.assembly += seconds_since(t);
     const MinresResult m =
         precondition_with_factor([&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return h * x; },
                                  r, rtol, kStaleSolveIterations, du, times);
-    if (m.relative_residual <= rtol && du.allFinite()) return true;
+    // MINRES measures its residual in the factor's norm; the line search needs |r|^2 to fall
+    // along du, which |r - H du| <= rtol |r| (rtol < 1) guarantees in the Euclidean norm.
+    if (m.relative_residual <= rtol && du.allFinite() && (r - h * du).norm() <= rtol * r.norm()) {
+      return true;
+    }
   }
   Eigen::VectorXd rhs;
   factor_of_h_ = false;
-  if (!factorize(state, r, spherical, lm_weight, rhs, times)) return false;
+  if (!factorize(state, r, spherical, lm_weight, rhs, times, assembled)) return false;
   factor_of_h_ = !spherical;
   factor_residual_ = size;
   const auto t = Clock::now();
@@ -147,7 +159,8 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
   // The last factorization, of an earlier H on this pattern, as the preconditioner while it keeps
   // MINRES short: a factorization costs as much as some ten solves with it.
   Krylov out;
-  if (factor_of_h_ && last_krylov_ <= kReuseFactorBelow) {
+  const bool assembled = factor_of_h_ && last_krylov_ <= kReuseFactorBelow;
+  if (assembled) {
     const auto t = Clock::now();
     assembler_->assemble(state);
     times.assembly += seconds_since(t);
@@ -162,7 +175,7 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
   }
   Eigen::VectorXd rhs;
   factor_of_h_ = false;
-  out.factorized = factorize(state, r, false, 0, rhs, times);
+  out.factorized = factorize(state, r, false, 0, rhs, times, assembled);
   if (!out.factorized) return out;
   factor_of_h_ = true;
   factor_residual_ = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;

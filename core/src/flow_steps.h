@@ -32,8 +32,9 @@ inline double seconds_since(Clock::time_point start) {
 Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& target,
                               const std::vector<int>& free_index, int num_free);
 
-//! The relative residual an inexact Newton step is solved to: it falls with max |r| (quadratic
-//! convergence), but no lower than what the last step needs, a tenth of the tolerance left over.
+//! The relative residual an inexact Newton step is solved to: max |r| (quadratic convergence),
+//! but no lower than a tenth of the tolerance over max |r| (about what the last step needs), in
+//! [1e-12, 0.1].
 double forcing_term(const Eigen::VectorXd& r, double tolerance);
 
 //! max |K - Kbar| over every vertex with a curvature target (a pinned gauge vertex included).
@@ -56,6 +57,8 @@ class StepSolver {
 
   //! A new pattern: a new triangulation (flips) or another set of free vertices.
   void set_pattern(const Triangulation& mesh, const std::vector<int>& free_index);
+  //! A new solve (another target): its first step factorizes H.
+  void begin_solve();
   int num_free() const { return assembler_->num_free(); }
 
   //! False when no shift makes the system factorizable, or the step is not finite. In E2 and H2,
@@ -92,9 +95,10 @@ class StepSolver {
   int num_krylov_iterations() const { return krylov_iterations_; }
 
  private:
-  // Assembles and factorizes the step's system; rhs is r, or H r in S2.
+  // Assembles (unless H is assembled at state already) and factorizes the step's system; rhs is
+  // r, or H r in S2.
   bool factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
-                 double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times);
+                 double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times, bool assembled = false);
   // MINRES on A x = r, preconditioned with the held factorization, into du.
   template <class Apply>
   MinresResult precondition_with_factor(const Apply& apply, const Eigen::VectorXd& r, double rtol,

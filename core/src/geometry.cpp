@@ -185,7 +185,7 @@ TriangleAngles corner_angles(Geometry g, const std::array<double, 3>& l) {
   // Half-angle law: tan^2(theta_i/2) = s(s-lj) s(s-lk) / (s(s) s(s-li)), with s() as above.
   const double ss = s_of(g, s);
   // Sine and cosine from the half angle's tangent h: sin = 2h / (1 + h^2), cos = (1 - h^2) /
-  // (1 + h^2), without calls to sin and cos (beyond where h^2 overflows).
+  // (1 + h^2), without calls to sin and cos (their limits where h^2 would overflow).
   std::array<double, 3> sine, cosine;
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
@@ -197,9 +197,9 @@ TriangleAngles corner_angles(Geometry g, const std::array<double, 3>& l) {
       const double q = 1 / (1 + h * h);
       sine[i] = 2 * h * q;
       cosine[i] = (1 - h * h) * q;
-    } else {
-      sine[i] = std::sin(t.angle[i]);
-      cosine[i] = std::cos(t.angle[i]);
+    } else {  // the angle is pi to within rounding
+      sine[i] = 2 / h;
+      cosine[i] = -1;
     }
   }
   // d theta_i / d l_i = s(l_i)/A, d theta_i / d l_j = -s(l_i) cos(theta_k)/A with
