@@ -166,7 +166,6 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
     times.assembly += seconds_since(t);
     const MinresResult m =
         precondition_with_factor(damped, r, rtol, kStaleKrylovIterations, du, times);
-    out.iterations = m.iterations;
     if (du.allFinite() && m.relative_residual <= rtol) {
       last_krylov_ = m.iterations;
       out.progress = true;
@@ -181,7 +180,6 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
   factor_residual_ = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;
   const MinresResult m = precondition_with_factor(damped, r, rtol, kMaxKrylovIterations, du, times);
   last_krylov_ = m.iterations;
-  out.iterations += m.iterations;
   out.progress = du.allFinite() && m.relative_residual < 1;
   return out;
 }

@@ -81,7 +81,6 @@ class StepSolver {
   struct Krylov {
     bool factorized = true;  //!< H could be factorized (or an earlier factorization served)
     bool progress = false;   //!< MINRES reduced the residual and the step is finite
-    int iterations = 0;      //!< MINRES iterations, with those on an earlier factorization
   };
   //! The (damped) Newton step of a target that depends on u: ((1 + damping) H - C) du = r with
   //! C du = coupling(du), symmetric and possibly indefinite, by MINRES preconditioned with a
@@ -165,9 +164,9 @@ class StallWindow {
   //!   the valid set's boundary);
   //! - twice within the last six steps, a full step followed by one cut to at most 1/4 (Newton
   //!   bounces off that boundary).
-  //! On the real meshes and CGAL's scans that converge without flips, none of these came up
-  //! (scripts/compare_flip_modes.py); on those that need flips, they came 1 to 59 iterations
-  //! before the flow stopped without them.
+  //! On the real meshes and CGAL's scans that converge without flips, the last two never came up
+  //! (scripts/compare_flip_modes.py); on those that need flips, they came up to 59 iterations
+  //! before the first.
   std::string flips_called_for() const;
   static constexpr int kLengthBeforeFlips = 2;
 
