@@ -224,7 +224,7 @@ double RicciFlowSolver::State::attainable_floor(const TargetCurvature& target) c
   const Eigen::VectorXd noise = curvature_round_off(triangulation, metric);
   const double floor = detail::kRoundOffMargin * noise.maxCoeff();
   const Eigen::VectorXd r = detail::free_residual(k, target, free_index, steps.num_free());
-  const double free_max = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;
+  const double free_max = detail::max_abs(r);
   if (free_max > std::max(floor, options.tolerance)) return 0;
   double reached = free_max > options.tolerance ? floor : 0;
   for (int v = 0; v < mesh.num_vertices(); ++v) {

@@ -17,7 +17,7 @@ Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& t
 }
 
 double forcing_term(const Eigen::VectorXd& r, double tolerance) {
-  const double size = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;
+  const double size = max_abs(r);
   if (!(size > 0)) return 0.1;
   return std::clamp(std::max(size, 0.1 * tolerance / size), 1e-12, 0.1);
 }
@@ -119,7 +119,7 @@ MinresResult StepSolver::precondition_with_factor(const Apply& apply, const Eige
 
 bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
                        double lm_weight, double rtol, Eigen::VectorXd& du, FlowTimes& times) {
-  const double size = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;
+  const double size = max_abs(r);
   // Near the solution H changes little from one step to the next: the factorization of an earlier
   // H preconditions the current one to within a few MINRES iterations, each a solve with that
   // factor (a tenth of a factorization or less).
@@ -177,7 +177,7 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
   out.factorized = factorize(state, r, false, 0, rhs, times, assembled);
   if (!out.factorized) return out;
   factor_of_h_ = true;
-  factor_residual_ = r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;
+  factor_residual_ = max_abs(r);
   const MinresResult m = precondition_with_factor(damped, r, rtol, kMaxKrylovIterations, du, times);
   last_krylov_ = m.iterations;
   out.progress = du.allFinite() && m.relative_residual < 1;

@@ -32,6 +32,11 @@ inline double seconds_since(Clock::time_point start) {
 Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& target,
                               const std::vector<int>& free_index, int num_free);
 
+//! max |r_i|, 0 for an empty r.
+inline double max_abs(const Eigen::VectorXd& r) {
+  return r.size() > 0 ? r.cwiseAbs().maxCoeff() : 0;
+}
+
 //! The relative residual an inexact Newton step is solved to: max |r| (quadratic convergence),
 //! but no lower than a tenth of the tolerance over max |r| (about what the last step needs), in
 //! [1e-12, 0.1].
