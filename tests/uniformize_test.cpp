@@ -133,6 +133,45 @@ TEST(Uniformize, EdgeFlipsOnlyWhereTheFlowStalls) {
   EXPECT_EQ(calls, 1);
 }
 
+// The unit disk by default: on the input's triangulation wherever the one solve or, after it, the
+// repeated flows get there without flips (the same u as --flips never); else as with flips always.
+// Real meshes from the real-mesh set (meshes/real-meshes.tsv): OpenFOAM's mixer vessel, whose one
+// solve stops at its first step but whose repeated flows converge on it, and meshcat's slotted
+// disk (a sphere with 3 holes), which needs flips.
+TEST(Uniformize, UnitDiskFlipsOnlyWhereNoFlowOnTheInputReachesIt) {
+  const auto run = [](const std::string& name, EdgeFlips flips) {
+    const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/" + name);
+    const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+    EXPECT_EQ(repaired.components.size(), 1u);
+    UniformizationOptions o;
+    o.flow.edge_flips = flips;
+    return uniformize(repaired.components[0].mesh, o);
+  };
+  const auto max_difference = [](const Uniformization& a, const Uniformization& b) {
+    return (a.result.u - b.result.u).cwiseAbs().maxCoeff();
+  };
+  const Uniformization vessel = run("openfoam-mixer-vessel.stl", EdgeFlips::WhenNeeded);
+  const Uniformization vessel_never = run("openfoam-mixer-vessel.stl", EdgeFlips::Never);
+  ASSERT_TRUE(vessel_never.valid()) << vessel_never.result.failure << vessel_never.layout_failure;
+  ASSERT_TRUE(vessel.valid()) << vessel.result.failure << vessel.layout_failure;
+  EXPECT_EQ(vessel.preset, TargetPreset::UnitDisk);
+  EXPECT_GT(vessel.totals.flows, 1);  // the one solve, then the repeated flows
+  EXPECT_EQ(vessel.totals.edge_flips, 0);
+  EXPECT_EQ(vessel.totals.flips_from_iteration, -1);
+  EXPECT_LE(max_difference(vessel, vessel_never), 1e-9);
+
+  const Uniformization slotted = run("meshcat-slotted-disk.stl", EdgeFlips::WhenNeeded);
+  const Uniformization slotted_always = run("meshcat-slotted-disk.stl", EdgeFlips::Always);
+  EXPECT_FALSE(run("meshcat-slotted-disk.stl", EdgeFlips::Never).converged());
+  ASSERT_TRUE(slotted_always.valid()) << slotted_always.result.failure;
+  ASSERT_TRUE(slotted.valid()) << slotted.result.failure << slotted.layout_failure;
+  EXPECT_GT(slotted.totals.edge_flips, 0);
+  EXPECT_GT(slotted.totals.flips_from_iteration, 0);
+  EXPECT_NE(slotted.totals.without_flips.find("the one solve: "), std::string::npos);
+  EXPECT_NE(slotted.totals.without_flips.find("the repeated flows: "), std::string::npos);
+  EXPECT_LE(max_difference(slotted, slotted_always), 1e-9);
+}
+
 TEST(Uniformize, DiskPresetPutsTheBoundaryOnTheUnitCircle) {
   const CompactMesh disk = test::cgal_mesh("nefertiti.off");
   UniformizationOptions o;  // auto: a disk goes to the unit disk

@@ -54,17 +54,38 @@ BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop) {
 bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
                          const TargetCurvature& target, const UniformizationOptions& o,
                          bool one_solve, Uniformization& run) {
+  const BoundaryRefit refit = refit_on_mesh(mesh, outer_loop);
   if (one_solve) {
-    run.result = solver.solve_circle_domain(target, outer_loop);
-    run.totals.add(run.result);
-    if (run.result.converged) {
-      run.boundary_change = 0;  // the result's target is the circles' at the final lengths
-      return true;
-    }
-    if (run.result.stop == FlowStop::Cancelled) return true;
+    const auto one = [&] {
+      run.result = solver.solve_circle_domain(target, outer_loop);
+      run.totals.add(run.result);
+      if (run.result.converged) run.boundary_change = 0;  // the circles' target at the result
+      return run.result.converged || run.result.stop == FlowStop::Cancelled;
+    };
+    // Flips when needed: first everything the input's triangulation allows (the one solve, then
+    // the repeated flows, as without flips), then the one solve with flips from the start (as
+    // with them always). A one solve that stops for flips lets the flows' fixed point, which
+    // keeps each boundary target fixed, try without.
+    solver.defer_flips(true);
+    const bool done = one();
+    const bool flips_needed = run.result.stop == FlowStop::FlipsNeeded;
+    const std::string one_failure = run.result.failure;
+    solver.defer_flips(false);
+    if (done) return true;
     solver.restart();
+    if (flips_needed) {
+      solver.defer_flips(true);
+      fit_boundary_to_circles(solver, mesh, refit, target, o, run);
+      solver.defer_flips(false);
+      if (run.result.converged || run.result.stop == FlowStop::Cancelled) return false;
+      const std::string why =
+          "the one solve: " + one_failure + "; the repeated flows: " + run.result.failure;
+      solver.restart_with_flips(why);
+      if (one()) return true;
+      solver.restart_with_flips(why);
+    }
   }
-  fit_boundary_to_circles(solver, mesh, refit_on_mesh(mesh, outer_loop), target, o, run);
+  fit_boundary_to_circles(solver, mesh, refit, target, o, run);
   return false;
 }
 
@@ -74,7 +95,7 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
   AndersonMixing mixing(5);
   TargetCurvature plain = target;  // the last plain iterate, g(x)
   bool warm = false;               // this flow starts from the last converged one
-  for (;;) {
+  for (int flows = 1;; ++flows) {
     out.result = solver.solve(target);
     out.totals.add(out.result);
     if (!out.result.converged) {
@@ -89,11 +110,10 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
     const TargetCurvature next = refit(out.result);
     out.boundary_change = (next.curvature - target.curvature).cwiseAbs().maxCoeff();
     if (out.boundary_change <= o.boundary_tolerance) break;
-    if (out.totals.flows >= o.max_boundary_iterations) {
+    if (flows >= o.max_boundary_iterations) {
       std::ostringstream s;
-      s << "the boundary curvature still changed by " << out.boundary_change << " after "
-        << out.totals.flows << " flows (tolerance " << o.boundary_tolerance
-        << "); raise the boundary iteration limit";
+      s << "the boundary curvature still changed by " << out.boundary_change << " after " << flows
+        << " flows (tolerance " << o.boundary_tolerance << "); raise the boundary iteration limit";
       out.result.converged = false;
       out.result.failure = s.str();
       break;

@@ -27,6 +27,7 @@ struct RicciFlowSolver::State {
         structure(s),
         u(s.u0),
         flipping(options.edge_flips == EdgeFlips::Always),
+        flips_from_start(flipping),
         steps(options.linear_solver) {}
 
   const CompactMesh& mesh;
@@ -38,6 +39,10 @@ struct RicciFlowSolver::State {
   ConformalStructure structure;          // eta changes with flips
   Eigen::VectorXd u;
   bool flipping;  // edge flips are on (EdgeFlips::WhenNeeded: once the input's were not enough)
+  bool defer_flips = false;  // EdgeFlips::WhenNeeded: stop where flips would start
+  // EdgeFlips::Always, or since restart_with_flips(), whose reason the next solve reports.
+  bool flips_from_start;
+  std::string flipping_because;
   // EdgeFlips::WhenNeeded: a walk to a start that the input's triangulation blocked, from where
   // and to where; when flips start, the walk is made again with them.
   std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> blocked_walk;
@@ -325,7 +330,14 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
                                                          : std::move(step.k);
   if (may_start_flipping()) {
     const std::string why = stall.flips_called_for();
-    if (!why.empty()) start_flipping(it + 1, "up to iteration " + std::to_string(it) + ", " + why);
+    if (!why.empty()) {
+      const std::string reason = "up to iteration " + std::to_string(it) + ", " + why;
+      if (defer_flips) {
+        blocked_by_triangles = true;
+        return reason;
+      }
+      start_flipping(it + 1, reason);
+    }
   }
   return "";
 }
@@ -376,12 +388,23 @@ RicciFlowSolver::RicciFlowSolver(const CompactMesh& mesh, const ConformalStructu
 
 RicciFlowSolver::~RicciFlowSolver() = default;
 
+void RicciFlowSolver::defer_flips(bool defer) {
+  state_->defer_flips = defer;
+}
+
+void RicciFlowSolver::restart_with_flips(const std::string& why) {
+  State& s = *state_;
+  if (!s.flips_from_start) s.flipping_because = why;
+  s.flips_from_start = true;
+  restart();
+}
+
 void RicciFlowSolver::restart() {
   State& s = *state_;
   s.triangulation = IntrinsicTriangulation(s.mesh);
   s.structure = s.input_structure;
   s.u = s.input_structure.u0;
-  s.flipping = s.options.edge_flips == EdgeFlips::Always;
+  s.flipping = s.flips_from_start;
   s.blocked_walk.reset();
   s.flip_sequence.clear();
   s.pattern_current = false;
@@ -420,6 +443,11 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
   const int analyses = s.steps.num_analyses(), factorizations = s.steps.num_factorizations(),
             krylov = s.steps.num_krylov_iterations();
   s.result = FlowResult();
+  if (!s.flipping_because.empty()) {
+    s.result.flips_from_iteration = 0;
+    s.result.without_flips = std::move(s.flipping_because);
+    s.flipping_because.clear();
+  }
   s.times = FlowTimes();
   s.lm_weight = 1;
   s.stall = detail::StallWindow();
@@ -483,7 +511,9 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
       }
       // With circles, a stop that no degenerating triangle caused is left to the repeated flows
       // (circle_domain.h), which run on the input's triangulation as far as it goes.
-      if (!stop.empty() && s.may_start_flipping() && (!s.circles || s.blocked_by_triangles)) {
+      const bool flips_help =
+          !stop.empty() && s.may_start_flipping() && (!s.circles || s.blocked_by_triangles);
+      if (flips_help && !s.defer_flips) {
         // The step that was not taken is taken again on the flipped triangulation.
         s.start_flipping(it, stop);
         r.residual_history.pop_back();
@@ -492,7 +522,7 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
       }
       if (!stop.empty()) {
         r.failure = stop;
-        r.stop = FlowStop::Stalled;
+        r.stop = flips_help ? FlowStop::FlipsNeeded : FlowStop::Stalled;
         break;
       }
     }

@@ -39,7 +39,8 @@ struct FlowProgress {
 //!   (no step reduces the residual, or two steps in a row are cut below 1/64 to keep triangles
 //!   valid), then with flips from where it stopped, within the same iteration limit (after a
 //!   walk to a stereographic start that the triangulation blocked, from the walk made again with
-//!   flips);
+//!   flips); the unit disk and circle domains first try the repeated flows on the input's
+//!   triangulation (reach_circle_domain, using defer_flips and restart_with_flips);
 //! - Always: before the first step and after every step;
 //! - Never: the result stays on the input's triangulation.
 enum class EdgeFlips { WhenNeeded, Always, Never };
@@ -71,9 +72,10 @@ struct FlowTimes {
 };
 
 //! Why a flow stopped: converged; never started (an invalid initial metric, a circle pattern
-//! that cannot exist); cancelled by the progress callback; at the iteration limit; or stalled, no
-//! step making progress on this triangulation (edge flips may help).
-enum class FlowStop { Converged, NotStarted, Cancelled, IterationLimit, Stalled };
+//! that cannot exist); cancelled by the progress callback; at the iteration limit; stalled, no
+//! step making progress on this triangulation (edge flips may help); or, with EdgeFlips::WhenNeeded
+//! and flips deferred (RicciFlowSolver::defer_flips), where flips would have started.
+enum class FlowStop { Converged, NotStarted, Cancelled, IterationLimit, Stalled, FlipsNeeded };
 
 //! One edge flip of the flow, with what the common subdivision (common_subdivision.h) needs to
 //! follow the input's edges through it. Before the flip, edge a-b is the diagonal of the
@@ -166,8 +168,15 @@ class RicciFlowSolver {
   //!   fixed; InvalidTargetError as solve().
   FlowResult solve_circle_domain(const TargetCurvature& target, int outer_loop);
 
+  //! EdgeFlips::WhenNeeded: with defer, a solve stops where flips would start
+  //! (FlowStop::FlipsNeeded), leaving the caller to choose another way or restart with them.
+  void defer_flips(bool defer);
+
   //! Back to the input triangulation, the input structure and u0.
   void restart();
+  //! restart(), and from now on edge flips on from the start, as with EdgeFlips::Always; the next
+  //! solve reports them needed from its iteration 0, because of `why`.
+  void restart_with_flips(const std::string& why);
 
  private:
   struct State;
