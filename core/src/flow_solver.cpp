@@ -46,6 +46,12 @@ struct RicciFlowSolver::State {
   // EdgeFlips::WhenNeeded: a walk to a start that the input's triangulation blocked, from where
   // and to where; when flips start, the walk is made again with them.
   std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> blocked_walk;
+  // u at this solve's first Newton iteration. Flips that start by iteration kStartOverBefore start
+  // from there: on the real meshes and CGAL's scans whose flips started at iteration 2 or 3, Newton
+  // then took as many iterations as with flips always, and from where it stopped up to 8 more
+  // (cura-robot-support.stl 31 against 26; scripts/compare_flip_modes.py).
+  Eigen::VectorXd newton_start;
+  static constexpr int kStartOverBefore = 3;
   std::vector<EdgeFlip> flip_sequence;
   std::vector<int> free_index;  // of the pattern the step solver holds
   bool pattern_current = false;
@@ -173,6 +179,10 @@ void RicciFlowSolver::State::start_flipping(int iteration, const std::string& wh
     blocked_walk.reset();
     walk_to(start);
   } else {
+    if (iteration <= kStartOverBefore) {
+      u = newton_start;
+      metric = evaluate_metric(triangulation, structure, u);
+    }
     keep_delaunay();
   }
   k = curvature(triangulation, metric);
@@ -470,6 +480,7 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
       s.start_flipping(0, "the walk to the start was blocked by degenerating triangles");
     }
     s.k = curvature(s.triangulation, s.metric);
+    s.newton_start = s.u;
     for (int it = 0;; ++it) {
       s.update_goal();
       r.residual = detail::max_residual(s.k, target);

@@ -36,11 +36,12 @@ struct FlowProgress {
 
 //! When the flow flips edges to keep the triangulation (power) Delaunay (delaunay.h):
 //! - WhenNeeded: on the input's triangulation, exactly as Never, until Newton cannot go on there
-//!   (no step reduces the residual, or two steps in a row are cut below 1/64 to keep triangles
-//!   valid), then with flips from where it stopped, within the same iteration limit (after a
+//!   (no step reduces the residual, or steps are cut to keep triangles valid as
+//!   StallWindow::flips_called_for says), then with flips from where it stopped (from where Newton
+//!   began when that was at most 3 iterations before), within the same iteration limit (after a
 //!   walk to a stereographic start that the triangulation blocked, from the walk made again with
 //!   flips); the unit disk and circle domains first try the repeated flows on the input's
-//!   triangulation (reach_circle_domain, using defer_flips and restart_with_flips);
+//!   triangulation (reach_circle_domain, with defer_flips and restart_with_flips);
 //! - Always: before the first step and after every step;
 //! - Never: the result stays on the input's triangulation.
 enum class EdgeFlips { WhenNeeded, Always, Never };
