@@ -109,6 +109,27 @@ TEST(RealMesh, FixedTriangulationStallsWhereFlipsConverge) {
             stalled.residual_history[flipped.flips_from_iteration - 1]);
 }
 
+// elk.off (a torus scan) calls for flips after 3 iterations on its own triangulation; by default
+// the flow then starts again from where Newton began, with flips, and from there it is the flow
+// with flips always, iteration for iteration.
+TEST(RealMesh, FlipsCalledForEarlyStartWhereNewtonBegan) {
+  const CompactMesh mesh = test::cgal_mesh("elk.off");
+  const TargetCurvature target = TargetCurvature::free_boundary_or_zero(mesh);
+  const ConformalStructure structure =
+      prepare_flow(mesh, Geometry::Euclidean, SchemeOptions(), target);
+  FlowOptions always;
+  always.edge_flips = EdgeFlips::Always;
+  const FlowResult flipped = run_ricci_flow(mesh, structure, target, always);
+  const FlowResult when_needed = run_ricci_flow(mesh, structure, target);
+  ASSERT_TRUE(flipped.converged) << flipped.failure;
+  ASSERT_TRUE(when_needed.converged) << when_needed.failure;
+  ASSERT_GT(when_needed.flips_from_iteration, 0);
+  ASSERT_LE(when_needed.flips_from_iteration, 3);
+  EXPECT_EQ(when_needed.iterations, when_needed.flips_from_iteration + flipped.iterations);
+  EXPECT_EQ(when_needed.num_flips, flipped.num_flips);
+  EXPECT_LE((when_needed.u - flipped.u).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(RealMesh, StereographicStartForTheSphericalFlow) {
   // The lift of the flattened punctured mesh starts the S2 flow near the round sphere.
   SchemeOptions scheme;

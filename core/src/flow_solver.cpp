@@ -48,8 +48,9 @@ struct RicciFlowSolver::State {
   std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> blocked_walk;
   // u at this solve's first Newton iteration. Flips that start by iteration kStartOverBefore start
   // from there: on the real meshes and CGAL's scans whose flips started at iteration 2 or 3, Newton
-  // then took as many iterations as with flips always, and from where it stopped up to 8 more
-  // (cura-robot-support.stl 31 against 26; scripts/compare_flip_modes.py).
+  // then took as many iterations as with flips always, and from where it stopped up to 6 more
+  // (cura-robot-support.stl: 26 after the 3 without flips, against 31;
+  // scripts/compare_flip_modes.py).
   Eigen::VectorXd newton_start;
   static constexpr int kStartOverBefore = 3;
   std::vector<EdgeFlip> flip_sequence;
