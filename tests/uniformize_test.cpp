@@ -172,6 +172,38 @@ TEST(Uniformize, UnitDiskFlipsOnlyWhereNoFlowOnTheInputReachesIt) {
   EXPECT_LE(max_difference(slotted, slotted_always), 1e-9);
 }
 
+// PyVista's airplane (component 0, a genus-0 surface with 2 boundary loops, from the real-mesh
+// set): its circle domain squeezes 300 faces far down the fuselage below double precision, and its
+// loops come off their circles. The automatic target then gives the free boundary's map, and says
+// why; asked for explicitly, the circle domain is refused.
+TEST(Uniformize, AutomaticTargetKeepsTheBoundaryWhereCirclesAreBelowPrecision) {
+  const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/pyvista-airplane.ply");
+  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  ASSERT_GT(repaired.components.size(), 1u);
+  const CompactMesh& mesh = repaired.components[0].mesh;
+  ASSERT_EQ(mesh.num_boundary_loops(), 2);
+  UniformizationOptions disk;
+  disk.preset = TargetPreset::UnitDisk;
+  const Uniformization circles = uniformize(mesh, disk);
+  ASSERT_TRUE(circles.converged()) << circles.result.failure;
+  EXPECT_FALSE(circles.valid());
+  EXPECT_GT(circles.quality.collapsed_faces, 0);
+  EXPECT_TRUE(circles.target_instead.empty());
+
+  const Uniformization automatic = uniformize(mesh, UniformizationOptions());
+  ASSERT_TRUE(automatic.valid()) << automatic.result.failure << automatic.layout_failure;
+  EXPECT_EQ(automatic.preset, TargetPreset::FreeBoundary);
+  EXPECT_NE(automatic.target_instead.find("squeezes"), std::string::npos)
+      << automatic.target_instead;
+  EXPECT_EQ(automatic.quality.flipped_faces, 0);
+  EXPECT_EQ(automatic.quality.collapsed_faces, 0);
+  EXPECT_LE(automatic.quality.max_curvature_error, 1e-9);
+  // The report counts the circle domain's flows too.
+  EXPECT_EQ(automatic.totals.flows, circles.totals.flows + 1);
+  EXPECT_EQ(automatic.totals.newton_iterations,
+            circles.totals.newton_iterations + automatic.result.iterations);
+}
+
 TEST(Uniformize, DiskPresetPutsTheBoundaryOnTheUnitCircle) {
   const CompactMesh disk = test::cgal_mesh("nefertiti.off");
   UniformizationOptions o;  // auto: a disk goes to the unit disk

@@ -201,6 +201,10 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
          " is below what double precision allows on this metric: ", "converged within ",
          t.attainable_residual, " (10 times the angle sums' round-off)");
   }
+  if (!run.target_instead.empty()) {
+    line("Warning: the ", to_string(run.preset),
+         " target instead of the automatic one: ", run.target_instead);
+  }
   if (t.flips_from_iteration >= 0) {
     line("Edge flips were needed from iteration ", t.flips_from_iteration,
          " on: on the input's triangulation, ", t.without_flips);
@@ -309,6 +313,8 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
   j << "  \"flips_from_iteration\": "
     << (needed ? std::to_string(totals.flips_from_iteration) : "null") << ",\n";
   j << "  \"without_flips\": " << (needed ? quoted(totals.without_flips) : "null") << ",\n";
+  j << "  \"target_instead\": "
+    << (run.target_instead.empty() ? "null" : quoted(run.target_instead)) << ",\n";
   j << "  \"doubled_surface\": " << (run.doubled ? "true" : "false") << ",\n";
   j << "  \"flows\": " << totals.flows << ",\n";
   j << "  \"iterations\": " << totals.newton_iterations << ",\n";

@@ -447,9 +447,9 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
   return by_one_solve;
 }
 
-}  // namespace
-
-Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+// The run for the preset resolved from the request.
+Uniformization uniformize_as_requested(const CompactMesh& mesh,
+                                       const UniformizationOptions& request) {
   const UniformizationOptions o = with_cone_values(mesh, request);
   Uniformization run;
   std::tie(run.preset, run.geometry) = resolve_request(mesh, o);
@@ -474,6 +474,33 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
     return again;
   }
   return run;
+}
+
+}  // namespace
+
+Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+  Uniformization run = uniformize_as_requested(mesh, request);
+  // The automatic target asks for a map, not a circle domain at any price: where the circle
+  // domain squeezes faces below what double precision draws (loops far down a tube), the free
+  // boundary keeps the boundary's lengths.
+  const bool squeezed_circles = run.preset == TargetPreset::UnitDisk && run.converged() &&
+                                !run.layout_failure.empty() && run.quality.collapsed_faces > 0;
+  if (request.preset != TargetPreset::Automatic || !request.cones.empty() || !squeezed_circles ||
+      request.center_vertex >= 0 || request.axis_vertex >= 0) {
+    return run;
+  }
+  UniformizationOptions free = request;
+  free.preset = TargetPreset::FreeBoundary;
+  Uniformization instead = uniformize_as_requested(mesh, free);
+  FlowTotals totals = run.totals;
+  totals.add(instead.totals);
+  instead.totals = totals;
+  std::ostringstream why;
+  why << "the circle domain squeezes " << run.quality.collapsed_faces
+      << " faces below 1e-12 of the mean area (circle error " << run.circle_error
+      << "): loops far down a tube shrink below what double precision resolves";
+  instead.target_instead = why.str();
+  return instead;
 }
 
 }  // namespace ricci

@@ -132,6 +132,9 @@ struct Uniformization {
   LayoutQuality quality;  //!< of the delivered mesh's layout
   //! Why the layout is not a valid map (faces turned over, boundary off its circles), or "".
   std::string layout_failure;
+  //! TargetPreset::Automatic: why the preset used is not the topology's choice, or "". A circle
+  //! domain that squeezes faces below what double precision draws gives way to FreeBoundary.
+  std::string target_instead;
 
   bool converged() const { return result.converged; }
   //! Converged, and the layout a valid map.
