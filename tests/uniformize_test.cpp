@@ -204,6 +204,26 @@ TEST(Uniformize, AutomaticTargetKeepsTheBoundaryWhereCirclesAreBelowPrecision) {
             circles.totals.newton_iterations + automatic.result.iterations);
 }
 
+// OpenCASCADE's video part (a genus-0 surface with 12 boundary loops, from the real-mesh set): the
+// one solve stalls even with flips, and the repeated flows' boundary curvature goes up and down
+// between 1e-3 and 1e-2 instead of settling. The fit gives up once it has not changed less for 25
+// flows, not after 200, and the automatic target gives the free boundary's map, saying why.
+TEST(Uniformize, AutomaticTargetKeepsTheBoundaryWhereCirclesDoNotSettle) {
+  const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/occt-video-part.stl");
+  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  ASSERT_EQ(repaired.components.size(), 1u);
+  const CompactMesh& mesh = repaired.components[0].mesh;
+  ASSERT_EQ(mesh.num_boundary_loops(), 12);
+  const Uniformization run = uniformize(mesh, UniformizationOptions());
+  ASSERT_TRUE(run.valid()) << run.result.failure << run.layout_failure;
+  EXPECT_EQ(run.preset, TargetPreset::FreeBoundary);
+  EXPECT_NE(run.target_instead.find("the circle domain was not reached"), std::string::npos)
+      << run.target_instead;
+  EXPECT_NE(run.target_instead.find("no longer settles"), std::string::npos) << run.target_instead;
+  EXPECT_LT(run.totals.flows, 150);
+  EXPECT_EQ(run.quality.flipped_faces, 0);
+}
+
 TEST(Uniformize, DiskPresetPutsTheBoundaryOnTheUnitCircle) {
   const CompactMesh disk = test::cgal_mesh("nefertiti.off");
   UniformizationOptions o;  // auto: a disk goes to the unit disk

@@ -95,6 +95,8 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
   AndersonMixing mixing(5);
   TargetCurvature plain = target;  // the last plain iterate, g(x)
   bool warm = false;               // this flow starts from the last converged one
+  double least_change = INFINITY;  // the boundary curvature's, and at which flow
+  int least_at = 0;
   for (int flows = 1;; ++flows) {
     out.result = solver.solve(target);
     out.totals.add(out.result);
@@ -110,10 +112,18 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
     const TargetCurvature next = refit(out.result);
     out.boundary_change = (next.curvature - target.curvature).cwiseAbs().maxCoeff();
     if (out.boundary_change <= o.boundary_tolerance) break;
-    if (flows >= o.max_boundary_iterations) {
+    if (out.boundary_change < least_change) least_change = out.boundary_change, least_at = flows;
+    const bool stuck = flows - least_at >= kUnsettledFlows;
+    if (flows >= o.max_boundary_iterations || stuck) {
       std::ostringstream s;
       s << "the boundary curvature still changed by " << out.boundary_change << " after " << flows
-        << " flows (tolerance " << o.boundary_tolerance << "); raise the boundary iteration limit";
+        << " flows (tolerance " << o.boundary_tolerance << ")";
+      if (stuck) {
+        s << ": it has not changed less than at flow " << least_at << " (" << least_change
+          << ") in the " << kUnsettledFlows << " flows since, so the boundary no longer settles";
+      } else {
+        s << "; raise the boundary iteration limit";
+      }
       out.result.converged = false;
       out.result.failure = s.str();
       break;

@@ -481,24 +481,32 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
   Uniformization run = uniformize_as_requested(mesh, request);
   // The automatic target asks for a map, not a circle domain at any price: where the circle
-  // domain squeezes faces below what double precision draws (loops far down a tube), the free
-  // boundary keeps the boundary's lengths.
-  const bool squeezed_circles = run.preset == TargetPreset::UnitDisk && run.converged() &&
-                                !run.layout_failure.empty() && run.quality.collapsed_faces > 0;
-  if (request.preset != TargetPreset::Automatic || !request.cones.empty() || !squeezed_circles ||
+  // domain is not reached (its boundary does not settle) or its layout is no map (it squeezes
+  // faces below what double precision draws, loops far down a tube), the free boundary, which
+  // keeps the boundary's lengths.
+  const bool circles_failed = run.preset == TargetPreset::UnitDisk &&
+                              run.result.stop != FlowStop::Cancelled && !run.valid();
+  if (request.preset != TargetPreset::Automatic || !request.cones.empty() || !circles_failed ||
       request.center_vertex >= 0 || request.axis_vertex >= 0) {
     return run;
   }
   UniformizationOptions free = request;
   free.preset = TargetPreset::FreeBoundary;
   Uniformization instead = uniformize_as_requested(mesh, free);
+  if (!instead.valid()) return run;
   FlowTotals totals = run.totals;
   totals.add(instead.totals);
   instead.totals = totals;
   std::ostringstream why;
-  why << "the circle domain squeezes " << run.quality.collapsed_faces
-      << " faces below 1e-12 of the mean area (circle error " << run.circle_error
-      << "): loops far down a tube shrink below what double precision resolves";
+  if (!run.converged()) {
+    why << "the circle domain was not reached: " << run.result.failure;
+  } else if (run.quality.collapsed_faces > 0) {
+    why << "the circle domain squeezes " << run.quality.collapsed_faces
+        << " faces below 1e-12 of the mean area (circle error " << run.circle_error
+        << "): loops far down a tube shrink below what double precision resolves";
+  } else {
+    why << "the circle domain's layout is no map: " << run.layout_failure;
+  }
   instead.target_instead = why.str();
   return instead;
 }

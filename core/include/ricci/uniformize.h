@@ -133,7 +133,8 @@ struct Uniformization {
   //! Why the layout is not a valid map (faces turned over, boundary off its circles), or "".
   std::string layout_failure;
   //! TargetPreset::Automatic: why the preset used is not the topology's choice, or "". A circle
-  //! domain that squeezes faces below what double precision draws gives way to FreeBoundary.
+  //! domain (UnitDisk) that is not reached, or whose layout is no map (faces squeezed below what
+  //! double precision draws), gives way to FreeBoundary where that is valid.
   std::string target_instead;
 
   bool converged() const { return result.converged; }
