@@ -206,7 +206,7 @@ TEST(Uniformize, AutomaticTargetKeepsTheBoundaryWhereCirclesAreBelowPrecision) {
 
 // OpenCASCADE's video part (a genus-0 surface with 12 boundary loops, from the real-mesh set): the
 // one solve stalls even with flips, and the repeated flows' boundary curvature goes up and down
-// between 1e-3 and 1e-2 instead of settling. The fit gives up once it has not changed less for 25
+// between 1e-3 and 1e-2 instead of settling. The fit gives up once it has not changed less for 40
 // flows, not after 200, and the automatic target gives the free boundary's map, saying why.
 TEST(Uniformize, AutomaticTargetKeepsTheBoundaryWhereCirclesDoNotSettle) {
   const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/occt-video-part.stl");
