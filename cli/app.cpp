@@ -55,6 +55,17 @@ std::vector<int> read_eps(const std::string& path, int num_vertices) {
   return eps;
 }
 
+// Every delivered face's corners index the per-vertex texture coordinates (disks and circle
+// domains; components cut open have per-corner ones only).
+bool one_position_per_vertex(const MeshUniformization& run) {
+  for (const auto& face : run.faces) {
+    for (int v : face) {
+      if (v < 0 || v >= static_cast<int>(run.texture.vertex.size())) return false;
+    }
+  }
+  return true;
+}
+
 void write_text(const std::string& path, const std::string& text) {
   std::ofstream out(path);
   if (!out) throw IoError("cannot write '" + path + "'");
@@ -108,6 +119,12 @@ void run(const Options& o) {
   if (show_progress) std::fprintf(stderr, "\n");
   if (!o.report.empty()) write_text(o.report, json_report(run, context));
   run.require_valid(o.input);
+  if (!o.picture.empty() && !one_position_per_vertex(run)) {
+    // The automatic target can give a circle domain's component the free boundary, cut open.
+    throw InvalidArgumentError(
+        "--picture needs a layout in the plane with one position per vertex; a component was "
+        "cut open (the free boundary instead of its circle domain, see the summary)");
+  }
   write_result_ply(o.output, run, o.ascii);
   if (!o.picture.empty()) write_layout_png(o.picture, run.faces, run.texture.vertex, run.u);
   if (!o.quiet) {

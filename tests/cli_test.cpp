@@ -283,6 +283,11 @@ TEST(Cli, BadInputGetsAClearError) {
   expect_error(cgal("sphere.off") + out + " --target free-boundary", 1, {"needs a boundary"});
   expect_error(cgal("sphere.off") + out + " --picture " + temp("x.png"), 1,
                {"--picture needs a layout in the plane"});
+  // PyVista's airplane (real-mesh set): the automatic target gives component 0's circle domain,
+  // squeezed below double precision, the free boundary, cut open.
+  expect_error(std::string(RICCI_REAL_MESH_DIR) + "/pyvista-airplane.ply" + out + " --picture " +
+                   temp("x.png"),
+               1, {"--picture needs a layout in the plane with one position per vertex"});
   expect_error(cgal("blobby_3cc.off") + out + " --strict", 1,
                {"3 connected components", "blobby_3cc.off"});
   expect_error(cgal("nefertiti.off") + out + " --target zero", 1, {"Gauss-Bonnet fails"});

@@ -200,6 +200,8 @@ TEST(Uniformize, AutomaticTargetKeepsTheBoundaryWhereCirclesAreBelowPrecision) {
   EXPECT_LE(automatic.quality.max_curvature_error, 1e-9);
   // The report counts the circle domain's flows too.
   EXPECT_EQ(automatic.totals.flows, circles.totals.flows + 1);
+  // Edge flips are the delivered flow's, not the circle domain's.
+  EXPECT_EQ(automatic.totals.edge_flips, automatic.result.num_flips);
   EXPECT_EQ(automatic.totals.newton_iterations,
             circles.totals.newton_iterations + automatic.result.iterations);
 }

@@ -125,6 +125,7 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
         s << "; raise the boundary iteration limit";
       }
       out.result.converged = false;
+      out.result.stop = FlowStop::IterationLimit;
       out.result.failure = s.str();
       break;
     }

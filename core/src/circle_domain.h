@@ -37,9 +37,11 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
 //! The disk preset on `mesh`: with one_solve (the Euclidean Yamabe flow only) one solve with the
 //! circle condition in the Jacobian (RicciFlowSolver::solve_circle_domain); where that does not
 //! converge (unless cancelled), or without one_solve, fit_boundary_to_circles from the input's
-//! metric. With EdgeFlips::WhenNeeded, where the input's triangulation stops the one solve, the
-//! repeated flows run on it as without flips; where it stops those too, the one solve (and, where
-//! that fails, the repeated flows) run with flips from the start, as with EdgeFlips::Always.
+//! metric. With EdgeFlips::WhenNeeded, where the one solve stops for flips
+//! (FlowStop::FlipsNeeded), the repeated flows run on the input's triangulation as without flips;
+//! where those fail too, the one solve (and, where that fails, the repeated flows) run with flips
+//! from the start, as with EdgeFlips::Always. A one solve that stops otherwise is followed by the
+//! repeated flows, which flip when needed.
 //! Fills run as fit_boundary_to_circles does (the totals count every flow); true when the result
 //! kept is a one solve's.
 bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,

@@ -374,7 +374,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   flow.edge_flips = EdgeFlips::Always;  // the half's flow has shown that flips are needed
   RicciFlowSolver solver(twice, structure, flow);
 
-  Uniformization on_double;  // its totals are the double's flows only: the limit is theirs
+  Uniformization on_double;  // its totals are the double's flows only
   std::optional<HalfSubdivision> last;
   try {
     if (run.preset == TargetPreset::UnitDisk) {

@@ -46,13 +46,13 @@ struct RicciFlowSolver::State {
   // EdgeFlips::WhenNeeded: a walk to a start that the input's triangulation blocked, from where
   // and to where; when flips start, the walk is made again with them.
   std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> blocked_walk;
-  // u at this solve's first Newton iteration. Flips that start by iteration kStartOverBefore start
-  // from there: on the real meshes and CGAL's scans whose flips started at iteration 2 or 3, Newton
-  // then took as many iterations as with flips always, and from where it stopped up to 6 more
-  // (cura-robot-support.stl: 26 after the 3 without flips, against 31;
+  // u at this solve's first Newton iteration. Flips that start by iteration kStartOverByIteration
+  // start from there: on the real meshes and CGAL's scans whose flips started at iteration 2 or 3,
+  // Newton then took as many iterations as with flips always, and from where it stopped up to 6
+  // more (cura-robot-support.stl: 26 after the 3 without flips, against 31;
   // scripts/compare_flip_modes.py).
   Eigen::VectorXd newton_start;
-  static constexpr int kStartOverBefore = 3;
+  static constexpr int kStartOverByIteration = 3;
   std::vector<EdgeFlip> flip_sequence;
   std::vector<int> free_index;  // of the pattern the step solver holds
   bool pattern_current = false;
@@ -180,7 +180,7 @@ void RicciFlowSolver::State::start_flipping(int iteration, const std::string& wh
     blocked_walk.reset();
     walk_to(start);
   } else {
-    if (iteration <= kStartOverBefore) {
+    if (iteration <= kStartOverByIteration) {
       u = newton_start;
       metric = evaluate_metric(triangulation, structure, u);
     }

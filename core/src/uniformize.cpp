@@ -493,8 +493,15 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   UniformizationOptions free = request;
   free.preset = TargetPreset::FreeBoundary;
   Uniformization instead = uniformize_as_requested(mesh, free);
+  if (instead.result.stop == FlowStop::Cancelled) return instead;
   if (!instead.valid()) return run;
+  // The circle domain's attempt counts in the cost (flows, iterations, factorizations, times),
+  // before the delivered flow; edge flips and the convergence floor are the delivered flow's.
   FlowTotals totals = run.totals;
+  totals.edge_flips = 0;
+  totals.flips_from_iteration = -1;
+  totals.without_flips.clear();
+  totals.attainable_residual = 0;
   totals.add(instead.totals);
   instead.totals = totals;
   std::ostringstream why;

@@ -40,8 +40,8 @@ struct FlowProgress {
 //!   StallWindow::flips_called_for says), then with flips from where it stopped (from where Newton
 //!   began when that was at most 3 iterations before), within the same iteration limit (after a
 //!   walk to a stereographic start that the triangulation blocked, from the walk made again with
-//!   flips); the unit disk and circle domains first try the repeated flows on the input's
-//!   triangulation (reach_circle_domain, with defer_flips and restart_with_flips);
+//!   flips); where the unit disk's one solve would start flips, the repeated flows run on the
+//!   input's triangulation first (reach_circle_domain, with defer_flips and restart_with_flips);
 //! - Always: before the first step and after every step;
 //! - Never: the result stays on the input's triangulation.
 enum class EdgeFlips { WhenNeeded, Always, Never };
@@ -169,11 +169,14 @@ class RicciFlowSolver {
   //!   fixed; InvalidTargetError as solve().
   FlowResult solve_circle_domain(const TargetCurvature& target, int outer_loop);
 
-  //! EdgeFlips::WhenNeeded: with defer, a solve stops where flips would start
-  //! (FlowStop::FlipsNeeded), leaving the caller to choose another way or restart with them.
+  //! EdgeFlips::WhenNeeded: with defer, a solve stops where Newton would start flips
+  //! (FlowStop::FlipsNeeded), leaving the caller to choose another way or restart with them. (A
+  //! walk to a start with u held fixed somewhere still turns flips on at once; no deferred solve
+  //! has a start.)
   void defer_flips(bool defer);
 
-  //! Back to the input triangulation, the input structure and u0.
+  //! Back to the input triangulation, the input structure and u0 (with flips on from the start
+  //! after restart_with_flips()).
   void restart();
   //! restart(), and from now on edge flips on from the start, as with EdgeFlips::Always; the next
   //! solve reports them needed from its iteration 0, because of `why`.

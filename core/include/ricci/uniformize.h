@@ -64,6 +64,7 @@ struct UniformizationOptions {
   //! Disk preset: the boundary curvature is re-fitted to the boundary's current lengths until it
   //! changes by less than this (radians).
   double boundary_tolerance = 1e-9;
+  //! The most flows of one run of repeated flows (there can be two: without flips, then with).
   int max_boundary_iterations = 200;
   //! After edge flips, lay out the input's own faces by their corners even when some turn over
   //! (reported as an invalid layout) instead of delivering the common subdivision.
