@@ -18,6 +18,12 @@ namespace {
 
 using Complex = std::complex<double>;
 
+// A mesh of the real-mesh set (meshes/real-meshes.tsv: origins and licences), as repaired.
+RepairedMesh real_mesh(const std::string& name) {
+  const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/" + name);
+  return repair_mesh(file.positions, file.triangles);
+}
+
 // The Schwarz-Christoffel map of the unit disk onto the square [-1, 1]^2 (corners at w^4 = -1):
 // f(w) = c * integral_0^w dt / sqrt(1 + t^4), along the ray after s = 1 - (1 - sigma)^2, which
 // smooths the corners' square-root singularity; two-point Gauss-Legendre on 400 panels.
@@ -140,8 +146,7 @@ TEST(Uniformize, EdgeFlipsOnlyWhereTheFlowStalls) {
 // disk (a sphere with 3 holes), which needs flips.
 TEST(Uniformize, UnitDiskFlipsOnlyWhereNoFlowOnTheInputReachesIt) {
   const auto run = [](const std::string& name, EdgeFlips flips) {
-    const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/" + name);
-    const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+    const RepairedMesh repaired = real_mesh(name);
     EXPECT_EQ(repaired.components.size(), 1u);
     UniformizationOptions o;
     o.flow.edge_flips = flips;
@@ -177,8 +182,7 @@ TEST(Uniformize, UnitDiskFlipsOnlyWhereNoFlowOnTheInputReachesIt) {
 // loops come off their circles. The automatic target then gives the free boundary's map, and says
 // why; asked for explicitly, the circle domain is refused.
 TEST(Uniformize, AutomaticTargetKeepsTheBoundaryWhereCirclesAreBelowPrecision) {
-  const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/pyvista-airplane.ply");
-  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  const RepairedMesh repaired = real_mesh("pyvista-airplane.ply");
   ASSERT_GT(repaired.components.size(), 1u);
   const CompactMesh& mesh = repaired.components[0].mesh;
   ASSERT_EQ(mesh.num_boundary_loops(), 2);
@@ -211,8 +215,7 @@ TEST(Uniformize, AutomaticTargetKeepsTheBoundaryWhereCirclesAreBelowPrecision) {
 // between 1e-3 and 1e-2 instead of settling. The fit gives up once it has not changed less for 40
 // flows, not after 200, and the automatic target gives the free boundary's map, saying why.
 TEST(Uniformize, AutomaticTargetKeepsTheBoundaryWhereCirclesDoNotSettle) {
-  const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/occt-video-part.stl");
-  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  const RepairedMesh repaired = real_mesh("occt-video-part.stl");
   ASSERT_EQ(repaired.components.size(), 1u);
   const CompactMesh& mesh = repaired.components[0].mesh;
   ASSERT_EQ(mesh.num_boundary_loops(), 12);
@@ -421,8 +424,7 @@ TEST(Uniformize, RequestsThatCannotBeMetAreRefused) {
 // double precision runs out (from face 0 by breadth first it reached hyperbolic distance 10.5 and
 // the surface group relations failed by 4e-4).
 TEST(Uniformize, PoincareDiskLayoutStaysNearTheCentre) {
-  const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/gmsh-lever.stl");
-  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  const RepairedMesh repaired = real_mesh("gmsh-lever.stl");
   ASSERT_EQ(repaired.components.size(), 1u);
   const CompactMesh& mesh = repaired.components[0].mesh;
   ASSERT_EQ(mesh.genus(), 6);
