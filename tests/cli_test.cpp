@@ -433,6 +433,22 @@ TEST(Cli, RealDirtyMeshesAsTheyCome) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
+// Where the Yamabe flow gives no map with either target (sumo-tram.obj's windowed bodies), the
+// defaults deliver the tangential scheme's and say so, in the summary and the report (with
+// --no-flips the tool refuses: FailedRunWritesNoMesh).
+TEST(Cli, DefaultsSayWhenTheTangentialSchemeStandsInForYamabe) {
+  const std::string tram = std::string(RICCI_REAL_MESH_DIR) + "/sumo-tram.obj";
+  const CliRun r = ricci_flow(tram + " -o " + temp("tram.ply") + " --report " + temp("tram.json"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Warning: the tangential scheme instead of Yamabe: with the Yamabe scheme "
+                       "the disk target was not reached"),
+            std::string::npos)
+      << r.out;
+  const std::string report = slurp(temp("tram.json"));
+  EXPECT_NE(report.find("\"scheme_instead\": \"with the Yamabe scheme"), std::string::npos);
+  EXPECT_NE(report.find("\"scheme_instead\": null"), std::string::npos);  // the other components
+}
+
 // With flips that turn input faces over (elk.off, always flipping), the tool writes the common
 // subdivision: the input's vertices first and unchanged, new ones on input faces at their
 // barycentric coordinates, and no face turned over in the texture.

@@ -79,43 +79,74 @@ TEST(Delaunay, FlipsOfThePackingSchemesKeepTheMetric) {
   }
 }
 
+TEST(Delaunay, HyperbolicYamabeIsDelaunayWhereItsChordsAre) {
+  // H2 Yamabe flips by Ptolemy's relation on the chords 2 sinh(l/2); that is the metric's own
+  // flip only if the chords' Delaunay criterion is the metric's (is_delaunay(), from the Hessian's
+  // off-diagonal entries), at every scale of the input lengths.
+  for (const char* name : {"eight.off", "femur.off"}) {
+    const CompactMesh mesh = test::cgal_mesh(name);
+    SchemeOptions options;
+    options.scheme = Scheme::Yamabe;
+    for (double scale : {0.02, 0.3, 1.0}) {
+      const ConformalStructure s = initialize_scheme(mesh, Geometry::Hyperbolic, options, scale);
+      ASSERT_TRUE(all_ptolemy(s));
+      const IntrinsicTriangulation t(mesh);
+      const MetricState state = evaluate_metric(t, s, s.u0);
+      ASSERT_TRUE(state.valid());
+      int not_delaunay = 0, disagree = 0;
+      for (int e = 0; e < t.num_edges(); ++e) {
+        const bool by_hessian = is_delaunay(t, state, e, 0);
+        not_delaunay += !by_hessian;
+        disagree += by_hessian != is_ptolemy_delaunay(t, Geometry::Hyperbolic, state, e, 0);
+      }
+      EXPECT_GT(not_delaunay, t.num_edges() / 20) << name << " at scale " << scale;
+      EXPECT_EQ(disagree, 0) << name << " at scale " << scale;
+    }
+  }
+}
+
 TEST(Delaunay, PtolemyFlipsFromLengthsMakeEveryTriangleValid) {
-  // Euclidean Yamabe on a closed scan, at a conformal factor far from the input's: many
-  // triangles violate the triangle inequality; flipping by the lengths alone must end with every
-  // triangle valid and every edge Delaunay (Springborn 2020). (Steeper factors need Delaunay
-  // triangulations with self-loops, which are refused: then triangles can stay invalid.)
+  // Yamabe on a closed scan, at a conformal factor far from the input's: many triangles violate
+  // the triangle inequality; flipping by the lengths alone must end with every triangle valid and
+  // every edge Delaunay (E2: Springborn 2020; H2: the same for the chords, delaunay.h). (Steeper
+  // factors need Delaunay triangulations with self-loops, which are refused: then triangles can
+  // stay invalid.)
   const CompactMesh mesh = test::cgal_mesh("elephant.off");
   SchemeOptions options;
   options.scheme = Scheme::Yamabe;
-  ConformalStructure s = initialize_scheme(mesh, Geometry::Euclidean, options, 1.0);
-  ASSERT_TRUE(all_ptolemy(s));
   Eigen::VectorXd u(mesh.num_vertices());
   // A smooth factor, as the flow's: u = 2 sin(15 x), x across the elephant.
   double lo = 1e300, hi = -1e300;
   for (const auto& p : mesh.positions()) lo = std::min(lo, p.x()), hi = std::max(hi, p.x());
   for (int v = 0; v < u.size(); ++v)
     u[v] = 2 * std::sin(15 * (mesh.positions()[v].x() - lo) / (hi - lo));
-  IntrinsicTriangulation t(mesh);
-  MetricState state = evaluate_metric(t, s, u);
-  ASSERT_GE(state.num_invalid_faces, 10);  // 22
-  const FlipReport report = make_delaunay(t, s, u, state, 100 * t.num_edges());
-  EXPECT_GT(report.flips, 0);
-  EXPECT_EQ(report.blocked, 0);
-  expect_valid_triangulation(t);
-  const MetricState fresh = evaluate_metric(t, s, u);
-  ASSERT_TRUE(fresh.valid()) << fresh.num_invalid_faces << " invalid triangles left";
-  EXPECT_TRUE(state.valid());
-  for (int e = 0; e < t.num_edges(); ++e) {
-    EXPECT_TRUE(is_delaunay(t, fresh, e, 1e-8)) << "edge " << e;
-    EXPECT_NEAR(fresh.edges[e].length, state.edges[e].length, 1e-12 * state.edges[e].length);
+  for (Geometry g : {Geometry::Euclidean, Geometry::Hyperbolic}) {
+    ConformalStructure s = initialize_scheme(mesh, g, options, 1.0);
+    ASSERT_TRUE(all_ptolemy(s));
+    IntrinsicTriangulation t(mesh);
+    MetricState state = evaluate_metric(t, s, u);
+    ASSERT_GE(state.num_invalid_faces, 10) << to_string(g);  // E2: 22
+    const FlipReport report = make_delaunay(t, s, u, state, 100 * t.num_edges());
+    EXPECT_GT(report.flips, 0);
+    EXPECT_EQ(report.blocked, 0);
+    expect_valid_triangulation(t);
+    const MetricState fresh = evaluate_metric(t, s, u);
+    ASSERT_TRUE(fresh.valid()) << to_string(g) << ": " << fresh.num_invalid_faces
+                               << " invalid triangles left";
+    EXPECT_TRUE(state.valid());
+    for (int e = 0; e < t.num_edges(); ++e) {
+      EXPECT_TRUE(is_delaunay(t, fresh, e, 1e-8)) << to_string(g) << ", edge " << e;
+      EXPECT_NEAR(fresh.edges[e].length, state.edges[e].length, 1e-12 * state.edges[e].length);
+    }
   }
   // The packing schemes keep the metric through a flip and cannot flip from lengths alone: an
   // invalid state is left as it is.
   options.scheme = Scheme::Tangential;
+  const ConformalStructure yamabe = initialize_scheme(mesh, Geometry::Euclidean, {}, 1.0);
   ConformalStructure tangential = initialize_scheme(mesh, Geometry::Euclidean, options, 1.0);
   EXPECT_FALSE(all_ptolemy(tangential));
   IntrinsicTriangulation t2(mesh);
-  MetricState invalid = evaluate_metric(t2, s, u);
+  MetricState invalid = evaluate_metric(t2, yamabe, u);
   EXPECT_EQ(make_delaunay(t2, tangential, u, invalid, 100).flips, 0);
 }
 

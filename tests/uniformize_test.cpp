@@ -441,5 +441,67 @@ TEST(Uniformize, PoincareDiskLayoutStaysNearTheCentre) {
   EXPECT_TRUE(run.valid()) << run.layout_failure;
 }
 
+// A 3D printer's build plate (Cura, genus 97 after its non-manifold vertices are split): the
+// hyperbolic Yamabe flow stalled on its triangles; with Ptolemy flips in the line search it
+// converges. Its 80k flips cut the input into a common subdivision of a million thin pieces, which
+// turned over near the rim of radius-12 charts: smaller charts draw every one.
+TEST(Uniformize, HyperbolicFlowFlipsAcrossInvalidTrianglesAndDrawsThinPiecesInSmallerCharts) {
+  const RepairedMesh repaired = real_mesh("cura-zav-maxpro.stl");
+  const CompactMesh& mesh = repaired.components[0].mesh;
+  ASSERT_EQ(mesh.genus(), 97);
+  const Uniformization run = uniformize(mesh, UniformizationOptions());
+  ASSERT_TRUE(run.converged()) << run.result.failure;
+  EXPECT_EQ(run.geometry, Geometry::Hyperbolic);
+  EXPECT_LE(run.result.residual, 1e-10);
+  EXPECT_GT(run.totals.edge_flips, mesh.num_edges());
+  ASSERT_TRUE(run.subdivision.has_value());
+  EXPECT_GT(run.layout.num_charts(), 1);
+  EXPECT_LT(run.layout.chart_radius, kChartRadius);
+  // Every delivered face keeps its orientation, counted here.
+  int turned = 0;
+  for (const auto& t : run.corners) {
+    const Eigen::Vector3d a = t[1] - t[0], b = t[2] - t[0];
+    turned += !(a.x() * b.y() - a.y() * b.x() > 0);
+  }
+  EXPECT_EQ(turned, 0);
+  EXPECT_TRUE(run.valid()) << run.layout_failure;
+}
+
+// SUMO's tram body (genus 0, 26 window loops): boundary vertices of one triangle, which a circle
+// domain needs above 180 degrees; the Yamabe free boundary's triangles at the boundary degenerate,
+// on the surface and on its double. The automatic target then gives the tangential scheme's free
+// boundary, saying why; an explicit target gets no other scheme.
+TEST(Uniformize, AutomaticTargetTakesTheTangentialSchemeWhereYamabeGivesNoMap) {
+  const RepairedMesh repaired = real_mesh("sumo-tram.obj");
+  const CompactMesh& mesh = repaired.components[0].mesh;
+  ASSERT_EQ(mesh.num_boundary_loops(), 26);
+  const Uniformization run = uniformize(mesh, UniformizationOptions());
+  ASSERT_TRUE(run.valid()) << run.result.failure << run.layout_failure;
+  EXPECT_EQ(run.scheme, Scheme::Tangential);
+  EXPECT_EQ(run.preset, TargetPreset::FreeBoundary);
+  EXPECT_NE(run.scheme_instead.find("with the Yamabe scheme the disk target was not reached"),
+            std::string::npos)
+      << run.scheme_instead;
+  EXPECT_NE(run.target_instead.find("its circles already touch"), std::string::npos)
+      << run.target_instead;
+  EXPECT_LE(run.result.residual, 1e-10);
+  EXPECT_EQ(run.quality.flipped_faces, 0);
+  int turned = 0;
+  for (const auto& t : run.corners) {
+    const Eigen::Vector3d a = t[1] - t[0], b = t[2] - t[0];
+    turned += !(a.x() * b.y() - a.y() * b.x() > 0);
+  }
+  EXPECT_EQ(turned, 0);
+  // The attempts count in the cost: the Yamabe flows, then the tangential ones.
+  EXPECT_GT(run.totals.flows, 2);
+
+  UniformizationOptions free;
+  free.preset = TargetPreset::FreeBoundary;
+  const Uniformization yamabe = uniformize(mesh, free);
+  EXPECT_FALSE(yamabe.valid());
+  EXPECT_EQ(yamabe.scheme, Scheme::Yamabe);
+  EXPECT_TRUE(yamabe.scheme_instead.empty());
+}
+
 }  // namespace
 }  // namespace ricci

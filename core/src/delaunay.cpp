@@ -43,13 +43,15 @@ double twice_cosine(double a, double b, double c) {
 }  // namespace
 
 bool all_ptolemy(const ConformalStructure& structure) {
-  return structure.geometry == Geometry::Euclidean && is_yamabe(structure);
+  return structure.geometry != Geometry::Spherical && is_yamabe(structure);
 }
 
-bool is_ptolemy_delaunay(const Triangulation& mesh, const MetricState& state, int e,
-                         double tolerance) {
+bool is_ptolemy_delaunay(const Triangulation& mesh, Geometry geometry, const MetricState& state,
+                         int e, double tolerance) {
   if (mesh.is_boundary_edge(e)) return true;
-  const auto length = [&](int f, int c) { return state.edges[mesh.face_edge(f, c)].length; };
+  const auto length = [&](int f, int c) {
+    return chord(geometry, state.edges[mesh.face_edge(f, c)].length);
+  };
   double sum = 0;
   for (int h : {mesh.edge_halfedge(e), mesh.twin(mesh.edge_halfedge(e))}) {
     const int f = h / 3, c = h % 3;  // c: the corner opposite e in f
@@ -99,12 +101,14 @@ EdgeFlip flip_record(const Triangulation& mesh, const ConformalStructure& struct
 FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
                          const Eigen::VectorXd& u, MetricState& state, int max_flips) {
   FlipReport report;
-  // Triangles that violate the triangle inequality have no angles: only Euclidean Ptolemy flips
-  // can be decided and made from the lengths alone (and they end in valid triangles).
+  // Triangles that violate the triangle inequality have no angles: only Ptolemy flips (Euclidean
+  // and hyperbolic Yamabe) can be decided and made from the lengths alone, and they end in valid
+  // triangles.
   const bool from_lengths = !state.valid();
   if (from_lengths && !all_ptolemy(structure)) return report;
   const auto delaunay = [&](int e) {
-    return from_lengths ? is_ptolemy_delaunay(mesh, state, e) : is_delaunay(mesh, state, e);
+    return from_lengths ? is_ptolemy_delaunay(mesh, structure.geometry, state, e)
+                        : is_delaunay(mesh, state, e);
   };
   // Only the edges that are not Delaunay now start the queue (usually few after the first
   // round).

@@ -31,17 +31,23 @@ namespace ricci {
 bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e,
                  double tolerance = 1e-10);
 
-//! Euclidean Yamabe: every vertex has eps = 0, every flip is a Ptolemy flip, and a triangulation
-//! that is Delaunay by is_ptolemy_delaunay() has only valid triangles, whatever u (Springborn
-//! 2020, through the decorated ideal hyperbolic surface of the lambda-lengths).
+//! Euclidean or hyperbolic Yamabe: every vertex has eps = 0, every flip is a Ptolemy flip, and a
+//! triangulation that is Delaunay by is_ptolemy_delaunay() has only valid triangles, whatever u.
+//! E2: Springborn 2020, through the decorated ideal hyperbolic surface of the lambda-lengths. H2:
+//! the chords 2 sinh(l/2) = 2 lambda e^((ui+uj)/2) scale as Euclidean Yamabe lengths, so the
+//! same holds for them; chords that satisfy the triangle inequality make a valid hyperbolic
+//! triangle (2 sinh is superadditive), and Ptolemy's relation holds for the chords of four points
+//! on a hyperbolic circle (in the hyperboloid model they span a Euclidean plane), so a Ptolemy
+//! flip is the geometric one where the flow meets it.
 bool all_ptolemy(const ConformalStructure& structure);
 
-//! The Delaunay criterion from the lengths alone: the cosines of the two angles opposite e, by
-//! the law of cosines, sum to at least -tolerance. On valid triangles this is alpha + beta <= pi,
-//! is_delaunay() for Euclidean Yamabe; it is also defined where lengths violate the triangle
-//! inequality, as the Delaunay criterion of the decorated ideal triangulation.
-bool is_ptolemy_delaunay(const Triangulation& mesh, const MetricState& state, int e,
-                         double tolerance = 1e-10);
+//! The Delaunay criterion from the lengths alone: the cosines of the two angles opposite e in the
+//! triangles of the edges' chords (their lengths in E2), by the law of cosines, sum to at least
+//! -tolerance. On valid Euclidean triangles this is alpha + beta <= pi, is_delaunay() for
+//! Euclidean Yamabe; it is also defined where lengths violate the triangle inequality, as the
+//! Delaunay criterion of the decorated ideal triangulation.
+bool is_ptolemy_delaunay(const Triangulation& mesh, Geometry geometry, const MetricState& state,
+                         int e, double tolerance = 1e-10);
 
 struct FlipReport {
   int flips = 0;                   //!< edges flipped

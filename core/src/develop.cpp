@@ -78,15 +78,15 @@ double disk_distance(Complex a, Complex b) {
 }
 
 // Breadth-first from the placed seed across uncut edges, each face from the two corners it shares
-// with a placed face. In charts (H2): a face that would be placed beyond kChartRadius from its
-// chart's centre goes into a chart of the same parent whose centre is within kChartRadius / 2, or
+// with a placed face. In charts (H2): a face that would be placed beyond the chart radius from its
+// chart's centre goes into a chart of the same parent whose centre is within half of it, or
 // a new one centred where the face would go; its two shared corners are moved into that chart by
 // the transition, its third corner placed there.
 void develop_faces(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
                    const std::vector<std::array<double, 3>>& angles, int seed, bool in_charts,
                    Layout& layout) {
   const int nf = mesh.num_faces();
-  const double rim = std::tanh(kChartRadius / 2);
+  const double rim = std::tanh(layout.chart_radius / 2);
   auto& p = layout.corners;
   std::vector<Complex> centre;  // per chart, in its parent's coordinates
   std::vector<std::vector<int>> children;
@@ -118,7 +118,7 @@ void develop_faces(const Triangulation& mesh, Geometry geometry, const std::vect
           int j = -1;
           for (int child : children[static_cast<size_t>(k)]) {
             if (disk_distance(centre[static_cast<size_t>(child)], to_complex(x)) <
-                kChartRadius / 2) {
+                layout.chart_radius / 2) {
               j = child;
               break;
             }
@@ -150,7 +150,8 @@ void develop_faces(const Triangulation& mesh, Geometry geometry, const std::vect
 
 }  // namespace
 
-Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths) {
+Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
+               double chart_radius) {
   const int nf = mesh.num_faces();
   const std::vector<std::array<double, 3>> angles = face_angles(mesh, geometry, lengths);
   Layout layout;
@@ -186,6 +187,7 @@ Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<d
     }
     layout.reach = 2 * std::atanh(std::min(far, 1 - 1e-16));
     if (layout.reach > kOneChartRadius) {
+      layout.chart_radius = chart_radius;
       develop_faces(mesh, geometry, lengths, angles, seed, true, layout);
     }
   }

@@ -39,6 +39,13 @@ struct RicciFlowSolver::State {
   ConformalStructure structure;          // eta changes with flips
   Eigen::VectorXd u;
   bool flipping;  // edge flips are on (EdgeFlips::WhenNeeded: once the input's were not enough)
+  // With flips on, the line search flips trial points whose triangles are invalid by Ptolemy's
+  // relation (delaunay.h, all_ptolemy): in E2 always; in H2 only after a solve got stuck on
+  // triangles without (this solve). On the real meshes, flipped trial points made the genus-97
+  // cura-zav-maxpro.stl converge in 11 iterations where it stalled, and cost occt-head.stl
+  // (genus 6, 41 boundary loops) its convergence: from iteration 7 on, full steps that flip
+  // thousands of edges each, the residual falling 1.5 % per step.
+  bool flip_trial_points = false;
   bool defer_flips = false;  // EdgeFlips::WhenNeeded: stop where flips would start
   // EdgeFlips::Always, or since restart_with_flips(), whose reason the next solve reports.
   bool flips_from_start;
@@ -71,6 +78,7 @@ struct RicciFlowSolver::State {
   TargetCurvature goal;
 
   bool spherical() const { return structure.geometry == Geometry::Spherical; }
+  bool hyperbolic() const { return structure.geometry == Geometry::Hyperbolic; }
   bool may_start_flipping() const {
     return !flipping && options.edge_flips == EdgeFlips::WhenNeeded;
   }
@@ -277,7 +285,8 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   const auto t = Clock::now();
   detail::LineSearch step = detail::search_line(triangulation, structure, target, free_index, u, du,
                                                 0.5 * r.squaredNorm(), options.max_step_halvings,
-                                                flipping, circles ? &*circles : nullptr);
+                                                flipping && (flip_trial_points || !hyperbolic()),
+                                                circles ? &*circles : nullptr);
   times.line_search += seconds_since(t);
   blocked_by_triangles = step.blocked_by_validity;
   const char* flips_help = flipping ? "" : " on this triangulation (edge flips help)";
@@ -463,6 +472,7 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
   s.lm_weight = 1;
   s.stall = detail::StallWindow();
   s.blocked_walk.reset();
+  s.flip_trial_points = false;
   s.steps.begin_solve();
   s.use_free_vertices(target);
   s.metric = evaluate_metric(s.triangulation, s.structure, s.u);
@@ -520,6 +530,15 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
         r.converged = true;
         r.stop = FlowStop::Converged;
         break;
+      }
+      if (!stop.empty() && s.flipping && s.blocked_by_triangles && s.hyperbolic() &&
+          !s.flip_trial_points && all_ptolemy(s.structure)) {
+        // The step that was not taken is taken again, with flipped trial points.
+        s.flip_trial_points = true;
+        s.stall = detail::StallWindow();
+        r.residual_history.pop_back();
+        --it;
+        continue;
       }
       // With circles, a stop that no degenerating triangle caused is left to the repeated flows
       // (circle_domain.h), which run on the input's triangulation as far as it goes.

@@ -65,12 +65,12 @@ int corner_of(const Triangulation& mesh, int f, int v) {
 }  // namespace detail
 
 Layout lay_out(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
-               LinearSolverKind solver) {
+               LinearSolverKind solver, double chart_radius) {
   Layout layout;
   if (geometry == Geometry::Euclidean) {
     layout = detail::plane_layout(mesh, lengths, solver);
   } else {
-    layout = detail::develop(mesh, geometry, lengths);
+    layout = detail::develop(mesh, geometry, lengths, std::min(chart_radius, kChartRadius));
     detail::glue_along_cut(mesh, layout);
   }
   layout.relation_error =

@@ -28,8 +28,9 @@ Layout plane_layout(const Triangulation& mesh, const std::vector<double>& length
 
 //! Any geometry: triangle by triangle; H2 from a central face with a cut of shortest paths from it,
 //! otherwise from the face deepest inside the cut disk. Sets the cut and the corners only: the
-//! caller glues them (glue_along_cut) once its corners are final.
-Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths);
+//! caller glues them (glue_along_cut) once its corners are final. H2 charts: of `chart_radius`.
+Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
+               double chart_radius = kChartRadius);
 
 //! The Poincare disk layout draws a triangle's sides straight in the disk's coordinates: the point
 //! z of the geodesic from p to q goes where it projects onto the segment p-q (the arc is less than

@@ -58,8 +58,14 @@ std::string circle_pattern_obstruction(const Triangulation& mesh,
     << " deg, but its angles stay below the sum of (180 deg - Phi) over the edges of its link, "
     << bound[first] * degrees << " deg, the limit as its circle shrinks to a point (Thurston's "
     << "condition; " << count << " vertices fail it)";
-  s << "; lower the intersection angle (a degree-3 vertex needs Phi < 60 deg, degree 4 Phi < 90 "
-       "deg), or use the tangential scheme";
+  if (bound[first] >= degree[first] * M_PI - 1e-12) {
+    // Phi = 0 on every spoke already (tangential packing).
+    s << "; its circles already touch, so only more faces around it (a finer triangulation "
+         "there) reach that angle sum";
+  } else {
+    s << "; lower the intersection angle (a degree-3 vertex needs Phi < 60 deg, degree 4 Phi < "
+         "90 deg), or use the tangential scheme";
+  }
   return s.str();
 }
 

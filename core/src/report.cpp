@@ -82,6 +82,7 @@ std::string layout_json(const Uniformization& run) {
     << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators;
   if (run.geometry == Geometry::Hyperbolic && m.reach > 0) {
     j << ", \"reach\": " << number(m.reach) << ", \"charts\": " << m.num_charts();
+    if (m.num_charts() > 1) j << ", \"chart_radius\": " << number(m.chart_radius);
   }
   if (!run.periods.empty()) {
     j << ", \"periods\": [" << complex_pair(run.periods[0]) << ", " << complex_pair(run.periods[1])
@@ -201,6 +202,9 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
          " is below what double precision allows on this metric: ", "converged within ",
          t.attainable_residual, " (10 times the angle sums' round-off)");
   }
+  if (!run.scheme_instead.empty()) {
+    line("Warning: the ", to_string(run.scheme), " scheme instead of Yamabe: ", run.scheme_instead);
+  }
   if (!run.target_instead.empty()) {
     line("Warning: the ", to_string(run.preset),
          " target instead of the automatic one: ", run.target_instead);
@@ -267,7 +271,7 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     line("Poincare disk in ", m.num_charts(), " charts: the domain reaches hyperbolic distance ",
          m.reach,
          " from its centre, where double precision no longer draws its faces in one disk; ",
-         "each chart is a piece of it moved within ", kChartRadius,
+         "each chart is a piece of it moved within ", m.chart_radius,
          " of a disk's centre, the disks side by side in the texture (no deck transformations)");
   }
   if (!m.cut.paths.empty()) {
@@ -315,6 +319,8 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
   j << "  \"without_flips\": " << (needed ? quoted(totals.without_flips) : "null") << ",\n";
   j << "  \"target_instead\": "
     << (run.target_instead.empty() ? "null" : quoted(run.target_instead)) << ",\n";
+  j << "  \"scheme_instead\": "
+    << (run.scheme_instead.empty() ? "null" : quoted(run.scheme_instead)) << ",\n";
   j << "  \"doubled_surface\": " << (run.doubled ? "true" : "false") << ",\n";
   j << "  \"flows\": " << totals.flows << ",\n";
   j << "  \"iterations\": " << totals.newton_iterations << ",\n";

@@ -152,12 +152,17 @@ void place_delivered(const CompactMesh& mesh, const UniformizationOptions& o, in
 
 // The layout of a converged flow, its per-vertex positions where it has them, and the corners of
 // the delivered faces: the input's, or, when those would turn over after edge flips, the common
-// subdivision's.
+// subdivision's. H2 charts of `chart_radius`.
 void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int outer_loop,
-                    Uniformization& run) {
+                    double chart_radius, Uniformization& run) {
   const Triangulation& flowed = result_triangulation(mesh, run.result);
   run.layout_kind = planned_layout(mesh, run.preset, run.geometry);
-  run.layout = lay_out(flowed, run.geometry, run.result.edge_lengths, o.flow.linear_solver);
+  run.layout =
+      lay_out(flowed, run.geometry, run.result.edge_lengths, o.flow.linear_solver, chart_radius);
+  run.input_faces_turned_over = 0;
+  run.subdivision.reset();
+  run.subdivision_failure.clear();
+  run.face_chart.clear();
   const bool per_vertex =
       run.layout_kind == LayoutKind::Plane || run.layout_kind == LayoutKind::Sphere;
   std::vector<Eigen::Vector3d> position;
@@ -432,16 +437,29 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
   if (detail::may_flow_on_double(mesh, o, target, run)) {
     detail::flow_on_double(mesh, o, outer, target, run);
   }
+  const auto measure = [&] {
+    if (run.subdivision) {
+      run.quality = measure_layout(face_sides(run.subdivision->positions, run.subdivision->faces),
+                                   run.geometry, run.result, run.corners);
+    } else {
+      run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
+    }
+  };
   if (run.doubled) {
     place_delivered(mesh, o, outer, std::move(run.position), {}, run);
   } else if (run.result.converged) {
-    lay_out_result(mesh, o, outer, run);
+    lay_out_result(mesh, o, outer, kChartRadius, run);
   }
-  if (run.subdivision) {
-    run.quality = measure_layout(face_sides(run.subdivision->positions, run.subdivision->faces),
-                                 run.geometry, run.result, run.corners);
-  } else {
-    run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
+  measure();
+  // H2 in charts: the common subdivision of many flips has pieces far thinner than the flowed
+  // faces, which can turn over near a chart's rim (cura-zav-maxpro.stl, genus 97, 80k flips:
+  // 2116 at radius 12, none at 6). Smaller charts keep them farther from it.
+  for (double radius = kChartRadius / 2;
+       radius >= kChartRadius / 4 && !run.doubled && run.quality.flipped_faces > 0 &&
+       run.layout.num_charts() > 1;
+       radius /= 2) {
+    lay_out_result(mesh, o, outer, radius, run);
+    measure();
   }
   if (run.result.converged) run.layout_failure = layout_failure(run);
   return by_one_solve;
@@ -478,7 +496,31 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
 
 }  // namespace
 
-Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+namespace {
+
+// A request the automatic target answers as best it can: no cones, centre or axis.
+bool best_effort(const UniformizationOptions& request) {
+  return request.preset == TargetPreset::Automatic && request.cones.empty() &&
+         request.center_vertex < 0 && request.axis_vertex < 0;
+}
+
+// `instead`, delivered in place of `attempt`: the attempt counts in the cost (flows, iterations,
+// factorizations, times), before the delivered run; edge flips and the convergence floor are the
+// delivered run's.
+Uniformization delivered_instead(const Uniformization& attempt, Uniformization instead) {
+  FlowTotals totals = attempt.totals;
+  totals.edge_flips = 0;
+  totals.flips_from_iteration = -1;
+  totals.without_flips.clear();
+  totals.attainable_residual = 0;
+  totals.add(instead.totals);
+  instead.totals = totals;
+  return instead;
+}
+
+// The requested preset, and for the automatic target where the circle domain fails, the free
+// boundary.
+Uniformization uniformize_by_target(const CompactMesh& mesh, const UniformizationOptions& request) {
   Uniformization run = uniformize_as_requested(mesh, request);
   // The automatic target asks for a map, not a circle domain at any price: where the circle
   // domain is not reached (its boundary does not settle) or its layout is no map (it squeezes
@@ -486,24 +528,12 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   // keeps the boundary's lengths.
   const bool circles_failed = run.preset == TargetPreset::UnitDisk &&
                               run.result.stop != FlowStop::Cancelled && !run.valid();
-  if (request.preset != TargetPreset::Automatic || !request.cones.empty() || !circles_failed ||
-      request.center_vertex >= 0 || request.axis_vertex >= 0) {
-    return run;
-  }
+  if (!best_effort(request) || !circles_failed) return run;
   UniformizationOptions free = request;
   free.preset = TargetPreset::FreeBoundary;
   Uniformization instead = uniformize_as_requested(mesh, free);
   if (instead.result.stop == FlowStop::Cancelled) return instead;
   if (!instead.valid()) return run;
-  // The circle domain's attempt counts in the cost (flows, iterations, factorizations, times),
-  // before the delivered flow; edge flips and the convergence floor are the delivered flow's.
-  FlowTotals totals = run.totals;
-  totals.edge_flips = 0;
-  totals.flips_from_iteration = -1;
-  totals.without_flips.clear();
-  totals.attainable_residual = 0;
-  totals.add(instead.totals);
-  instead.totals = totals;
   std::ostringstream why;
   if (!run.converged()) {
     why << "the circle domain was not reached: " << run.result.failure;
@@ -514,7 +544,34 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   } else {
     why << "the circle domain's layout is no map: " << run.layout_failure;
   }
+  instead = delivered_instead(run, std::move(instead));
   instead.target_instead = why.str();
+  return instead;
+}
+
+}  // namespace
+
+Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+  Uniformization run = uniformize_by_target(mesh, request);
+  // The automatic target with the Yamabe scheme, where neither target gives a map: the tangential
+  // scheme, whose triangles are valid at every u (sumo-tram.obj's windowed body: boundary vertices
+  // of one triangle that a circle domain needs above 180 degrees, and a free boundary whose
+  // boundary triangles degenerate, on the surface and on its double). Not where the request
+  // holds the Yamabe flow to the input's triangulation or asks for the input's faces as laid out.
+  const bool yamabe_best_effort = best_effort(request) && request.scheme.scheme == Scheme::Yamabe &&
+                                  request.flow.edge_flips != EdgeFlips::Never &&
+                                  !request.keep_input_triangulation;
+  if (!yamabe_best_effort || run.valid() || run.result.stop == FlowStop::Cancelled) return run;
+  UniformizationOptions tangential = request;
+  tangential.scheme = SchemeOptions();
+  tangential.scheme.scheme = Scheme::Tangential;
+  Uniformization instead = uniformize_by_target(mesh, tangential);
+  if (instead.result.stop == FlowStop::Cancelled) return instead;
+  if (!instead.valid()) return run;
+  const std::string why = run.converged() ? " target gave no map: " + run.layout_failure
+                                          : " target was not reached: " + run.result.failure;
+  instead = delivered_instead(run, std::move(instead));
+  instead.scheme_instead = "with the Yamabe scheme the " + to_string(run.preset) + why;
   return instead;
 }
 

@@ -64,13 +64,14 @@ struct Layout {
   int num_flipped_faces = 0;  //!< faces with non-positive orientation in the model
   //! H2 domains reaching farther from their centre than double precision draws in one Poincare
   //! disk (kOneChartRadius) are drawn in charts, each a piece of the domain moved by an isometry
-  //! to lie within kChartRadius of the disk's centre. Per face: its chart (empty: one chart, the
+  //! to lie within chart_radius of the disk's centre. Per face: its chart (empty: one chart, the
   //! domain itself). Chart k > 0 is chart_parent[k]'s coordinates moved by chart_from_parent[k];
   //! deck transformations are then not computed (deck empty, relation error NaN), and the closure
   //! error is over uncut edges, across charts by their transitions.
   std::vector<int> chart;
   std::vector<int> chart_parent;
   std::vector<DiskIsometry> chart_from_parent;
+  double chart_radius = 0;  //!< when in charts
   //! Largest hyperbolic distance of a corner from the centre of the single-chart domain (H2; a
   //! lower bound beyond about 37, where |z| rounds to 1).
   double reach = 0;
@@ -81,14 +82,17 @@ struct Layout {
 //! H2: a domain whose corners all lie within this hyperbolic distance of the disk's centre is
 //! drawn in one chart (1 - |z| > 3e-8 there, which leaves thin faces a few digits in double).
 inline constexpr double kOneChartRadius = 18;
-//! H2: the radius of each chart when the domain is drawn in several (1 - |z| > 1.2e-5).
+//! H2: the radius of each chart when the domain is drawn in several (1 - |z| > 1.2e-5), unless
+//! the caller asks for smaller charts.
 inline constexpr double kChartRadius = 12;
 
 //! Lays out `lengths`, a metric of the geometry with angle sum 2 pi at interior vertices (a
 //! converged flow's), by the method for its geometry (see the top of this file).
 //! \throws InvalidArgumentError for lengths that are not a valid metric of the geometry.
+//! H2 domains in charts: each within `chart_radius` (at most kChartRadius) of its disk's centre.
 Layout lay_out(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
-               LinearSolverKind solver = LinearSolverKind::Cholmod);
+               LinearSolverKind solver = LinearSolverKind::Cholmod,
+               double chart_radius = kChartRadius);
 
 //! Per vertex: the position of the vertex in the first face (in face order) that holds it.
 std::vector<Eigen::Vector3d> vertex_positions(const Triangulation& mesh, const Layout& layout);

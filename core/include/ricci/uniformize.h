@@ -137,6 +137,9 @@ struct Uniformization {
   //! domain (UnitDisk) that is not reached, or whose layout is no map (faces squeezed below what
   //! double precision draws), gives way to FreeBoundary where that is valid.
   std::string target_instead;
+  //! TargetPreset::Automatic with the Yamabe scheme: why the tangential scheme's run is delivered
+  //! instead of the Yamabe flow's, which gave no valid map with either target, or "".
+  std::string scheme_instead;
 
   bool converged() const { return result.converged; }
   //! Converged, and the layout a valid map.
@@ -155,7 +158,11 @@ std::pair<TargetPreset, Geometry> resolve_request(const CompactMesh& mesh,
 LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geometry geometry);
 
 //! Runs the preset's flow and lays out its result. Never throws for non-convergence or an invalid
-//! layout: the result says why (require_valid() turns that into an error).
+//! layout: the result says why (require_valid() turns that into an error). The automatic target
+//! without cones, centre or axis is best effort: where the circle domain gives no map, the free
+//! boundary (target_instead); where the Yamabe scheme gives none with either, the tangential
+//! scheme (scheme_instead; not with EdgeFlips::Never or keep_input_triangulation); each only where
+//! it is valid.
 //! \throws InvalidTargetError, InvalidArgumentError for requests that admit no solution (named).
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& options);
 
