@@ -89,7 +89,9 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "Target curvature",
        "Auto: round sphere (closed genus 0), flat torus (genus 1), hyperbolic metric (genus >= 2, "
        "geodesic boundary when it has one), unit disk (a disk) or circle domain (genus 0 with "
-       "several boundaries). Unit disk: boundary loops on circles, the outer one the unit circle. "
+       "several boundaries); best effort: where the circle domain gives no map the free boundary, "
+       "where the Yamabe scheme gives none the tangential one, with a warning in the log. Unit "
+       "disk: boundary loops on circles, the outer one the unit circle. "
        "Free boundary: u = 0 on the boundary (its lengths kept), flat inside: least area "
        "distortion. Zero: Kbar = 0 at every vertex. Vertex quality: Kbar in radians per vertex; "
        "NaN holds that vertex's u fixed."},
