@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Runs ricci-flow's defaults on each mesh with --flips never, always and when-needed and
 compares them: whether each converged to the target asked for ("instead" where a component was
-given another: the automatic target's free boundary for a circle domain not reached), the whole
+given another target or scheme: the automatic target's free boundary for a circle domain not
+reached, the tangential scheme where Yamabe gave no map), the whole
 process's wall time, the flows' time, edge flips, Newton iterations, the iteration the
 when-needed run began flipping at, and the largest difference of u between when-needed and never
 (where both converged without flips).
@@ -51,9 +52,11 @@ def run(tool, path, mode, out_dir, timeout):
         report = json.load(open(stem + ".json"))
         parts = report.get("components") or [report]
         row["converged"] = all(p.get("converged") for p in parts)
-        # Components given another target than the one asked for (the automatic target's free
-        # boundary where the circle domain was not reached): that target was not reached.
-        row["instead"] = sum(1 for p in parts if p.get("target_instead"))
+        # Components given another target or scheme than the one asked for (the automatic
+        # target's free boundary where the circle domain was not reached, the tangential scheme
+        # where Yamabe gave no map): what was asked for was not reached.
+        row["instead"] = sum(1 for p in parts
+                             if p.get("target_instead") or p.get("scheme_instead"))
         row["flips"] = sum(p.get("edge_flips") or 0 for p in parts)
         row["iterations"] = sum(p.get("iterations") or 0 for p in parts)
         row["flows"] = sum((p.get("seconds") or {}).get("flows") or 0 for p in parts)
