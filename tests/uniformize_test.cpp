@@ -457,13 +457,17 @@ TEST(Uniformize, HyperbolicFlowFlipsAcrossInvalidTrianglesAndDrawsThinPiecesInSm
   ASSERT_TRUE(run.subdivision.has_value());
   EXPECT_GT(run.layout.num_charts(), 1);
   EXPECT_LT(run.layout.chart_radius, kChartRadius);
-  // Every delivered face keeps its orientation, counted here.
+  // No delivered face is turned over, counted here: none has an orientation below what its
+  // corners' rounding decides (those count as collapsed, and are warned of).
   int turned = 0;
   for (const auto& t : run.corners) {
     const Eigen::Vector3d a = t[1] - t[0], b = t[2] - t[0];
-    turned += !(a.x() * b.y() - a.y() * b.x() > 0);
+    const double size = std::max({t[0].norm(), t[1].norm(), t[2].norm()});
+    const double rounding = 64 * 2.220446049250313e-16 * size * (a.norm() + b.norm());
+    turned += a.x() * b.y() - a.y() * b.x() < -rounding;
   }
   EXPECT_EQ(turned, 0);
+  EXPECT_EQ(run.quality.flipped_faces, 0);
   EXPECT_TRUE(run.valid()) << run.layout_failure;
 }
 
