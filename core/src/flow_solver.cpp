@@ -42,9 +42,10 @@ struct RicciFlowSolver::State {
   // With flips on, the line search flips trial points whose triangles are invalid by Ptolemy's
   // relation (delaunay.h, all_ptolemy): in E2 always; in H2 only after a solve got stuck on
   // triangles without (this solve). On the real meshes, flipped trial points made the genus-97
-  // cura-zav-maxpro.stl converge in 11 iterations where it stalled, and cost occt-head.stl
-  // (genus 6, 41 boundary loops) its convergence: from iteration 7 on, full steps that flip
-  // thousands of edges each, the residual falling 1.5 % per step.
+  // cura-zav-maxpro.stl converge where it stalled (in 11 iterations from the start, 20 after the
+  // stall), and from the start they cost occt-head.stl (genus 6, 41 boundary loops) its
+  // convergence: from iteration 7 on, full steps that flip thousands of edges each, the residual
+  // falling 1.5 % per step.
   bool flip_trial_points = false;
   bool defer_flips = false;  // EdgeFlips::WhenNeeded: stop where flips would start
   // EdgeFlips::Always, or since restart_with_flips(), whose reason the next solve reports.

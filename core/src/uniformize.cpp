@@ -494,10 +494,6 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
   return run;
 }
 
-}  // namespace
-
-namespace {
-
 // A request the automatic target answers as best it can: no cones, centre or axis.
 bool best_effort(const UniformizationOptions& request) {
   return request.preset == TargetPreset::Automatic && request.cones.empty() &&
