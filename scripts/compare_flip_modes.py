@@ -2,10 +2,10 @@
 """Runs ricci-flow's defaults on each mesh with --flips never, always and when-needed and
 compares them: whether each converged to the target asked for ("instead" where a component was
 given another target or scheme: the automatic target's free boundary for a circle domain not
-reached, the tangential scheme where Yamabe gave no map), the whole
-process's wall time, the flows' time, edge flips, Newton iterations, the iteration the
-when-needed run began flipping at, and the largest difference of u between when-needed and never
-(where both converged without flips).
+reached, the tangential scheme where Yamabe gave no map), the whole process's wall time, the
+flows' time, edge flips, Newton iterations, the iteration the when-needed run began flipping at,
+and the largest difference of u between when-needed and never (where both converged without
+flips).
 
   scripts/compare_flip_modes.py TOOL OUT_DIR [--timeout S] [MESH ...]
 

@@ -297,8 +297,9 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   const char* exists_note =
       "; a metric of this target exists for every closed surface (uniformization), this flow did "
       "not reach it: try the tangential scheme";
-  // Euclidean Yamabe flips to a valid triangulation at every u, except across the boundary
-  // (uniformize() then flows on the surface doubled along it, doubled_surface.h).
+  // Euclidean (and, with flipped trial points, hyperbolic) Yamabe flips to a valid triangulation
+  // at every u, except across the boundary (uniformize() then flows on the surface doubled along
+  // it, doubled_surface.h).
   const char* boundary_note =
       "; triangles at the boundary degenerate, and no edge flip of this surface removes a "
       "boundary edge: try the tangential scheme, whose triangles are always valid";
@@ -537,6 +538,7 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
         // The step that was not taken is taken again, with flipped trial points.
         s.flip_trial_points = true;
         s.stall = detail::StallWindow();
+        r.stalled_at_boundary = false;
         r.residual_history.pop_back();
         --it;
         continue;

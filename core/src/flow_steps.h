@@ -135,9 +135,10 @@ struct LineSearch {
 
 //! Armijo backtracking on |Kbar - K|^2 / 2 from u along du, halving at most max_halvings times,
 //! never accepting a point where a triangle is invalid. With flip_invalid, a trial point whose
-//! triangles are invalid is first flipped to Delaunay on a copy when every flip is a Euclidean
-//! Ptolemy flip (all_ptolemy): the Delaunay triangulation of any u is valid there, so the search
-//! follows the flow's energy across triangulations instead of stopping at the first one's edge.
+//! triangles are invalid is first flipped to Delaunay on a copy when every flip is a Ptolemy flip
+//! (all_ptolemy: E2 and H2 Yamabe; the solver asks for it in H2 only after a stall without): the
+//! Delaunay triangulation of any u is valid there, so the search follows the flow's energy across
+//! triangulations instead of stopping at the first one's edge.
 //! With circles, the target's boundary curvature is that of each trial point's lengths.
 LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                        const TargetCurvature& target, const std::vector<int>& free_index,

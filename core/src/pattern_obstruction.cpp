@@ -59,7 +59,7 @@ std::string circle_pattern_obstruction(const Triangulation& mesh,
     << bound[first] * degrees << " deg, the limit as its circle shrinks to a point (Thurston's "
     << "condition; " << count << " vertices fail it)";
   if (bound[first] >= degree[first] * M_PI - 1e-12) {
-    // Phi = 0 on every spoke already (tangential packing).
+    // Phi = 0 on every edge of its link already (tangential packing).
     s << "; its circles already touch, so only more faces around it (a finer triangulation "
          "there) reach that angle sum";
   } else {

@@ -455,8 +455,8 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
   // faces, which can turn over near a chart's rim (cura-zav-maxpro.stl, genus 97, 80k flips:
   // 2116 at radius 12, none at 6). Smaller charts keep them farther from it.
   for (double radius = kChartRadius / 2;
-       radius >= kChartRadius / 4 && !run.doubled && run.quality.flipped_faces > 0 &&
-       run.layout.num_charts() > 1;
+       radius >= kChartRadius / 4 && !run.doubled && !o.keep_input_triangulation &&
+       run.quality.flipped_faces > 0 && run.layout.num_charts() > 1;
        radius /= 2) {
     lay_out_result(mesh, o, outer, radius, run);
     measure();
@@ -500,23 +500,35 @@ bool best_effort(const UniformizationOptions& request) {
          request.center_vertex < 0 && request.axis_vertex < 0;
 }
 
-// `instead`, delivered in place of `attempt`: the attempt counts in the cost (flows, iterations,
-// factorizations, times), before the delivered run; edge flips and the convergence floor are the
-// delivered run's.
+// What an attempt that is not delivered adds to the cost (flows, iterations, factorizations,
+// times); its edge flips and convergence floor are not the delivered run's.
+FlowTotals cost_of(const FlowTotals& attempt) {
+  FlowTotals cost = attempt;
+  cost.edge_flips = 0;
+  cost.flips_from_iteration = -1;
+  cost.without_flips.clear();
+  cost.attainable_residual = 0;
+  return cost;
+}
+
+// `instead`, delivered in place of `attempt`, whose cost counts before its own.
 Uniformization delivered_instead(const Uniformization& attempt, Uniformization instead) {
-  FlowTotals totals = attempt.totals;
-  totals.edge_flips = 0;
-  totals.flips_from_iteration = -1;
-  totals.without_flips.clear();
-  totals.attainable_residual = 0;
+  FlowTotals totals = cost_of(attempt.totals);
   totals.add(instead.totals);
   instead.totals = totals;
   return instead;
 }
 
+// Why a run is not valid.
+std::string why_not_valid(const Uniformization& run) {
+  return run.converged() ? "gave no map: " + run.layout_failure
+                         : "was not reached: " + run.result.failure;
+}
+
 // The requested preset, and for the automatic target where the circle domain fails, the free
-// boundary.
-Uniformization uniformize_by_target(const CompactMesh& mesh, const UniformizationOptions& request) {
+// boundary; where that fails too, `free_failure` says why.
+Uniformization uniformize_by_target(const CompactMesh& mesh, const UniformizationOptions& request,
+                                    std::string& free_failure) {
   Uniformization run = uniformize_as_requested(mesh, request);
   // The automatic target asks for a map, not a circle domain at any price: where the circle
   // domain is not reached (its boundary does not settle) or its layout is no map (it squeezes
@@ -529,7 +541,11 @@ Uniformization uniformize_by_target(const CompactMesh& mesh, const Uniformizatio
   free.preset = TargetPreset::FreeBoundary;
   Uniformization instead = uniformize_as_requested(mesh, free);
   if (instead.result.stop == FlowStop::Cancelled) return instead;
-  if (!instead.valid()) return run;
+  if (!instead.valid()) {
+    run.totals.add(cost_of(instead.totals));
+    free_failure = "the free-boundary target, tried instead, " + why_not_valid(instead);
+    return run;
+  }
   std::ostringstream why;
   if (!run.converged()) {
     why << "the circle domain was not reached: " << run.result.failure;
@@ -548,12 +564,14 @@ Uniformization uniformize_by_target(const CompactMesh& mesh, const Uniformizatio
 }  // namespace
 
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
-  Uniformization run = uniformize_by_target(mesh, request);
-  // The automatic target with the Yamabe scheme, where neither target gives a map: the tangential
-  // scheme, whose triangles are valid at every u (sumo-tram.obj's windowed body: boundary vertices
-  // of one triangle that a circle domain needs above 180 degrees, and a free boundary whose
-  // boundary triangles degenerate, on the surface and on its double). Not where the request
-  // holds the Yamabe flow to the input's triangulation or asks for the input's faces as laid out.
+  std::string free_failure;
+  Uniformization run = uniformize_by_target(mesh, request, free_failure);
+  // The automatic target with the Yamabe scheme, where it gives no map (for a circle domain:
+  // neither it nor the free boundary): the tangential scheme, whose triangles are valid at every
+  // u (sumo-tram.obj's windowed body: boundary vertices of one triangle that a circle domain needs
+  // above 180 degrees, and a free boundary whose boundary triangles degenerate, on the surface
+  // and on its double). Not where the request holds the Yamabe flow to the input's triangulation
+  // or asks for the input's faces as laid out.
   const bool yamabe_best_effort = best_effort(request) && request.scheme.scheme == Scheme::Yamabe &&
                                   request.flow.edge_flips != EdgeFlips::Never &&
                                   !request.keep_input_triangulation;
@@ -561,13 +579,21 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   UniformizationOptions tangential = request;
   tangential.scheme = SchemeOptions();
   tangential.scheme.scheme = Scheme::Tangential;
-  Uniformization instead = uniformize_by_target(mesh, tangential);
-  if (instead.result.stop == FlowStop::Cancelled) return instead;
-  if (!instead.valid()) return run;
-  const std::string why = run.converged() ? " target gave no map: " + run.layout_failure
-                                          : " target was not reached: " + run.result.failure;
+  std::string tangential_free_failure;
+  Uniformization instead = uniformize_by_target(mesh, tangential, tangential_free_failure);
+  std::string why =
+      "with the Yamabe scheme the " + to_string(run.preset) + " target " + why_not_valid(run);
+  if (!free_failure.empty()) why += "; " + free_failure;
+  if (!instead.valid() && instead.result.stop != FlowStop::Cancelled) {
+    // The Yamabe run's failure, and that the tangential scheme was tried.
+    std::string& failure = run.converged() ? run.layout_failure : run.result.failure;
+    if (!free_failure.empty()) failure += "; " + free_failure;
+    failure += "; the tangential scheme, tried instead, " + why_not_valid(instead);
+    run.totals.add(cost_of(instead.totals));
+    return run;
+  }
   instead = delivered_instead(run, std::move(instead));
-  instead.scheme_instead = "with the Yamabe scheme the " + to_string(run.preset) + why;
+  instead.scheme_instead = why;
   return instead;
 }
 

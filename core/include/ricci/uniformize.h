@@ -138,7 +138,7 @@ struct Uniformization {
   //! double precision draws), gives way to FreeBoundary where that is valid.
   std::string target_instead;
   //! TargetPreset::Automatic with the Yamabe scheme: why the tangential scheme's run is delivered
-  //! instead of the Yamabe flow's, which gave no valid map with either target, or "".
+  //! instead of the Yamabe flow's, which gave no valid map, or "".
   std::string scheme_instead;
 
   bool converged() const { return result.converged; }
@@ -160,9 +160,9 @@ LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geomet
 //! Runs the preset's flow and lays out its result. Never throws for non-convergence or an invalid
 //! layout: the result says why (require_valid() turns that into an error). The automatic target
 //! without cones, centre or axis is best effort: where the circle domain gives no map, the free
-//! boundary (target_instead); where the Yamabe scheme gives none with either, the tangential
-//! scheme (scheme_instead; not with EdgeFlips::Never or keep_input_triangulation); each only where
-//! it is valid.
+//! boundary (target_instead); where the Yamabe scheme gives none for the topology's target (for a
+//! circle domain, with neither), the tangential scheme (scheme_instead; not with EdgeFlips::Never
+//! or keep_input_triangulation); each only where it is valid, else the failure says it was tried.
 //! \throws InvalidTargetError, InvalidArgumentError for requests that admit no solution (named).
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& options);
 
