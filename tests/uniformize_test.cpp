@@ -472,9 +472,9 @@ TEST(Uniformize, HyperbolicFlowFlipsAcrossInvalidTrianglesAndDrawsThinPiecesInSm
 }
 
 // SUMO's tram body (genus 0, 26 window loops): boundary vertices of one triangle, which a circle
-// domain needs above 180 degrees; the Yamabe free boundary's triangles at the boundary degenerate,
-// on the surface and on its double. The automatic target then gives the tangential scheme's free
-// boundary, saying why; an explicit target gets no other scheme.
+// domain needs above 180 degrees (its Yamabe flow stalls on the surface and on its double); the
+// Yamabe free boundary's triangles at the boundary degenerate. The automatic target then gives
+// the tangential scheme's free boundary, saying why; an explicit target gets no other scheme.
 TEST(Uniformize, AutomaticTargetTakesTheTangentialSchemeWhereYamabeGivesNoMap) {
   const RepairedMesh repaired = real_mesh("sumo-tram.obj");
   const CompactMesh& mesh = repaired.components[0].mesh;

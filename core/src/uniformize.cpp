@@ -569,9 +569,9 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   // The automatic target with the Yamabe scheme, where it gives no map (for a circle domain:
   // neither it nor the free boundary): the tangential scheme, whose triangles are valid at every
   // u (sumo-tram.obj's windowed body: boundary vertices of one triangle that a circle domain needs
-  // above 180 degrees, and a free boundary whose boundary triangles degenerate, on the surface
-  // and on its double). Not where the request holds the Yamabe flow to the input's triangulation
-  // or asks for the input's faces as laid out.
+  // above 180 degrees, stalled on the surface and on its double, and a free boundary whose
+  // boundary triangles degenerate). Not where the request holds the Yamabe flow to the input's
+  // triangulation or asks for the input's faces as laid out.
   const bool yamabe_best_effort = best_effort(request) && request.scheme.scheme == Scheme::Yamabe &&
                                   request.flow.edge_flips != EdgeFlips::Never &&
                                   !request.keep_input_triangulation;
