@@ -61,7 +61,8 @@ void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& 
   assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
   analyzed_ = false;
   factor_of_h_ = false;
-  last_krylov_ = 0;
+  krylov_rate_ = 0;
+  stale_fell_short_ = false;
 }
 
 void StepSolver::begin_solve() {
@@ -90,6 +91,7 @@ bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, b
     times.analysis += seconds_since(t);
   }
   t = Clock::now();
+  krylov_rate_ = 0;
   // E2 and H2: H is positive (semi)definite; a shift only guards against round-off near
   // degenerate triangles. S2: H^2 + mu I is positive definite for mu > 0.
   double max_diag = 0;
@@ -110,11 +112,25 @@ MinresResult StepSolver::precondition_with_factor(const Apply& apply, const Eige
                                                   Eigen::VectorXd& du, FlowTimes& times) {
   const auto t = Clock::now();
   MinresResult m = minres(
-      apply, [&](const Eigen::VectorXd& x) { return solver_.solve(x); }, r, rtol, max_iterations);
+      apply, [&](const Eigen::VectorXd& x) { return solver_.precondition(x); }, r, rtol,
+      max_iterations);
   times.solve += seconds_since(t);
   krylov_iterations_ += m.iterations;
+  note_rate(m);
   du = std::move(m.x);
   return m;
+}
+
+bool StepSolver::reuse_factor(double rtol, int max_iterations) const {
+  if (!factor_of_h_) return false;
+  if (!(krylov_rate_ > 0)) return true;
+  return krylov_rate_ < 1 && std::log(rtol) / std::log(krylov_rate_) <= max_iterations;
+}
+
+void StepSolver::note_rate(const MinresResult& m) {
+  krylov_rate_ = m.iterations > 0 && m.relative_residual > 0
+                     ? std::pow(m.relative_residual, 1.0 / m.iterations)
+                     : 0;
 }
 
 bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
@@ -122,9 +138,13 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
   const double size = max_abs(r);
   // Near the solution H changes little from one step to the next: the factorization of an earlier
   // H preconditions the current one to within a few MINRES iterations, each a solve with that
-  // factor (a tenth of a factorization or less).
+  // factor in single precision (a twentieth of a factorization or less). After a factorization
+  // whose first reuse fell short, the next is tried only once the residual has fallen well below
+  // the one it was made at.
   bool assembled = false;
-  if (!spherical && factor_of_h_ && size <= kReuseFactorBelowResidual * factor_residual_) {
+  if (!spherical && reuse_factor(rtol, kStaleSolveIterations) &&
+      (!stale_fell_short_ || krylov_rate_ > 0 ||
+       size <= kReuseFactorBelowResidual * factor_residual_)) {
     assembled = true;
     auto t = Clock::now();
     const SparseMatrix& h = assembler_->assemble(state);
@@ -134,9 +154,9 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
                                  r, rtol, kStaleSolveIterations, du, times);
     // MINRES measures its residual in the factor's norm; the line search needs |r|^2 to fall
     // along du, which |r - H du| <= rtol |r| (rtol < 1) guarantees in the Euclidean norm.
-    if (m.relative_residual <= rtol && du.allFinite() && (r - h * du).norm() <= rtol * r.norm()) {
-      return true;
-    }
+    stale_fell_short_ =
+        !(m.relative_residual <= rtol && du.allFinite() && (r - h * du).norm() <= rtol * r.norm());
+    if (!stale_fell_short_) return true;
   }
   Eigen::VectorXd rhs;
   factor_of_h_ = false;
@@ -159,7 +179,7 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
   // The last factorization, of an earlier H on this pattern, as the preconditioner while it keeps
   // MINRES short: a factorization costs as much as some ten solves with it.
   Krylov out;
-  const bool assembled = factor_of_h_ && last_krylov_ <= kReuseFactorBelow;
+  const bool assembled = reuse_factor(rtol, kReuseFactorBelow);
   if (assembled) {
     const auto t = Clock::now();
     assembler_->assemble(state);
@@ -167,7 +187,6 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
     const MinresResult m =
         precondition_with_factor(damped, r, rtol, kStaleKrylovIterations, du, times);
     if (du.allFinite() && m.relative_residual <= rtol) {
-      last_krylov_ = m.iterations;
       out.progress = true;
       return out;
     }
@@ -179,7 +198,6 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
   factor_of_h_ = true;
   factor_residual_ = max_abs(r);
   const MinresResult m = precondition_with_factor(damped, r, rtol, kMaxKrylovIterations, du, times);
-  last_krylov_ = m.iterations;
   out.progress = du.allFinite() && m.relative_residual < 1;
   return out;
 }

@@ -67,10 +67,11 @@ class StepSolver {
   int num_free() const { return assembler_->num_free(); }
 
   //! False when no shift makes the system factorizable, or the step is not finite. In E2 and H2,
-  //! once the residual has fallen to kReuseFactorBelowResidual of what it was at the last
-  //! factorization of H on this pattern, that factorization preconditions MINRES on the current H
-  //! to relative residual rtol (inexact Newton) for at most kStaleSolveIterations, and H is
-  //! factorized again only when that falls short.
+  //! the last factorization of H on this pattern preconditions MINRES on the current H to relative
+  //! residual rtol (inexact Newton) for at most kStaleSolveIterations, and H is factorized again
+  //! only when that falls short, or when MINRES at the rate it last converged on that factor would
+  //! need more. After a shortfall, the new factorization is first reused once the residual has
+  //! fallen to kReuseFactorBelowResidual of what it was made at.
   bool solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical, double lm_weight,
              double rtol, Eigen::VectorXd& du, FlowTimes& times);
   static constexpr double kReuseFactorBelowResidual = 0.25;
@@ -79,8 +80,9 @@ class StepSolver {
   //! d target / d u, for a target that depends on u (the free rows and columns).
   using Coupling = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
   static constexpr int kMaxKrylovIterations = 300;
-  //! An earlier factorization stays the preconditioner while the last solve took at most this
-  //! many MINRES iterations, and is replaced when MINRES needs more than kStaleKrylovIterations.
+  //! An earlier factorization stays the preconditioner while MINRES, at the rate it last converged
+  //! on it, would need at most this many iterations for the step's relative residual, and is
+  //! replaced when MINRES needs more than kStaleKrylovIterations.
   static constexpr int kReuseFactorBelow = 12, kStaleKrylovIterations = 30;
 
   struct Krylov {
@@ -103,7 +105,12 @@ class StepSolver {
   // r, or H r in S2.
   bool factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
                  double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times, bool assembled = false);
-  // MINRES on A x = r, preconditioned with the held factorization, into du.
+  // Whether the held factorization of H is worth another MINRES solve to rtol within
+  // max_iterations (true when its rate is not known yet).
+  bool reuse_factor(double rtol, int max_iterations) const;
+  // Keeps MINRES's convergence factor per iteration on the held factorization.
+  void note_rate(const MinresResult& m);
+  // MINRES on A x = r, preconditioned with the held factorization (in single precision), into du.
   template <class Apply>
   MinresResult precondition_with_factor(const Apply& apply, const Eigen::VectorXd& r, double rtol,
                                         int max_iterations, Eigen::VectorXd& du, FlowTimes& times);
@@ -114,7 +121,8 @@ class StepSolver {
   bool analyzed_ = false;
   bool factor_of_h_ = false;    // the factorization is of H on the current pattern (not S2's)
   double factor_residual_ = 0;  // max |r| when it was made
-  int last_krylov_ = 0;         // MINRES iterations of the last coupled solve
+  double krylov_rate_ = 0;      // MINRES's last convergence factor per iteration on it; 0: unknown
+  bool stale_fell_short_ = false;  // the last MINRES solve with an earlier factorization did
   int krylov_iterations_ = 0;
 };
 
@@ -150,6 +158,10 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
 //! and that no step reduces has converged as far as double precision allows (on real meshes, such
 //! stalls were 1.8 to 4 times the round-off; genuine stalls 1e8 times and more).
 inline constexpr double kRoundOffMargin = 10;
+//! Above this factor of the round-off where the flow started, triangles have degenerated on the
+//! way and the round-off is no floor (measured: 1.8e5 on the 3-holed double torus, where flips
+//! then reach 1e-12; 1.0 on the 1.07M-face lion head's unit disk).
+inline constexpr double kDegeneratedRoundOff = 100;
 
 //! A step of at most this length, cut by degenerating triangles, is a short step.
 inline constexpr double kShortStep = 1.0 / 64;

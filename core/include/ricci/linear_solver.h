@@ -31,6 +31,10 @@ class LinearSolver {
   //! Solves with the last successful factorization.
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
+  //! For preconditioning: CHOLMOD's last factorization with its entries rounded to single
+  //! precision, applied in double precision, so one fixed symmetric positive definite operator
+  //! close to the inverse; a solve reads half the memory of solve(). solve() for the LDL^T kind.
+  Eigen::VectorXd precondition(const Eigen::VectorXd& b) const;
 
   LinearSolverKind kind() const { return kind_; }
   int num_analyses() const { return num_analyses_; }

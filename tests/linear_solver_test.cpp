@@ -1,0 +1,96 @@
+// The linear solver's preconditioning solve: CHOLMOD's factor rounded to single precision, applied
+// in double precision. It must stay close to the exact solve, differ from it by the rounding (so
+// the copy is what runs), and be one symmetric positive definite operator, as MINRES needs.
+#include "ricci/linear_solver.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "hessian.h"
+#include "metric.h"
+#include "minres.h"
+#include "ricci/scheme.h"
+#include "test_meshes.h"
+
+namespace ricci {
+namespace {
+
+// The E2 Yamabe Hessian of lion-head.off (a disk scan) with its boundary held: positive definite.
+Eigen::SparseMatrix<double> lion_head_hessian() {
+  const CompactMesh mesh = test::cgal_mesh("lion-head.off");
+  std::vector<int> index(mesh.num_vertices(), -1);
+  int n = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!mesh.is_boundary_vertex(v)) index[v] = n++;
+  }
+  const ConformalStructure s = initialize_scheme(mesh, Geometry::Euclidean, SchemeOptions());
+  HessianAssembler assembler(mesh, index);
+  return assembler.assemble(evaluate_metric(mesh, s, s.u0));
+}
+
+Eigen::VectorXd random_vector(int n, std::mt19937& rng) {
+  std::uniform_real_distribution<double> d(-1, 1);
+  Eigen::VectorXd x(n);
+  for (int i = 0; i < n; ++i) x[i] = d(rng);
+  return x;
+}
+
+TEST(LinearSolver, PreconditioningSolveIsTheFactorInSinglePrecision) {
+  const Eigen::SparseMatrix<double> h = lion_head_hessian();
+  LinearSolver solver(LinearSolverKind::Cholmod);
+  solver.analyze(h);
+  ASSERT_TRUE(solver.factorize(h));
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Eigen::VectorXd b = random_vector(static_cast<int>(h.rows()), rng);
+    const Eigen::VectorXd exact = solver.solve(b), rounded = solver.precondition(b);
+    const double difference = (rounded - exact).norm() / exact.norm();
+    EXPECT_LT(difference, 1e-4);   // float's rounding, amplified by H's condition
+    EXPECT_GT(difference, 1e-12);  // not the double-precision factor
+    EXPECT_LT((h * rounded - b).norm() / b.norm(), 1e-3);
+  }
+}
+
+TEST(LinearSolver, PreconditioningSolveIsSymmetricAndPositive) {
+  const Eigen::SparseMatrix<double> h = lion_head_hessian();
+  LinearSolver solver(LinearSolverKind::Cholmod);
+  solver.analyze(h);
+  ASSERT_TRUE(solver.factorize(h));
+  std::mt19937 rng(11);
+  const int n = static_cast<int>(h.rows());
+  for (int trial = 0; trial < 3; ++trial) {
+    const Eigen::VectorXd x = random_vector(n, rng), y = random_vector(n, rng);
+    const Eigen::VectorXd px = solver.precondition(x), py = solver.precondition(y);
+    EXPECT_NEAR(y.dot(px), x.dot(py), 1e-12 * px.norm() * y.norm());
+    EXPECT_GT(x.dot(px), 0.0);
+  }
+}
+
+TEST(LinearSolver, MinresPreconditionedInSinglePrecisionReachesDoublePrecision) {
+  const Eigen::SparseMatrix<double> h = lion_head_hessian();
+  LinearSolver solver(LinearSolverKind::Cholmod);
+  solver.analyze(h);
+  ASSERT_TRUE(solver.factorize(h));
+  std::mt19937 rng(3);
+  const Eigen::VectorXd b = random_vector(static_cast<int>(h.rows()), rng);
+  const detail::MinresResult m = detail::minres(
+      [&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return h * x; },
+      [&](const Eigen::VectorXd& x) { return solver.precondition(x); }, b, 1e-13, 20);
+  EXPECT_LE(m.relative_residual, 1e-13);
+  EXPECT_LE(m.iterations, 6);
+  EXPECT_LT((h * m.x - b).norm() / b.norm(), 1e-11);
+}
+
+TEST(LinearSolver, LdltPreconditionsWithItsExactSolve) {
+  const Eigen::SparseMatrix<double> h = lion_head_hessian();
+  LinearSolver solver(LinearSolverKind::Ldlt);
+  solver.analyze(h);
+  ASSERT_TRUE(solver.factorize(h));
+  std::mt19937 rng(5);
+  const Eigen::VectorXd b = random_vector(static_cast<int>(h.rows()), rng);
+  EXPECT_EQ((solver.precondition(b) - solver.solve(b)).norm(), 0.0);
+}
+
+}  // namespace
+}  // namespace ricci
