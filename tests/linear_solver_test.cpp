@@ -11,6 +11,7 @@
 #include "metric.h"
 #include "minres.h"
 #include "ricci/scheme.h"
+#include "single_factor.h"
 #include "test_meshes.h"
 
 namespace ricci {
@@ -90,6 +91,61 @@ TEST(LinearSolver, LdltPreconditionsWithItsExactSolve) {
   std::mt19937 rng(5);
   const Eigen::VectorXd b = random_vector(static_cast<int>(h.rows()), rng);
   EXPECT_EQ((solver.precondition(b) - solver.solve(b)).norm(), 0.0);
+}
+
+// CHOLMOD's supernodal factor of a, ordered by METIS (a nested dissection: a tree with a top).
+class MetisFactor {
+ public:
+  explicit MetisFactor(const Eigen::SparseMatrix<double>& a) {
+    cholmod_start(&common_);
+    common_.supernodal = CHOLMOD_SUPERNODAL;
+    common_.nmethods = 1;
+    common_.method[0].ordering = CHOLMOD_METIS;
+    Eigen::SparseMatrix<double> lower = a.triangularView<Eigen::Lower>();
+    lower.makeCompressed();
+    cholmod_sparse view{};
+    view.nrow = view.ncol = static_cast<size_t>(lower.rows());
+    view.nzmax = static_cast<size_t>(lower.nonZeros());
+    view.p = lower.outerIndexPtr();
+    view.i = lower.innerIndexPtr();
+    view.x = lower.valuePtr();
+    view.stype = -1;
+    view.itype = CHOLMOD_INT;
+    view.xtype = CHOLMOD_REAL;
+    view.dtype = CHOLMOD_DOUBLE;
+    view.sorted = 1;
+    view.packed = 1;
+    factor_ = cholmod_analyze(&view, &common_);
+    cholmod_factorize(&view, factor_, &common_);
+  }
+  ~MetisFactor() {
+    cholmod_free_factor(&factor_, &common_);
+    cholmod_finish(&common_);
+  }
+  const cholmod_factor& factor() const { return *factor_; }
+
+ private:
+  cholmod_common common_;
+  cholmod_factor* factor_ = nullptr;
+};
+
+TEST(LinearSolver, TwoThreadsSolveWhatOneSolves) {
+  const Eigen::SparseMatrix<double> h = lion_head_hessian();
+  const MetisFactor cholmod(h);
+  ASSERT_EQ(cholmod.factor().minor, cholmod.factor().n);
+  const detail::SinglePrecisionFactor one(cholmod.factor()), two(cholmod.factor(), 0);
+  ASSERT_TRUE(one.subtrees(0).empty());  // lion-head.off is below the two-thread size
+  ASSERT_FALSE(two.subtrees(0).empty());
+  ASSERT_FALSE(two.subtrees(1).empty());
+  std::mt19937 rng(13);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Eigen::VectorXd b = random_vector(static_cast<int>(h.rows()), rng);
+    const Eigen::VectorXd x1 = one.solve(b), x2 = two.solve(b);
+    EXPECT_LT((x2 - x1).norm(), 1e-12 * x1.norm());  // the top's sums in another order
+    for (int again = 0; again < 3; ++again) {
+      EXPECT_EQ((two.solve(b) - x2).norm(), 0.0);  // whatever the threads' timing
+    }
+  }
 }
 
 }  // namespace
