@@ -60,13 +60,13 @@ std::vector<int> free_vertex_index(int num_vertices, Geometry geometry,
 void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& free_index) {
   assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
   analyzed_ = false;
-  factor_of_h_ = false;
+  held_ = Held::None;
   krylov_rate_ = 0;
   stale_fell_short_ = false;
 }
 
 void StepSolver::begin_solve() {
-  factor_of_h_ = false;
+  held_ = Held::None;
 }
 
 bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
@@ -121,8 +121,8 @@ MinresResult StepSolver::precondition_with_factor(const Apply& apply, const Eige
   return m;
 }
 
-bool StepSolver::reuse_factor(double rtol, int max_iterations) const {
-  if (!factor_of_h_) return false;
+bool StepSolver::reuse_factor(Held kind, double rtol, int max_iterations) const {
+  if (held_ != kind) return false;
   if (!(krylov_rate_ > 0)) return true;
   return krylov_rate_ < 1 && std::log(rtol) / std::log(krylov_rate_) <= max_iterations;
 }
@@ -136,32 +136,41 @@ void StepSolver::note_rate(const MinresResult& m) {
 bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
                        double lm_weight, double rtol, Eigen::VectorXd& du, FlowTimes& times) {
   const double size = max_abs(r);
+  const Held kind = spherical ? Held::Normal : Held::Hessian;
   // Near the solution H changes little from one step to the next: the factorization of an earlier
-  // H preconditions the current one to within a few MINRES iterations, each a solve with that
-  // factor in single precision (a twentieth of a factorization or less). After a factorization
-  // whose first reuse fell short, the next is tried only once the residual has fallen well below
-  // the one it was made at.
+  // step's system preconditions the current one to within a few MINRES iterations, each a solve
+  // with that factor in single precision (a twentieth of a factorization or less). After a
+  // factorization whose first reuse fell short, the next is tried only once the residual has
+  // fallen well below the one it was made at.
   bool assembled = false;
-  if (!spherical && reuse_factor(rtol, kStaleSolveIterations) &&
+  if (reuse_factor(kind, rtol, kStaleSolveIterations) &&
       (!stale_fell_short_ || krylov_rate_ > 0 ||
        size <= kReuseFactorBelowResidual * factor_residual_)) {
     assembled = true;
     auto t = Clock::now();
     const SparseMatrix& h = assembler_->assemble(state);
     times.assembly += seconds_since(t);
+    // S2: the Levenberg-Marquardt system (H^2 + mu I) du = H r, with H^2 applied, not formed.
+    const double mu = spherical ? lm_weight * r.norm() : 0;
+    const Eigen::VectorXd rhs = spherical ? Eigen::VectorXd(h * r) : r;
+    const auto apply = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+      if (!spherical) return h * x;
+      return h * (h * x) + mu * x;
+    };
     const MinresResult m =
-        precondition_with_factor([&](const Eigen::VectorXd& x) -> Eigen::VectorXd { return h * x; },
-                                 r, rtol, kStaleSolveIterations, du, times);
+        precondition_with_factor(apply, rhs, rtol, kStaleSolveIterations, du, times);
     // MINRES measures its residual in the factor's norm; the line search needs |r|^2 to fall
-    // along du, which |r - H du| <= rtol |r| (rtol < 1) guarantees in the Euclidean norm.
-    stale_fell_short_ =
-        !(m.relative_residual <= rtol && du.allFinite() && (r - h * du).norm() <= rtol * r.norm());
+    // along du, which |r - H du| < |r| guarantees (|r - H du| <= rtol |r| with rtol < 1 in E2
+    // and H2, where the system is H du = r).
+    const double linearized = du.allFinite() ? (r - h * du).norm() : r.norm();
+    stale_fell_short_ = !(m.relative_residual <= rtol && linearized < r.norm() &&
+                          (spherical || linearized <= rtol * r.norm()));
     if (!stale_fell_short_) return true;
   }
   Eigen::VectorXd rhs;
-  factor_of_h_ = false;
+  held_ = Held::None;
   if (!factorize(state, r, spherical, lm_weight, rhs, times, assembled)) return false;
-  factor_of_h_ = !spherical;
+  held_ = kind;
   factor_residual_ = size;
   const auto t = Clock::now();
   du = solver_.solve(rhs);
@@ -179,7 +188,7 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
   // The last factorization, of an earlier H on this pattern, as the preconditioner while it keeps
   // MINRES short: a factorization costs as much as some ten solves with it.
   Krylov out;
-  const bool assembled = reuse_factor(rtol, kReuseFactorBelow);
+  const bool assembled = reuse_factor(Held::Hessian, rtol, kReuseFactorBelow);
   if (assembled) {
     const auto t = Clock::now();
     assembler_->assemble(state);
@@ -192,10 +201,10 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
     }
   }
   Eigen::VectorXd rhs;
-  factor_of_h_ = false;
+  held_ = Held::None;
   out.factorized = factorize(state, r, false, 0, rhs, times, assembled);
   if (!out.factorized) return out;
-  factor_of_h_ = true;
+  held_ = Held::Hessian;
   factor_residual_ = max_abs(r);
   const MinresResult m = precondition_with_factor(damped, r, rtol, kMaxKrylovIterations, du, times);
   out.progress = du.allFinite() && m.relative_residual < 1;

@@ -66,12 +66,13 @@ class StepSolver {
   void begin_solve();
   int num_free() const { return assembler_->num_free(); }
 
-  //! False when no shift makes the system factorizable, or the step is not finite. In E2 and H2,
-  //! the last factorization of H on this pattern preconditions MINRES on the current H to relative
-  //! residual rtol (inexact Newton) for at most kStaleSolveIterations, and H is factorized again
-  //! only when that falls short, or when MINRES at the rate it last converged on that factor would
-  //! need more. After a shortfall, the new factorization is first reused once the residual has
-  //! fallen to kReuseFactorBelowResidual of what it was made at.
+  //! False when no shift makes the system factorizable, or the step is not finite. The last
+  //! factorization of the step's system on this pattern (of an earlier H; in S2 of an earlier
+  //! H^2 + mu I) preconditions MINRES on the current system to relative residual rtol (inexact
+  //! Newton) for at most kStaleSolveIterations, and the system is factorized again only when that
+  //! falls short, or when MINRES at the rate it last converged on that factor would need more.
+  //! After a shortfall, the new factorization is first reused once the residual has fallen to
+  //! kReuseFactorBelowResidual of what it was made at.
   bool solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical, double lm_weight,
              double rtol, Eigen::VectorXd& du, FlowTimes& times);
   static constexpr double kReuseFactorBelowResidual = 0.25;
@@ -107,7 +108,8 @@ class StepSolver {
                  double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times, bool assembled = false);
   // Whether the held factorization of H is worth another MINRES solve to rtol within
   // max_iterations (true when its rate is not known yet).
-  bool reuse_factor(double rtol, int max_iterations) const;
+  enum class Held { None, Hessian, Normal };  // what the factorization is of: -, H, H^2 + mu I
+  bool reuse_factor(Held kind, double rtol, int max_iterations) const;
   // Keeps MINRES's convergence factor per iteration on the held factorization.
   void note_rate(const MinresResult& m);
   // MINRES on A x = r, preconditioned with the held factorization (in single precision), into du.
@@ -119,7 +121,7 @@ class StepSolver {
   LinearSolver solver_;
   SparseMatrix normal_matrix_;  // S2: H^2
   bool analyzed_ = false;
-  bool factor_of_h_ = false;    // the factorization is of H on the current pattern (not S2's)
+  Held held_ = Held::None;      // the factorization on the current pattern
   double factor_residual_ = 0;  // max |r| when it was made
   double krylov_rate_ = 0;      // MINRES's last convergence factor per iteration on it; 0: unknown
   bool stale_fell_short_ = false;  // the last MINRES solve with an earlier factorization did
