@@ -2,6 +2,7 @@
 // failed), 2 (usage).
 #include "app.h"
 
+#include <malloc.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -136,6 +137,12 @@ void run(const Options& o) {
 }
 
 int run_command_line(int argc, const char* const* argv) {
+  // Each line search trial and Newton step allocates arrays of up to 160 MB on a million faces.
+  // glibc maps blocks that large afresh and unmaps them when freed, so each costs page faults and
+  // zeroing by the kernel again; kept in the heap (a process-wide setting: this is the command's,
+  // not the library's), they are reused. 1.07M faces: the line search 1.1 s -> 0.65 s.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   Options options;
   try {
     options = parse_options(argc, argv);

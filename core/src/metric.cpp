@@ -6,6 +6,8 @@
 #include <functional>
 #include <limits>
 
+#include "two_threads.h"
+
 namespace ricci {
 
 namespace {
@@ -27,20 +29,26 @@ MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure&
   MetricState state;
   const Geometry g = structure.geometry;
   state.edges.resize(mesh.num_edges());
-  const Eigen::VectorXd x = u.array().exp();
-  for (int e = 0; e < mesh.num_edges(); ++e) {
-    const auto [i, j] = mesh.edge_vertices(e);
-    state.edges[e] = edge_length_of_exponentials(g, x[i], x[j], structure.eps[i], structure.eps[j],
-                                                 structure.eta[e]);
-    if (!state.edges[e].valid) ++state.num_invalid_edges;
-  }
   state.faces.resize(mesh.num_faces());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    state.faces[f] = corner_angles(g, face_lengths(mesh, state, f));
-    if (!state.faces[f].valid) {
-      if (state.num_invalid_faces++ == 0) state.first_invalid_face = f;
+  const Eigen::VectorXd x = u.array().exp();
+  int invalid_edges[2] = {0, 0}, invalid_faces[2] = {0, 0}, first_invalid[2] = {-1, -1};
+  detail::in_two_halves(mesh.num_edges(), [&](int part, int begin, int end) {
+    for (int e = begin; e < end; ++e) {
+      const auto [i, j] = mesh.edge_vertices(e);
+      state.edges[e] = edge_length_of_exponentials(g, x[i], x[j], structure.eps[i],
+                                                   structure.eps[j], structure.eta[e]);
+      invalid_edges[part] += !state.edges[e].valid;
     }
-  }
+  });
+  detail::in_two_halves(mesh.num_faces(), [&](int part, int begin, int end) {
+    for (int f = begin; f < end; ++f) {
+      state.faces[f] = corner_angles(g, face_lengths(mesh, state, f));
+      if (!state.faces[f].valid && invalid_faces[part]++ == 0) first_invalid[part] = f;
+    }
+  });
+  state.num_invalid_edges = invalid_edges[0] + invalid_edges[1];
+  state.num_invalid_faces = invalid_faces[0] + invalid_faces[1];
+  state.first_invalid_face = first_invalid[0] >= 0 ? first_invalid[0] : first_invalid[1];
   return state;
 }
 
