@@ -347,6 +347,7 @@ std::string RicciFlowSolver::State::iterate(const TargetCurvature& target, int i
   if (spherical() || circles)
     lm_weight = step.alpha == 1 ? std::max(lm_weight / 4, 1e-8) : std::min(lm_weight * 8, 1e8);
   result.step_history.push_back(step.alpha);
+  steps.note_step(step.alpha);
   u = std::move(step.u);
   metric = std::move(step.state);
   const int flips_before = result.num_flips;

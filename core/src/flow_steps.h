@@ -64,13 +64,16 @@ class StepSolver {
   void set_pattern(const Triangulation& mesh, const std::vector<int>& free_index);
   //! A new solve (another target): its first step factorizes H.
   void begin_solve();
+  //! The length of the step the line search took along the last direction.
+  void note_step(double alpha) { last_step_full_ = alpha == 1; }
   int num_free() const { return assembler_->num_free(); }
 
-  //! False when no shift makes the system factorizable, or the step is not finite. The last
-  //! factorization of the step's system on this pattern (of an earlier H; in S2 of an earlier
-  //! H^2 + mu I) preconditions MINRES on the current system to relative residual rtol (inexact
-  //! Newton) for at most kStaleSolveIterations, and the system is factorized again only when that
-  //! falls short, or when MINRES at the rate it last converged on that factor would need more.
+  //! False when no shift makes the system factorizable, or the step is not finite. Once the line
+  //! search has taken a full step, the last factorization of the step's system on this pattern
+  //! (of an earlier H; in S2 of an earlier H^2 + mu I) preconditions MINRES on the current system
+  //! to relative residual rtol (inexact Newton) for at most kStaleSolveIterations, and the system
+  //! is factorized again only when that falls short, or when MINRES at the rate it last converged
+  //! on that factor would need more.
   //! After a shortfall, the new factorization is first reused once the residual has fallen to
   //! kReuseFactorBelowResidual of what it was made at.
   bool solve(const MetricState& state, const Eigen::VectorXd& r, bool spherical, double lm_weight,
@@ -124,7 +127,11 @@ class StepSolver {
   Held held_ = Held::None;      // the factorization on the current pattern
   double factor_residual_ = 0;  // max |r| when it was made
   double krylov_rate_ = 0;      // MINRES's last convergence factor per iteration on it; 0: unknown
-  bool stale_fell_short_ = false;  // the last MINRES solve with an earlier factorization did
+  bool stale_fell_short_ = false;
+  // The last step was a full one: Newton's regime, where H changes little from step to step (in
+  // S2, directions from an earlier factorization in steps cut short made the Yamabe flow stall on
+  // 3 components of gltron-recognizer-quad.obj that converge with fresh ones).
+  bool last_step_full_ = false;  // the last MINRES solve with an earlier factorization did
   int krylov_iterations_ = 0;
 };
 
