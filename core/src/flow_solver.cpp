@@ -91,7 +91,7 @@ struct RicciFlowSolver::State {
   std::string precondition_failure(const TargetCurvature& target);
   std::string iterate(const TargetCurvature& target, int it);
   double attainable_floor(const TargetCurvature& target) const;
-  double start_round_off = 0;  // max curvature_round_off where this run started
+  double start_round_off = 0;  // max curvature_round_off where Newton started
   void normalize_scale(const TargetCurvature& target);
   void finish(const TargetCurvature& target);
   void update_goal() {
@@ -247,7 +247,8 @@ std::string RicciFlowSolver::State::precondition_failure(const TargetCurvature& 
 // (1.3e-10 on a million vertices, the same at every u near the solution); the others' round-off
 // adds to it (as a random walk: the root of the sum of squares).
 // A floor that triangles made nearly degenerate by the flow raise (their angles' round-off
-// kDegeneratedRoundOff times the start's and more) is none: a stall or flips decide there.
+// kDegeneratedRoundOff times that where Newton started, and more) is none: a stall or flips
+// decide there.
 double RicciFlowSolver::State::attainable_floor(const TargetCurvature& target) const {
   const Eigen::VectorXd noise = curvature_round_off(triangulation, metric);
   if (noise.maxCoeff() > detail::kDegeneratedRoundOff * start_round_off) return 0;
@@ -483,8 +484,6 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
   s.steps.begin_solve();
   s.use_free_vertices(target);
   s.metric = evaluate_metric(s.triangulation, s.structure, s.u);
-  s.start_round_off =
-      s.metric.valid() ? curvature_round_off(s.triangulation, s.metric).maxCoeff() : 0;
   s.times.setup = seconds_since(begin);
   FlowResult& r = s.result;
   r.failure = s.precondition_failure(target);
@@ -501,6 +500,7 @@ FlowResult RicciFlowSolver::State::run(const Eigen::VectorXd* start) {
     }
     s.k = curvature(s.triangulation, s.metric);
     s.newton_start = s.u;
+    s.start_round_off = curvature_round_off(s.triangulation, s.metric).maxCoeff();
     for (int it = 0;; ++it) {
       s.update_goal();
       r.residual = detail::max_residual(s.k, target);

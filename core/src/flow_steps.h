@@ -109,9 +109,9 @@ class StepSolver {
   // r, or H r in S2.
   bool factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
                  double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times, bool assembled = false);
-  // Whether the held factorization of H is worth another MINRES solve to rtol within
-  // max_iterations (true when its rate is not known yet).
   enum class Held { None, Hessian, Normal };  // what the factorization is of: -, H, H^2 + mu I
+  // Whether the held factorization, if it is of this kind, is worth another MINRES solve to rtol
+  // within max_iterations (true when its rate is not known yet).
   bool reuse_factor(Held kind, double rtol, int max_iterations) const;
   // Keeps MINRES's convergence factor per iteration on the held factorization.
   void note_rate(const MinresResult& m);
@@ -127,11 +127,11 @@ class StepSolver {
   Held held_ = Held::None;      // the factorization on the current pattern
   double factor_residual_ = 0;  // max |r| when it was made
   double krylov_rate_ = 0;      // MINRES's last convergence factor per iteration on it; 0: unknown
-  bool stale_fell_short_ = false;
+  bool stale_fell_short_ = false;  // the last MINRES solve with an earlier factorization fell short
   // The last step was a full one: Newton's regime, where H changes little from step to step (in
   // S2, directions from an earlier factorization in steps cut short made the Yamabe flow stall on
   // 3 components of gltron-recognizer-quad.obj that converge with fresh ones).
-  bool last_step_full_ = false;  // the last MINRES solve with an earlier factorization did
+  bool last_step_full_ = false;
   int krylov_iterations_ = 0;
 };
 
