@@ -30,6 +30,17 @@ Eigen::SparseMatrix<double> lion_head_hessian() {
   return assembler.assemble(evaluate_metric(mesh, s, s.u0));
 }
 
+// lion_head_hessian() analysed and factorized by a solver of the given kind.
+struct Factored {
+  explicit Factored(LinearSolverKind kind) : solver(kind) {
+    solver.analyze(h);
+    factorized = solver.factorize(h);
+  }
+  const Eigen::SparseMatrix<double> h = lion_head_hessian();
+  LinearSolver solver;
+  bool factorized = false;
+};
+
 Eigen::VectorXd random_vector(int n, std::mt19937& rng) {
   std::uniform_real_distribution<double> d(-1, 1);
   Eigen::VectorXd x(n);
@@ -38,10 +49,10 @@ Eigen::VectorXd random_vector(int n, std::mt19937& rng) {
 }
 
 TEST(LinearSolver, PreconditioningSolveIsTheFactorInSinglePrecision) {
-  const Eigen::SparseMatrix<double> h = lion_head_hessian();
-  LinearSolver solver(LinearSolverKind::Cholmod);
-  solver.analyze(h);
-  ASSERT_TRUE(solver.factorize(h));
+  Factored f(LinearSolverKind::Cholmod);
+  ASSERT_TRUE(f.factorized);
+  const Eigen::SparseMatrix<double>& h = f.h;
+  LinearSolver& solver = f.solver;
   std::mt19937 rng(7);
   for (int trial = 0; trial < 3; ++trial) {
     const Eigen::VectorXd b = random_vector(static_cast<int>(h.rows()), rng);
@@ -54,10 +65,10 @@ TEST(LinearSolver, PreconditioningSolveIsTheFactorInSinglePrecision) {
 }
 
 TEST(LinearSolver, PreconditioningSolveIsSymmetricAndPositive) {
-  const Eigen::SparseMatrix<double> h = lion_head_hessian();
-  LinearSolver solver(LinearSolverKind::Cholmod);
-  solver.analyze(h);
-  ASSERT_TRUE(solver.factorize(h));
+  Factored f(LinearSolverKind::Cholmod);
+  ASSERT_TRUE(f.factorized);
+  const Eigen::SparseMatrix<double>& h = f.h;
+  LinearSolver& solver = f.solver;
   std::mt19937 rng(11);
   const int n = static_cast<int>(h.rows());
   for (int trial = 0; trial < 3; ++trial) {
@@ -69,10 +80,10 @@ TEST(LinearSolver, PreconditioningSolveIsSymmetricAndPositive) {
 }
 
 TEST(LinearSolver, MinresPreconditionedInSinglePrecisionReachesDoublePrecision) {
-  const Eigen::SparseMatrix<double> h = lion_head_hessian();
-  LinearSolver solver(LinearSolverKind::Cholmod);
-  solver.analyze(h);
-  ASSERT_TRUE(solver.factorize(h));
+  Factored f(LinearSolverKind::Cholmod);
+  ASSERT_TRUE(f.factorized);
+  const Eigen::SparseMatrix<double>& h = f.h;
+  LinearSolver& solver = f.solver;
   std::mt19937 rng(3);
   const Eigen::VectorXd b = random_vector(static_cast<int>(h.rows()), rng);
   const detail::MinresResult m = detail::minres(
@@ -84,10 +95,10 @@ TEST(LinearSolver, MinresPreconditionedInSinglePrecisionReachesDoublePrecision) 
 }
 
 TEST(LinearSolver, LdltPreconditionsWithItsExactSolve) {
-  const Eigen::SparseMatrix<double> h = lion_head_hessian();
-  LinearSolver solver(LinearSolverKind::Ldlt);
-  solver.analyze(h);
-  ASSERT_TRUE(solver.factorize(h));
+  Factored f(LinearSolverKind::Ldlt);
+  ASSERT_TRUE(f.factorized);
+  const Eigen::SparseMatrix<double>& h = f.h;
+  LinearSolver& solver = f.solver;
   std::mt19937 rng(5);
   const Eigen::VectorXd b = random_vector(static_cast<int>(h.rows()), rng);
   EXPECT_EQ((solver.precondition(b) - solver.solve(b)).norm(), 0.0);
