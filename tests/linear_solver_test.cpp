@@ -3,6 +3,8 @@
 // the copy is what runs), and be one symmetric positive definite operator, as MINRES needs.
 #include "ricci/linear_solver.h"
 
+#include <algorithm>
+#include <numeric>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -10,21 +12,29 @@
 #include "hessian.h"
 #include "metric.h"
 #include "minres.h"
+#include "ricci/errors.h"
 #include "ricci/scheme.h"
+#include "ricci/vertex_order.h"
 #include "single_factor.h"
 #include "test_meshes.h"
 
 namespace ricci {
 namespace {
 
-// The E2 Yamabe Hessian of lion-head.off (a disk scan) with its boundary held: positive definite.
-Eigen::SparseMatrix<double> lion_head_hessian() {
-  const CompactMesh mesh = test::cgal_mesh("lion-head.off");
+// lion-head.off's interior vertices: each one's row, -1 on the boundary.
+std::vector<int> interior_rows(const CompactMesh& mesh) {
   std::vector<int> index(mesh.num_vertices(), -1);
   int n = 0;
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     if (!mesh.is_boundary_vertex(v)) index[v] = n++;
   }
+  return index;
+}
+
+// The E2 Yamabe Hessian of lion-head.off (a disk scan) with its boundary held: positive definite.
+Eigen::SparseMatrix<double> lion_head_hessian() {
+  const CompactMesh mesh = test::cgal_mesh("lion-head.off");
+  const std::vector<int> index = interior_rows(mesh);
   const ConformalStructure s = initialize_scheme(mesh, Geometry::Euclidean, SchemeOptions());
   HessianAssembler assembler(mesh, index);
   return assembler.assemble(evaluate_metric(mesh, s, s.u0));
@@ -157,6 +167,65 @@ TEST(LinearSolver, TwoThreadsSolveWhatOneSolves) {
       EXPECT_EQ((two.solve(b) - x2).norm(), 0.0);  // whatever the threads' timing
     }
   }
+}
+
+}  // namespace
+}  // namespace ricci
+
+namespace ricci {
+namespace {
+
+// A fill-reducing order found ahead from the mesh's vertex graph, restricted to the rows of a
+// Hessian that holds the boundary, serves as well as the Hessian's own (CHOLMOD's choice).
+TEST(VertexOrder, OrderOfTheVertexGraphServesAHessianOfItsInterior) {
+  const CompactMesh mesh = test::cgal_mesh("lion-head.off");
+  const VertexOrder order = VertexOrder::start(mesh.num_vertices(), mesh.faces(), 0);
+  ASSERT_FALSE(order.empty());
+  ASSERT_EQ(order.num_vertices(), mesh.num_vertices());
+  const std::vector<int> rank = order.ranks();
+  std::vector<int> sorted = rank;
+  std::sort(sorted.begin(), sorted.end());
+  for (int v = 0; v < mesh.num_vertices(); ++v) ASSERT_EQ(sorted[v], v);  // a permutation
+
+  const std::vector<int> index = interior_rows(mesh);
+  std::vector<int> interior;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (index[v] >= 0) interior.push_back(v);
+  std::sort(interior.begin(), interior.end(), [&](int a, int b) { return rank[a] < rank[b]; });
+  std::vector<int> rows;
+  for (int v : interior) rows.push_back(index[v]);
+
+  Factored own(LinearSolverKind::Cholmod);
+  ASSERT_TRUE(own.factorized);
+  LinearSolver ahead(LinearSolverKind::Cholmod);
+  ahead.analyze(own.h, &rows);
+  EXPECT_LE(ahead.factor_entries(), 1.25 * static_cast<double>(own.solver.factor_entries()));
+  EXPECT_NE(ahead.factor_entries(), own.solver.factor_entries());  // not CHOLMOD's own choice
+  ASSERT_TRUE(ahead.factorize(own.h));
+  std::mt19937 rng(3);
+  const Eigen::VectorXd b = random_vector(static_cast<int>(own.h.rows()), rng);
+  const Eigen::VectorXd x = own.solver.solve(b);
+  EXPECT_LT((ahead.solve(b) - x).norm() / x.norm(), 1e-10);
+
+  std::vector<int> wrong_size(rows.begin(), rows.end() - 1);
+  EXPECT_THROW(ahead.analyze(own.h, &wrong_size), SolverError);
+}
+
+// The order of a part of the mesh (a component of a repaired mesh) follows its vertex map;
+// below the size threshold there is none.
+TEST(VertexOrder, RestrictedOrderFollowsTheVertexMap) {
+  const CompactMesh mesh = test::cgal_mesh("lion-head.off");
+  const VertexOrder order = VertexOrder::start(mesh.num_vertices(), mesh.faces(), 0);
+  const std::vector<int> rank = order.ranks();
+  const std::vector<int> from = {5, 3, 3, 0};
+  const VertexOrder part = order.restricted(from);
+  ASSERT_EQ(part.num_vertices(), 4);
+  EXPECT_EQ(part.ranks(), (std::vector<int>{rank[5], rank[3], rank[3], rank[0]}));
+  const VertexOrder deeper = part.restricted({3, 0});
+  EXPECT_EQ(deeper.ranks(), (std::vector<int>{rank[0], rank[5]}));
+
+  EXPECT_TRUE(VertexOrder::start(mesh.num_vertices(), mesh.faces()).empty());
+  EXPECT_TRUE(VertexOrder().restricted({0}).empty());
 }
 
 }  // namespace

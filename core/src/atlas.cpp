@@ -78,6 +78,12 @@ UniformizationOptions component_options(const UniformizationOptions& o, const Re
     c.preset = TargetPreset::Values;
     c.values = Eigen::VectorXd::Zero(static_cast<long>(component.vertex.size()));
   }
+  if (!o.vertex_order.empty()) {
+    std::vector<int> input_vertex;
+    input_vertex.reserve(component.vertex.size());
+    for (int v : component.vertex) input_vertex.push_back(m.original[v]);
+    c.vertex_order = o.vertex_order.restricted(std::move(input_vertex));
+  }
   c.center_vertex = component_vertex(o.center_vertex, where, m.num_input_vertices, k, "center");
   c.axis_vertex = component_vertex(o.axis_vertex, where, m.num_input_vertices, k, "axis");
   return c;

@@ -420,6 +420,10 @@ void RicciFlowSolver::defer_flips(bool defer) {
   state_->defer_flips = defer;
 }
 
+void RicciFlowSolver::use_vertex_order(VertexOrder order) {
+  if (order.num_vertices() == state_->mesh.num_vertices()) state_->steps.use_vertex_order(order);
+}
+
 void RicciFlowSolver::restart_with_flips(const std::string& why) {
   State& s = *state_;
   if (!s.flips_from_start) s.flipping_because = why;

@@ -59,10 +59,29 @@ std::vector<int> free_vertex_index(int num_vertices, Geometry geometry,
 
 void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& free_index) {
   assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
+  free_index_ = free_index;
   analyzed_ = false;
   held_ = Held::None;
   krylov_rate_ = 0;
   stale_fell_short_ = false;
+}
+
+std::vector<int> StepSolver::rows_in_order() const {
+  if (order_.empty() || order_.num_vertices() != static_cast<int>(free_index_.size()) ||
+      num_free() < kNestedDissectionRows) {
+    return {};
+  }
+  if (ranks_.empty()) ranks_ = order_.ranks();
+  if (ranks_.size() != free_index_.size()) return {};  // METIS failed
+  std::vector<std::pair<int, int>> ranked;             // (rank, vertex) of each free vertex
+  ranked.reserve(static_cast<size_t>(num_free()));
+  for (size_t v = 0; v < free_index_.size(); ++v)
+    if (free_index_[v] >= 0) ranked.emplace_back(ranks_[v], static_cast<int>(v));
+  std::sort(ranked.begin(), ranked.end());
+  std::vector<int> rows;
+  rows.reserve(ranked.size());
+  for (const auto& [rank, v] : ranked) rows.push_back(free_index_[v]);
+  return rows;
 }
 
 void StepSolver::begin_solve() {
@@ -87,7 +106,8 @@ bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, b
   times.assembly += seconds_since(t);
   if (!analyzed_) {
     t = Clock::now();
-    solver_.analyze(*system);
+    const std::vector<int> rows = spherical ? std::vector<int>() : rows_in_order();
+    solver_.analyze(*system, rows.empty() ? nullptr : &rows);
     analyzed_ = true;
     times.analysis += seconds_since(t);
   }

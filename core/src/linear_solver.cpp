@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "ricci/errors.h"
+#include "ricci/vertex_order.h"
 #include "single_factor.h"
 
 namespace ricci {
@@ -11,14 +12,23 @@ namespace ricci {
 using Matrix = Eigen::SparseMatrix<double>;
 
 namespace {
-// From this many rows on, the ordering is METIS's alone (measured on lion-head.off's subdivisions:
-// at 133k rows CHOLMOD's default keeps AMD's ordering, at 534k it goes on to METIS).
-constexpr int kMetisOnlyRows = 300000;
 
-// CHOLMOD's supernodal LL^T with its factor in view (for the single-precision copy).
+// CHOLMOD's supernodal LL^T with its factor in view (for the single-precision copy), and an
+// analysis in a given ordering.
 class SupernodalCholmod : public Eigen::CholmodSupernodalLLT<Matrix, Eigen::Lower> {
  public:
   const cholmod_factor& factor() const { return *m_cholmodFactor; }
+  // What analyzePattern() does, with CHOLMOD told the ordering.
+  void analyze_in_order(const Matrix& a, const std::vector<int>& order) {
+    cholmod_common& common = cholmod();
+    if (m_cholmodFactor) cholmod_free_factor(&m_cholmodFactor, &common);
+    cholmod_sparse view = Eigen::viewAsCholmod(a.selfadjointView<Eigen::Lower>());
+    m_cholmodFactor = cholmod_analyze_p(&view, const_cast<int*>(order.data()), nullptr, 0, &common);
+    m_isInitialized = true;
+    m_info = Eigen::Success;
+    m_analysisIsOk = true;
+    m_factorizationIsOk = false;
+  }
 };
 
 }  // namespace
@@ -51,15 +61,24 @@ LinearSolver::LinearSolver(LinearSolverKind kind) : kind_(kind), impl_(std::make
 }
 LinearSolver::~LinearSolver() = default;
 
-void LinearSolver::analyze(const Matrix& a) {
+void LinearSolver::analyze(const Matrix& a, const std::vector<int>* order) {
   if (kind_ == LinearSolverKind::Cholmod) {
     // CHOLMOD's default tries AMD first and METIS where AMD's fill is poor, as it always is on a
     // surface mesh this large; AMD's attempt then costs a fifth of METIS's time for nothing.
     cholmod_common& common = impl_->cholmod.cholmod();
-    const bool large = a.rows() >= kMetisOnlyRows;
-    common.nmethods = large ? 1 : 0;
-    common.method[0].ordering = large ? CHOLMOD_METIS : impl_->default_first_ordering;
-    impl_->cholmod.analyzePattern(a);
+    const bool large = a.rows() >= kNestedDissectionRows;
+    common.nmethods = order || large ? 1 : 0;
+    common.method[0].ordering = order   ? CHOLMOD_GIVEN
+                                : large ? CHOLMOD_METIS
+                                        : impl_->default_first_ordering;
+    if (order) {
+      if (static_cast<long>(order->size()) != a.rows())
+        throw SolverError("linear solver: an ordering of another size than the matrix");
+      impl_->cholmod.analyze_in_order(a, *order);
+    } else {
+      const std::lock_guard<std::mutex> lock(detail::nested_dissection_mutex());
+      impl_->cholmod.analyzePattern(a);
+    }
     impl_->factorized = false;
     impl_->single.reset();
   } else {
@@ -97,6 +116,18 @@ Eigen::VectorXd LinearSolver::precondition(const Eigen::VectorXd& b) const {
     impl_->single = std::make_unique<detail::SinglePrecisionFactor>(impl_->cholmod.factor());
   }
   return impl_->single->solve(b);
+}
+
+long LinearSolver::factor_entries() const {
+  if (kind_ == LinearSolverKind::Cholmod) {
+    const cholmod_factor& l = impl_->cholmod.factor();
+    // Supernodal: the dense blocks' entries; simplicial: the column counts.
+    if (l.is_super) return static_cast<long>(l.xsize);
+    long entries = 0;
+    for (size_t j = 0; j < l.n; ++j) entries += static_cast<const int*>(l.ColCount)[j];
+    return entries;
+  }
+  return impl_->ldlt.matrixL().nestedExpression().nonZeros() + impl_->ldlt.rows();
 }
 
 Eigen::MatrixXd LinearSolver::solve(const Eigen::MatrixXd& b) const {

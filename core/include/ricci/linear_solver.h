@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -24,7 +25,9 @@ class LinearSolver {
   LinearSolver& operator=(const LinearSolver&) = delete;
 
   //! Symbolic analysis (fill-reducing ordering); call again only when the pattern changes.
-  void analyze(const Eigen::SparseMatrix<double>& a);
+  //! With `order` (CHOLMOD only: row order[k] is eliminated k-th), that ordering is used instead
+  //! of finding one.
+  void analyze(const Eigen::SparseMatrix<double>& a, const std::vector<int>* order = nullptr);
   //! Numeric factorization of a + shift I. Returns false when it is not positive definite.
   //! \pre analyze() was called with a matrix of the same pattern.
   bool factorize(const Eigen::SparseMatrix<double>& a, double shift = 0);
@@ -37,6 +40,8 @@ class LinearSolver {
   Eigen::VectorXd precondition(const Eigen::VectorXd& b) const;
 
   LinearSolverKind kind() const { return kind_; }
+  //! The entries of the last analysis's factor (its fill). \pre analyze() was called.
+  long factor_entries() const;
   int num_analyses() const { return num_analyses_; }
   int num_factorizations() const { return num_factorizations_; }
 

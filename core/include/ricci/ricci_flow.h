@@ -26,6 +26,7 @@
 #include "ricci/linear_solver.h"
 #include "ricci/scheme.h"
 #include "ricci/target.h"
+#include "ricci/vertex_order.h"
 
 namespace ricci {
 
@@ -174,6 +175,10 @@ class RicciFlowSolver {
   //! walk to a start with u held fixed somewhere still turns flips on at once; no deferred solve
   //! has a start.)
   void defer_flips(bool defer);
+
+  //! Large systems are analysed in this order of the mesh's vertices (vertex_order.h) instead of
+  //! each finding its own; ignored when it is for another number of vertices.
+  void use_vertex_order(VertexOrder order);
 
   //! Back to the input triangulation, the input structure and u0 (with flips on from the start
   //! after restart_with_flips()).

@@ -32,6 +32,7 @@
 #include "ricci/layout_quality.h"
 #include "ricci/presets.h"
 #include "ricci/ricci_flow.h"
+#include "ricci/vertex_order.h"
 
 namespace ricci {
 
@@ -69,6 +70,9 @@ struct UniformizationOptions {
   //! After edge flips, lay out the input's own faces by their corners even when some turn over
   //! (reported as an invalid layout) instead of delivering the common subdivision.
   bool keep_input_triangulation = false;
+  //! A fill-reducing order of the vertices, found ahead (vertex_order.h; for uniformize_mesh, of
+  //! the input's vertices, as read); empty: each large system finds its own.
+  VertexOrder vertex_order;
 };
 
 //! Sums over the flows of one uniformization (the disk preset runs several).

@@ -1,0 +1,59 @@
+// A fill-reducing order of a mesh's vertices, found ahead of the flow on a thread of its own.
+//
+// The flow's sparse systems have one row per free vertex, with the mesh's edges (or, after edge
+// flips, another triangulation's of the same vertices) as their pattern. At a million faces the
+// nested dissection ordering of that pattern (METIS) takes longer than two numeric factorizations
+// of it. Its vertex graph is known as soon as the faces are read, so the ordering can run while
+// the mesh is repaired and the flow set up; every pattern of the flow on that mesh (any set of
+// free vertices, any flipped triangulation) is then analysed in this order, restricted to its rows.
+#pragma once
+
+#include <array>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+namespace ricci {
+
+//! From this many rows on, a system's fill-reducing ordering is METIS's nested dissection alone
+//! (measured on lion-head.off's subdivisions: at 133k rows CHOLMOD's default keeps AMD's ordering,
+//! at 534k it goes on to METIS), and an order found ahead (VertexOrder) is used instead where
+//! there is one.
+inline constexpr int kNestedDissectionRows = 300000;
+
+class VertexOrder {
+ public:
+  VertexOrder() = default;  //!< none: each system is ordered by its own analysis
+
+  //! Starts ordering the graph of the faces' edges over num_vertices vertices (METIS's nested
+  //! dissection, through CHOLMOD) on another thread; faces with an index out of range or a
+  //! repeated index are left out. Below from_vertices vertices: none (the orderings of such
+  //! systems are quick, and CHOLMOD's default choice is better there).
+  static VertexOrder start(int num_vertices, const std::vector<std::array<int, 3>>& faces,
+                           int from_vertices = kNestedDissectionRows);
+
+  //! The order for a mesh whose vertex v is this one's vertex from[v] (a component of a repaired
+  //! mesh; vertices split into copies share their rank, and keep their own order among them).
+  VertexOrder restricted(std::vector<int> from) const;
+
+  bool empty() const { return !rank_.valid(); }
+  //! The number of vertices of the mesh this order is for (0 when empty).
+  int num_vertices() const;
+  //! Per vertex, its place in the order (copies of a vertex share it); waits until the ordering
+  //! is done. Empty when METIS failed. \pre !empty()
+  std::vector<int> ranks() const;
+
+ private:
+  std::shared_future<std::vector<int>> rank_;  // per ordered vertex
+  std::shared_ptr<const std::vector<int>> from_;
+  int num_ordered_ = 0;
+};
+
+namespace detail {
+//! Held around every call into METIS: it keeps its random state in one global, so two orderings
+//! at once would each depend on the other's timing.
+std::mutex& nested_dissection_mutex();
+}  // namespace detail
+
+}  // namespace ricci
