@@ -401,7 +401,7 @@ void RicciFlowSolver::State::finish(const TargetCurvature& target) {
 }
 
 RicciFlowSolver::RicciFlowSolver(const CompactMesh& mesh, const ConformalStructure& structure,
-                                 FlowOptions options) {
+                                 FlowOptions options, VertexOrder order) {
   if (!(options.tolerance > 0) || options.max_iterations < 0) {
     throw InvalidArgumentError(
         "ricci flow: tolerance must be positive and the iteration limit non-negative");
@@ -412,16 +412,14 @@ RicciFlowSolver::RicciFlowSolver(const CompactMesh& mesh, const ConformalStructu
     throw InvalidArgumentError("ricci flow: the conformal structure was built for another mesh");
   }
   state_ = std::make_unique<State>(mesh, structure, std::move(options));
+  if (order.num_vertices() != nv) order = VertexOrder::start(nv, mesh.faces());
+  state_->steps.use_vertex_order(std::move(order));
 }
 
 RicciFlowSolver::~RicciFlowSolver() = default;
 
 void RicciFlowSolver::defer_flips(bool defer) {
   state_->defer_flips = defer;
-}
-
-void RicciFlowSolver::use_vertex_order(VertexOrder order) {
-  if (order.num_vertices() == state_->mesh.num_vertices()) state_->steps.use_vertex_order(order);
 }
 
 void RicciFlowSolver::restart_with_flips(const std::string& why) {

@@ -425,8 +425,7 @@ std::string layout_failure(const Uniformization& run) {
 // Returns true when the result is the disk preset's one solve.
 bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, int outer,
                       const TargetCurvature& target, bool one_solve, Uniformization& run) {
-  RicciFlowSolver solver(mesh, run.structure, o.flow);
-  solver.use_vertex_order(o.vertex_order);
+  RicciFlowSolver solver(mesh, run.structure, o.flow, o.vertex_order);
   bool by_one_solve = false;
   if (run.preset == TargetPreset::UnitDisk) {
     by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);

@@ -56,8 +56,8 @@ struct MeshUniformization {
 std::vector<LayoutKind> planned_layouts(const RepairedMesh& mesh,
                                         const UniformizationOptions& options);
 
-//! Uniformizes every component of the repaired mesh with the options (per-vertex values and the
-//! centre and axis vertex are given in the input's vertex numbering).
+//! Uniformizes every component of the repaired mesh with the options (per-vertex values, the
+//! centre and axis vertex and the vertex order are given in the input's vertex numbering).
 //! \throws InvalidTargetError, InvalidArgumentError as uniformize() does, naming the component.
 MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOptions& options);
 

@@ -143,10 +143,13 @@ inline const Triangulation& result_triangulation(const CompactMesh& mesh, const 
 //! where the last one ended: solving for a target near the last one takes few iterations.
 class RicciFlowSolver {
  public:
+  //! Systems of kNestedDissectionRows rows or more are analysed in `order` (vertex_order.h), or
+  //! where that is empty or for another number of vertices, in one the solver starts finding at
+  //! once from the mesh's vertex graph: one ordering for every pattern (free set, flips).
   //! \throws InvalidArgumentError when the structure was built for another mesh, or the options
   //!   are out of range.
   RicciFlowSolver(const CompactMesh& mesh, const ConformalStructure& structure,
-                  FlowOptions options = {});
+                  FlowOptions options = {}, VertexOrder order = {});
   ~RicciFlowSolver();
   RicciFlowSolver(const RicciFlowSolver&) = delete;
   RicciFlowSolver& operator=(const RicciFlowSolver&) = delete;
@@ -175,10 +178,6 @@ class RicciFlowSolver {
   //! walk to a start with u held fixed somewhere still turns flips on at once; no deferred solve
   //! has a start.)
   void defer_flips(bool defer);
-
-  //! Large systems are analysed in this order of the mesh's vertices (vertex_order.h) instead of
-  //! each finding its own; ignored when it is for another number of vertices.
-  void use_vertex_order(VertexOrder order);
 
   //! Back to the input triangulation, the input structure and u0 (with flips on from the start
   //! after restart_with_flips()).
