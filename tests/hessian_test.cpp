@@ -158,5 +158,26 @@ TEST(Hessian, FixedVerticesAreLeftOut) {
   }
 }
 
+// S2's H^2, formed without temporaries, is Eigen's product: at the first H and, with the pattern
+// kept, at another H of the same pattern.
+TEST(Hessian, SquareIsTheProductAndKeepsItsPattern) {
+  const CompactMesh mesh = test::cgal_mesh("eight.off");
+  SchemeOptions options;
+  options.scheme = Scheme::Yamabe;
+  const ConformalStructure s = initialize_scheme(mesh, Geometry::Spherical, options, 0.3);
+  HessianAssembler assembler(mesh, all_free(mesh));
+  SparseMatrix square;
+  Eigen::VectorXd u = s.u0;
+  for (int trial = 0; trial < 2; ++trial) {
+    const SparseMatrix h = assembler.assemble(evaluate_metric(mesh, s, u));
+    square_symmetric(h, square, trial > 0);
+    const SparseMatrix expected = h * h;
+    ASSERT_EQ(square.nonZeros(), expected.nonZeros());
+    const double difference = (Eigen::MatrixXd(square) - Eigen::MatrixXd(expected)).norm();
+    EXPECT_LT(difference, 1e-14 * Eigen::MatrixXd(expected).norm());
+    u = u.array() + 0.01 * Eigen::ArrayXd::LinSpaced(u.size(), -1, 1);
+  }
+}
+
 }  // namespace
 }  // namespace ricci

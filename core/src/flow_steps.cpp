@@ -61,6 +61,7 @@ void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& 
   assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
   free_index_ = free_index;
   analyzed_ = false;
+  normal_pattern_ = false;
   held_ = Held::None;
   krylov_rate_ = 0;
   stale_fell_short_ = false;
@@ -98,7 +99,8 @@ bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, b
   const SparseMatrix* system = &h;
   double shift = 0;
   if (spherical) {
-    normal_matrix_ = h * h;
+    square_symmetric(h, normal_matrix_, normal_pattern_);
+    normal_pattern_ = true;
     rhs = h * r;
     system = &normal_matrix_;
     shift = lm_weight * r.norm();

@@ -135,7 +135,8 @@ class StepSolver {
   VertexOrder order_;
   mutable std::vector<int> ranks_;  // order_'s, once known
   LinearSolver solver_;
-  SparseMatrix normal_matrix_;  // S2: H^2
+  SparseMatrix normal_matrix_;   // S2: H^2
+  bool normal_pattern_ = false;  // normal_matrix_ holds H^2's pattern on this pattern
   bool analyzed_ = false;
   Held held_ = Held::None;      // the factorization on the current pattern
   double factor_residual_ = 0;  // max |r| when it was made

@@ -79,4 +79,44 @@ const SparseMatrix& HessianAssembler::assemble(const MetricState& state) {
   return matrix_;
 }
 
+void square_symmetric(const SparseMatrix& h, SparseMatrix& square, bool keep_pattern) {
+  const int n = static_cast<int>(h.rows());
+  const int* outer = h.outerIndexPtr();
+  const int* inner = h.innerIndexPtr();
+  const double* value = h.valuePtr();
+  if (!keep_pattern || square.rows() != n) {
+    // Column j of H^2 has an entry in every row i two edges from j or closer.
+    std::vector<int> columns(n + 1, 0), rows, seen(n, -1);
+    for (int j = 0; j < n; ++j) {
+      const size_t first = rows.size();
+      for (int a = outer[j]; a < outer[j + 1]; ++a) {
+        for (int b = outer[inner[a]]; b < outer[inner[a] + 1]; ++b) {
+          if (seen[inner[b]] != j) seen[inner[b]] = j, rows.push_back(inner[b]);
+        }
+      }
+      std::sort(rows.begin() + static_cast<long>(first), rows.end());
+      columns[j + 1] = static_cast<int>(rows.size());
+    }
+    square = SparseMatrix(n, n);
+    square.resizeNonZeros(static_cast<long>(rows.size()));
+    std::copy(columns.begin(), columns.end(), square.outerIndexPtr());
+    std::copy(rows.begin(), rows.end(), square.innerIndexPtr());
+  }
+  // (H^2)(:, j) = sum over k of H(:, k) H(k, j), H being symmetric, gathered in a dense column.
+  std::vector<double> column(n, 0.0);
+  const int* square_outer = square.outerIndexPtr();
+  const int* square_inner = square.innerIndexPtr();
+  double* square_value = square.valuePtr();
+  for (int j = 0; j < n; ++j) {
+    for (int a = outer[j]; a < outer[j + 1]; ++a) {
+      const int k = inner[a];
+      for (int b = outer[k]; b < outer[k + 1]; ++b) column[inner[b]] += value[b] * value[a];
+    }
+    for (int c = square_outer[j]; c < square_outer[j + 1]; ++c) {
+      square_value[c] = column[square_inner[c]];
+      column[square_inner[c]] = 0;
+    }
+  }
+}
+
 }  // namespace ricci
