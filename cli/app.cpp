@@ -163,6 +163,10 @@ void run(const Options& o) {
 }
 
 int run_command_line(int argc, const char* const* argv) {
+  // One malloc arena for every thread: the memory the fill-reducing ordering's thread frees
+  // (about 80 MB at 1.07M faces) is then reused by the flow, instead of staying in an arena of
+  // that thread's own (measured at 1.07M faces: a peak of 1.25 GB instead of 1.32 GB).
+  mallopt(M_ARENA_MAX, 1);
   Options options;
   try {
     options = parse_options(argc, argv);

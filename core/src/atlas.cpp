@@ -78,7 +78,7 @@ UniformizationOptions component_options(const UniformizationOptions& o, const Re
     c.preset = TargetPreset::Values;
     c.values = Eigen::VectorXd::Zero(static_cast<long>(component.vertex.size()));
   }
-  if (!o.vertex_order.empty()) {
+  if (o.vertex_order.num_vertices() == m.num_input_vertices) {
     std::vector<int> input_vertex;
     input_vertex.reserve(component.vertex.size());
     for (int v : component.vertex) input_vertex.push_back(m.original[v]);

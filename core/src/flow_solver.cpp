@@ -142,7 +142,7 @@ void RicciFlowSolver::State::use_free_vertices(const TargetCurvature& target) {
       detail::free_vertex_index(mesh.num_vertices(), structure.geometry, target);
   if (index != free_index) pattern_current = false;
   free_index = std::move(index);
-  if (!pattern_current) steps.set_pattern(triangulation, free_index);
+  if (!pattern_current) steps.set_pattern(triangulation, free_index, flip_sequence.empty());
   pattern_current = true;
 }
 
@@ -158,7 +158,7 @@ void RicciFlowSolver::State::keep_delaunay() {
   // entries change too.
   if (!flips.sequence.empty()) {
     ++result.connectivity_changes;
-    steps.set_pattern(triangulation, free_index);
+    steps.set_pattern(triangulation, free_index, false);
   }
   times.flips += seconds_since(t);
 }
@@ -170,7 +170,7 @@ void RicciFlowSolver::State::adopt_flips(detail::LineSearch& step) {
   result.num_flips += step.flips.flips;
   flip_sequence.insert(flip_sequence.end(), step.flips.sequence.begin(), step.flips.sequence.end());
   ++result.connectivity_changes;
-  steps.set_pattern(triangulation, free_index);
+  steps.set_pattern(triangulation, free_index, false);
 }
 
 // EdgeFlips::WhenNeeded: flips from here on, starting from the current u.
@@ -412,7 +412,10 @@ RicciFlowSolver::RicciFlowSolver(const CompactMesh& mesh, const ConformalStructu
     throw InvalidArgumentError("ricci flow: the conformal structure was built for another mesh");
   }
   state_ = std::make_unique<State>(mesh, structure, std::move(options));
-  if (order.num_vertices() != nv) order = VertexOrder::start(nv, mesh.faces());
+  // S2 analyses H^2 + mu I in its own ordering, and LDL^T takes none.
+  const bool ordered = structure.geometry != Geometry::Spherical &&
+                       state_->options.linear_solver == LinearSolverKind::Cholmod;
+  if (order.num_vertices() != nv && ordered) order = VertexOrder::start(nv, mesh.faces());
   state_->steps.use_vertex_order(std::move(order));
 }
 

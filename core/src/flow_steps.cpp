@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <sstream>
 
 namespace ricci::detail {
@@ -57,9 +58,11 @@ std::vector<int> free_vertex_index(int num_vertices, Geometry geometry,
 
 // === The step direction
 
-void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& free_index) {
+void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& free_index,
+                             bool unflipped) {
   assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
   free_index_ = free_index;
+  unflipped_ = unflipped;
   analyzed_ = false;
   normal_pattern_ = false;
   held_ = Held::None;
@@ -68,11 +71,18 @@ void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& 
 }
 
 std::vector<int> StepSolver::rows_in_order() const {
-  if (order_.empty() || order_.num_vertices() != static_cast<int>(free_index_.size()) ||
+  if (!unflipped_ || order_.empty() ||
+      order_.num_vertices() != static_cast<int>(free_index_.size()) ||
       num_free() < kNestedDissectionRows) {
     return {};
   }
-  if (ranks_.empty()) ranks_ = order_.ranks();
+  if (ranks_.empty()) {
+    try {
+      ranks_ = order_.ranks();
+    } catch (const std::exception&) {  // the ordering's thread failed (out of memory)
+      return {};
+    }
+  }
   if (ranks_.size() != free_index_.size()) return {};  // METIS failed
   std::vector<std::pair<int, int>> ranked;             // (rank, vertex) of each free vertex
   ranked.reserve(static_cast<size_t>(num_free()));

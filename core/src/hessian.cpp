@@ -87,6 +87,7 @@ void square_symmetric(const SparseMatrix& h, SparseMatrix& square, bool keep_pat
   if (!keep_pattern || square.rows() != n) {
     // Column j of H^2 has an entry in every row i two edges from j or closer.
     std::vector<int> columns(n + 1, 0), rows, seen(n, -1);
+    rows.reserve(static_cast<size_t>(4 * h.nonZeros()));
     for (int j = 0; j < n; ++j) {
       const size_t first = rows.size();
       for (int a = outer[j]; a < outer[j + 1]; ++a) {
@@ -102,7 +103,7 @@ void square_symmetric(const SparseMatrix& h, SparseMatrix& square, bool keep_pat
     std::copy(columns.begin(), columns.end(), square.outerIndexPtr());
     std::copy(rows.begin(), rows.end(), square.innerIndexPtr());
   }
-  // (H^2)(:, j) = sum over k of H(:, k) H(k, j), H being symmetric, gathered in a dense column.
+  // (H^2)(:, j) = sum over k of H(:, k) H(k, j), gathered in a dense column.
   std::vector<double> column(n, 0.0);
   const int* square_outer = square.outerIndexPtr();
   const int* square_inner = square.innerIndexPtr();

@@ -38,9 +38,9 @@ class HessianAssembler {
   std::vector<std::array<int, 9>> slots_;  //!< per face, value index of (row corner, col corner)
 };
 
-//! H^2 (S2's Levenberg-Marquardt matrix) for a symmetric H with both triangles stored, into
-//! `square` without temporaries: with keep_pattern, `square` already holds H^2's pattern (from an
-//! earlier H of the same pattern) and only its values are written.
+//! H^2 (S2's Levenberg-Marquardt matrix) into `square`, without the temporaries of Eigen's
+//! product (in the same summation order): with keep_pattern, `square` already holds H^2's pattern
+//! from an earlier H of the same pattern (checked only by size), and only its values are written.
 void square_symmetric(const SparseMatrix& h, SparseMatrix& square, bool keep_pattern);
 
 }  // namespace ricci

@@ -1,12 +1,10 @@
 #include "ricci/vertex_order.h"
 
 #include <algorithm>
+#include <system_error>
 #include <utility>
 
 #include <cholmod.h>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 
 namespace ricci {
 
@@ -20,7 +18,9 @@ std::mutex& nested_dissection_mutex() {
 namespace {
 
 // Per vertex its place in METIS's nested dissection order of the edge graph; empty on failure.
-std::vector<int> order_edge_graph(int n, const std::vector<std::array<int, 3>>& faces) {
+// The faces are taken by value: std::async keeps its copy of the arguments as long as the result,
+// and this one is freed on return.
+std::vector<int> order_edge_graph(int n, std::vector<std::array<int, 3>> faces) {
   // The upper triangle of the adjacency pattern, column by column.
   std::vector<std::pair<int, int>> edges;  // (column, row), row < column
   edges.reserve(3 * faces.size());
@@ -33,6 +33,7 @@ std::vector<int> order_edge_graph(int n, const std::vector<std::array<int, 3>>& 
       edges.emplace_back(std::max(a, b), std::min(a, b));
     }
   }
+  faces = {};
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
 
@@ -51,6 +52,7 @@ std::vector<int> order_edge_graph(int n, const std::vector<std::array<int, 3>>& 
       for (; e < edges.size() && edges[e].first == col; ++e) i[e] = edges[e].second;
     }
     p[n] = static_cast<int>(e);
+    edges = {};
     std::vector<int> perm(n);
     bool ok;
     {
@@ -64,13 +66,6 @@ std::vector<int> order_edge_graph(int n, const std::vector<std::array<int, 3>>& 
     cholmod_free_sparse(&a, &common);
   }
   cholmod_finish(&common);
-  edges = {};
-#ifdef __GLIBC__
-  // This thread's allocations came from a malloc arena of its own, which glibc would keep (the
-  // command raises the trim threshold for its own loops): returned now, they do not add to the
-  // run's peak memory.
-  malloc_trim(0);
-#endif
   return rank;
 }
 
@@ -80,17 +75,23 @@ VertexOrder VertexOrder::start(int num_vertices, const std::vector<std::array<in
                                int from_vertices) {
   VertexOrder order;
   if (num_vertices < from_vertices || num_vertices <= 0) return order;
-  order.rank_ = std::async(std::launch::async, order_edge_graph, num_vertices, faces).share();
+  try {
+    order.rank_ = std::async(std::launch::async, order_edge_graph, num_vertices, faces).share();
+  } catch (const std::system_error&) {
+    return order;  // no thread to be had: each system finds its own ordering
+  }
   order.num_ordered_ = num_vertices;
   return order;
 }
 
 VertexOrder VertexOrder::restricted(std::vector<int> from) const {
-  VertexOrder order = *this;
-  if (empty()) return order;
-  if (from_) {
-    for (int& v : from) v = (*from_)[v];
+  if (empty()) return {};
+  const int n = num_vertices();
+  for (int& v : from) {
+    if (v < 0 || v >= n) return {};
+    if (from_) v = (*from_)[v];
   }
+  VertexOrder order = *this;
   order.from_ = std::make_shared<const std::vector<int>>(std::move(from));
   return order;
 }
@@ -105,7 +106,7 @@ std::vector<int> VertexOrder::ranks() const {
   if (!from_ || rank.empty()) return rank;
   std::vector<int> out;
   out.reserve(from_->size());
-  for (int v : *from_) out.push_back(v >= 0 && v < static_cast<int>(rank.size()) ? rank[v] : 0);
+  for (int v : *from_) out.push_back(rank[v]);
   return out;
 }
 

@@ -25,8 +25,8 @@ class LinearSolver {
   LinearSolver& operator=(const LinearSolver&) = delete;
 
   //! Symbolic analysis (fill-reducing ordering); call again only when the pattern changes.
-  //! With `order` (CHOLMOD only: row order[k] is eliminated k-th), that ordering is used instead
-  //! of finding one.
+  //! With `order` (CHOLMOD only: row order[k] is eliminated k-th, up to CHOLMOD's postordering,
+  //! which keeps the fill), that ordering is used instead of finding one.
   void analyze(const Eigen::SparseMatrix<double>& a, const std::vector<int>* order = nullptr);
   //! Numeric factorization of a + shift I. Returns false when it is not positive definite.
   //! \pre analyze() was called with a matrix of the same pattern.

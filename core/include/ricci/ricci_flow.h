@@ -143,9 +143,10 @@ inline const Triangulation& result_triangulation(const CompactMesh& mesh, const 
 //! where the last one ended: solving for a target near the last one takes few iterations.
 class RicciFlowSolver {
  public:
-  //! Systems of kNestedDissectionRows rows or more are analysed in `order` (vertex_order.h), or
-  //! where that is empty or for another number of vertices, in one the solver starts finding at
-  //! once from the mesh's vertex graph: one ordering for every pattern (free set, flips).
+  //! Hessians of kNestedDissectionRows rows or more on the mesh's own triangulation (any free
+  //! set; not after flips, not S2's H^2 + mu I, not with LDL^T) are analysed in `order`
+  //! (vertex_order.h), or where that is empty or for another number of vertices, in one the
+  //! solver starts finding at once from the mesh's vertex graph (not in S2, nor with LDL^T).
   //! \throws InvalidArgumentError when the structure was built for another mesh, or the options
   //!   are out of range.
   RicciFlowSolver(const CompactMesh& mesh, const ConformalStructure& structure,

@@ -71,7 +71,8 @@ struct UniformizationOptions {
   //! (reported as an invalid layout) instead of delivering the common subdivision.
   bool keep_input_triangulation = false;
   //! A fill-reducing order of the vertices, found ahead (vertex_order.h; for uniformize_mesh, of
-  //! the input's vertices, as read); empty: the flow starts its own (RicciFlowSolver).
+  //! the input's vertices, as read); empty or for another number of vertices: the flow starts its
+  //! own (RicciFlowSolver).
   VertexOrder vertex_order;
 };
 
