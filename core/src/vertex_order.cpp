@@ -20,7 +20,8 @@ namespace {
 // Per vertex its place in METIS's nested dissection order of the edge graph; empty on failure.
 // The faces are taken by value: std::async keeps its copy of the arguments as long as the result,
 // and this one is freed on return.
-std::vector<int> order_edge_graph(int n, std::vector<std::array<int, 3>> faces) {
+std::vector<int> order_edge_graph(int n, std::vector<std::array<int, 3>> faces,
+                                  const std::function<void()>& finally) {
   // The upper triangle of the adjacency pattern, column by column.
   std::vector<std::pair<int, int>> edges;  // (column, row), row < column
   edges.reserve(3 * faces.size());
@@ -66,17 +67,20 @@ std::vector<int> order_edge_graph(int n, std::vector<std::array<int, 3>> faces) 
     cholmod_free_sparse(&a, &common);
   }
   cholmod_finish(&common);
+  if (finally) finally();
   return rank;
 }
 
 }  // namespace
 
 VertexOrder VertexOrder::start(int num_vertices, const std::vector<std::array<int, 3>>& faces,
-                               int from_vertices) {
+                               int from_vertices, std::function<void()> finally) {
   VertexOrder order;
   if (num_vertices < from_vertices || num_vertices <= 0) return order;
   try {
-    order.rank_ = std::async(std::launch::async, order_edge_graph, num_vertices, faces).share();
+    order.rank_ =
+        std::async(std::launch::async, order_edge_graph, num_vertices, faces, std::move(finally))
+            .share();
   } catch (const std::system_error&) {
     return order;  // no thread to be had: each system finds its own ordering
   }

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -32,8 +33,11 @@ class VertexOrder {
   //! repeated index are left out. Below from_vertices vertices, or where no thread can be
   //! started: none (the orderings of smaller systems are quick, and CHOLMOD's default choice is
   //! better there). Destroying the last copy of the result waits for the thread to finish.
+  //! `finally` runs on that thread once the ordering is done (the command returns the memory the
+  //! thread freed to the system there).
   static VertexOrder start(int num_vertices, const std::vector<std::array<int, 3>>& faces,
-                           int from_vertices = kNestedDissectionRows);
+                           int from_vertices = kNestedDissectionRows,
+                           std::function<void()> finally = {});
 
   //! The order for a mesh whose vertex v is this one's vertex from[v] (a component of a repaired
   //! mesh; vertices split into copies share their rank, and keep their own order among them).
