@@ -427,7 +427,7 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
                       const TargetCurvature& target, bool one_solve, Uniformization& run) {
   bool by_one_solve = false;
   {
-    // Its factorizations (at 1.07M faces, half the run's peak memory) go before what follows.
+    // Its factorizations are freed before the flow on the double and the layout, which need none.
     RicciFlowSolver solver(mesh, run.structure, o.flow, o.vertex_order);
     if (run.preset == TargetPreset::UnitDisk) {
       by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
