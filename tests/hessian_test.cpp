@@ -3,6 +3,7 @@
 // its kernel on a closed surface, H2 definite).
 #include "hessian.h"
 
+#include <algorithm>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -16,6 +17,13 @@ namespace ricci {
 namespace {
 
 const Geometry kGeometries[] = {Geometry::Euclidean, Geometry::Hyperbolic, Geometry::Spherical};
+
+// The Yamabe scheme's structure on a mesh in geometry g, lengths scaled by 0.3.
+ConformalStructure yamabe(const CompactMesh& mesh, Geometry g) {
+  SchemeOptions options;
+  options.scheme = Scheme::Yamabe;
+  return initialize_scheme(mesh, g, options, 0.3);
+}
 
 std::vector<int> all_free(const CompactMesh& mesh) {
   std::vector<int> index(mesh.num_vertices());
@@ -127,9 +135,7 @@ TEST(Hessian, EuclideanClosedSurfaceHasConstantKernelAndIsSemiDefinite) {
 
 TEST(Hessian, HyperbolicIsPositiveDefinite) {
   const CompactMesh mesh = test::cgal_mesh("eight.off");
-  SchemeOptions options;
-  options.scheme = Scheme::Yamabe;
-  const ConformalStructure s = initialize_scheme(mesh, Geometry::Hyperbolic, options, 0.3);
+  const ConformalStructure s = yamabe(mesh, Geometry::Hyperbolic);
   HessianAssembler assembler(mesh, all_free(mesh));
   const Eigen::MatrixXd h = Eigen::MatrixXd(assembler.assemble(evaluate_metric(mesh, s, s.u0)));
   EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(h).eigenvalues().minCoeff(), 0.0);
@@ -137,11 +143,9 @@ TEST(Hessian, HyperbolicIsPositiveDefinite) {
 
 TEST(Hessian, FixedVerticesAreLeftOut) {
   const CompactMesh mesh = test::bumpy_disk(4);
-  std::vector<int> index(mesh.num_vertices(), -1);
-  int n = 0;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (!mesh.is_boundary_vertex(v)) index[v] = n++;
-  }
+  const std::vector<int> index = test::interior_rows(mesh);
+  const int n =
+      static_cast<int>(std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; }));
   SchemeOptions options;
   const ConformalStructure s = initialize_scheme(mesh, Geometry::Euclidean, options);
   const MetricState state = evaluate_metric(mesh, s, s.u0);
@@ -162,9 +166,7 @@ TEST(Hessian, FixedVerticesAreLeftOut) {
 // kept, at another H of the same pattern.
 TEST(Hessian, SquareIsTheProductAndKeepsItsPattern) {
   const CompactMesh mesh = test::cgal_mesh("eight.off");
-  SchemeOptions options;
-  options.scheme = Scheme::Yamabe;
-  const ConformalStructure s = initialize_scheme(mesh, Geometry::Spherical, options, 0.3);
+  const ConformalStructure s = yamabe(mesh, Geometry::Spherical);
   HessianAssembler assembler(mesh, all_free(mesh));
   SparseMatrix square;
   Eigen::VectorXd u = s.u0;

@@ -21,20 +21,10 @@
 namespace ricci {
 namespace {
 
-// lion-head.off's interior vertices: each one's row, -1 on the boundary.
-std::vector<int> interior_rows(const CompactMesh& mesh) {
-  std::vector<int> index(mesh.num_vertices(), -1);
-  int n = 0;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (!mesh.is_boundary_vertex(v)) index[v] = n++;
-  }
-  return index;
-}
-
 // The E2 Yamabe Hessian of lion-head.off (a disk scan) with its boundary held: positive definite.
 Eigen::SparseMatrix<double> lion_head_hessian() {
   const CompactMesh mesh = test::cgal_mesh("lion-head.off");
-  const std::vector<int> index = interior_rows(mesh);
+  const std::vector<int> index = test::interior_rows(mesh);
   const ConformalStructure s = initialize_scheme(mesh, Geometry::Euclidean, SchemeOptions());
   HessianAssembler assembler(mesh, index);
   return assembler.assemble(evaluate_metric(mesh, s, s.u0));
@@ -182,7 +172,7 @@ TEST(VertexOrder, OrderOfTheVertexGraphServesAHessianOfItsInterior) {
   std::sort(sorted.begin(), sorted.end());
   for (int v = 0; v < mesh.num_vertices(); ++v) ASSERT_EQ(sorted[v], v);  // a permutation
 
-  const std::vector<int> index = interior_rows(mesh);
+  const std::vector<int> index = test::interior_rows(mesh);
   std::vector<int> interior;
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (index[v] >= 0) interior.push_back(v);

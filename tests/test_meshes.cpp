@@ -111,4 +111,13 @@ CompactMesh cgal_mesh(const std::string& name) {
   return read_mesh(cgal_mesh_path(name));
 }
 
+std::vector<int> interior_rows(const CompactMesh& mesh) {
+  std::vector<int> index(mesh.num_vertices(), -1);
+  int n = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!mesh.is_boundary_vertex(v)) index[v] = n++;
+  }
+  return index;
+}
+
 }  // namespace ricci::test

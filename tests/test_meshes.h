@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "ricci/compact_mesh.h"
 
@@ -22,5 +23,7 @@ CompactMesh subdivide_midpoint(const CompactMesh& mesh, int levels);
 CompactMesh cgal_mesh(const std::string& name);
 //! Path of a file in the CGAL data set.
 std::string cgal_mesh_path(const std::string& name);
+//! Per vertex its row among the interior vertices (in vertex order), -1 on the boundary.
+std::vector<int> interior_rows(const CompactMesh& mesh);
 
 }  // namespace ricci::test
