@@ -172,13 +172,25 @@ TEST(VertexOrder, OrderOfTheVertexGraphServesAHessianOfItsInterior) {
   std::sort(sorted.begin(), sorted.end());
   for (int v = 0; v < mesh.num_vertices(); ++v) ASSERT_EQ(sorted[v], v);  // a permutation
 
+  // The interior's rows in the order: each once, by rank.
   const std::vector<int> index = test::interior_rows(mesh);
-  std::vector<int> interior;
+  const std::vector<int> rows = order.rows(index);
+  const int interior =
+      static_cast<int>(std::count_if(index.begin(), index.end(), [](int row) { return row >= 0; }));
+  ASSERT_EQ(static_cast<int>(rows.size()), interior);
+  std::vector<int> vertex_of_row(static_cast<size_t>(interior), -1);
   for (int v = 0; v < mesh.num_vertices(); ++v)
-    if (index[v] >= 0) interior.push_back(v);
-  std::sort(interior.begin(), interior.end(), [&](int a, int b) { return rank[a] < rank[b]; });
-  std::vector<int> rows;
-  for (int v : interior) rows.push_back(index[v]);
+    if (index[v] >= 0) vertex_of_row[index[v]] = v;
+  std::vector<int> seen(static_cast<size_t>(interior), 0);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_GE(rows[i], 0);
+    ASSERT_LT(rows[i], interior);
+    EXPECT_EQ(++seen[rows[i]], 1);
+    if (i > 0) {
+      EXPECT_LT(rank[vertex_of_row[rows[i - 1]]], rank[vertex_of_row[rows[i]]]);
+    }
+  }
+  EXPECT_TRUE(order.rows(std::vector<int>(index.begin(), index.end() - 1)).empty());
 
   Factored own(LinearSolverKind::Cholmod);
   ASSERT_TRUE(own.factorized);
@@ -207,6 +219,13 @@ TEST(VertexOrder, RestrictedOrderFollowsTheVertexMap) {
   EXPECT_EQ(part.ranks(), (std::vector<int>{rank[5], rank[3], rank[3], rank[0]}));
   const VertexOrder deeper = part.restricted({3, 0});
   EXPECT_EQ(deeper.ranks(), (std::vector<int>{rank[0], rank[5]}));
+  // Copies of a vertex share its rank and are listed by vertex index, next to each other;
+  // vertices without a row are left out.
+  const std::vector<int> rows = part.rows({0, 1, 2, 3});
+  ASSERT_EQ(rows.size(), 4u);
+  const auto at = [&](int row) { return std::find(rows.begin(), rows.end(), row) - rows.begin(); };
+  EXPECT_EQ(at(2), at(1) + 1);
+  EXPECT_EQ(part.rows({-1, 0, 1, -1}), (std::vector<int>{0, 1}));
 
   EXPECT_TRUE(order.restricted({0, mesh.num_vertices()}).empty());
   EXPECT_TRUE(VertexOrder::start(mesh.num_vertices(), mesh.faces()).empty());

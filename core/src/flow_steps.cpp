@@ -71,28 +71,8 @@ void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& 
 }
 
 std::vector<int> StepSolver::rows_in_order() const {
-  if (!unflipped_ || order_.empty() ||
-      order_.num_vertices() != static_cast<int>(free_index_.size()) ||
-      num_free() < kNestedDissectionRows) {
-    return {};
-  }
-  if (ranks_.empty()) {
-    try {
-      ranks_ = order_.ranks();
-    } catch (const std::exception&) {  // the ordering's thread failed (out of memory)
-      return {};
-    }
-  }
-  if (ranks_.size() != free_index_.size()) return {};  // METIS failed
-  std::vector<std::pair<int, int>> ranked;             // (rank, vertex) of each free vertex
-  ranked.reserve(static_cast<size_t>(num_free()));
-  for (size_t v = 0; v < free_index_.size(); ++v)
-    if (free_index_[v] >= 0) ranked.emplace_back(ranks_[v], static_cast<int>(v));
-  std::sort(ranked.begin(), ranked.end());
-  std::vector<int> rows;
-  rows.reserve(ranked.size());
-  for (const auto& [rank, v] : ranked) rows.push_back(free_index_[v]);
-  return rows;
+  if (!unflipped_ || order_.empty() || num_free() < kNestedDissectionRows) return {};
+  return order_.rows(free_index_);
 }
 
 void StepSolver::begin_solve() {

@@ -71,10 +71,7 @@ class StepSolver {
   //! the mesh's own: not after flips (316,933 Delaunay flips of the 1.07M-face lion head made
   //! every factorization in it 13 times slower), nor for H^2 + mu I (S2), whose pattern couples
   //! 2-rings.
-  void use_vertex_order(VertexOrder order) {
-    order_ = std::move(order);
-    ranks_.clear();
-  }
+  void use_vertex_order(VertexOrder order) { order_ = std::move(order); }
   //! The length of the step the line search took along the last direction.
   void note_step(double alpha) { last_step_full_ = alpha == 1; }
   int num_free() const { return assembler_->num_free(); }
@@ -137,7 +134,6 @@ class StepSolver {
   std::vector<int> free_index_;
   bool unflipped_ = true;
   VertexOrder order_;
-  mutable std::vector<int> ranks_;  // order_'s, once known
   LinearSolver solver_;
   SparseMatrix normal_matrix_;   // S2: H^2
   bool normal_pattern_ = false;  // normal_matrix_ holds H^2's pattern on this pattern

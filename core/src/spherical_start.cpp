@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <Eigen/LU>
 #include <Eigen/SparseCore>
@@ -63,7 +64,8 @@ void harmonic_extension(const Triangulation& mesh, Eigen::VectorXd& u) {
 // least-squares sense over all edges: sin(l_ij / 2) = sqrt(2 eta_ij) e^((ui + uj) / 2) is linear
 // in u after taking logarithms, with 2 sin(l / 2) = the chord.
 Eigen::VectorXd fit_yamabe_to_chords(const Triangulation& mesh, const ConformalStructure& structure,
-                                     const std::vector<Eigen::Vector3d>& sphere) {
+                                     const std::vector<Eigen::Vector3d>& sphere,
+                                     const VertexOrder& order) {
   const int n = mesh.num_vertices();
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
@@ -81,7 +83,14 @@ Eigen::VectorXd fit_yamabe_to_chords(const Triangulation& mesh, const ConformalS
   Eigen::SparseMatrix<double> normal(n, n);
   normal.setFromTriplets(triplets.begin(), triplets.end());
   LinearSolver solver(LinearSolverKind::Cholmod);
-  solver.analyze(normal);
+  // Its pattern is the vertex graph's: the order found for it, where there is one.
+  std::vector<int> rows;
+  if (n >= kNestedDissectionRows && order.num_vertices() == n) {
+    std::vector<int> row_of_vertex(static_cast<size_t>(n));
+    std::iota(row_of_vertex.begin(), row_of_vertex.end(), 0);
+    rows = order.rows(row_of_vertex);
+  }
+  solver.analyze(normal, rows.empty() ? nullptr : &rows);
   if (!solver.factorize(normal)) throw SolverError("spherical start: singular least-squares fit");
   return solver.solve(rhs);
 }
@@ -251,7 +260,7 @@ double fit_puncture(const CompactMesh& mesh, const ConformalStructure& structure
 
 // The lift from the puncture p (see stereographic_start). \throws when the punctured flow fails.
 Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStructure& structure,
-                                   int p) {
+                                   int p, const VertexOrder& order) {
   const Punctured punctured = puncture(mesh, p);
   const CompactMesh& disk = punctured.disk;
   ConformalStructure flat = flat_structure(mesh, structure, punctured, p);
@@ -266,7 +275,7 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
           radius_from_conformal_factor(Geometry::Spherical, structure.u0[punctured.original[v]]));
     }
   }
-  RicciFlowSolver solver(disk, flat);
+  RicciFlowSolver solver(disk, flat, FlowOptions(), order.restricted(punctured.original));
   const FlowResult r =
       solver.solve(TargetCurvature::free_boundary(disk), walk ? &shifted : nullptr);
   if (!r.converged) {
@@ -285,7 +294,7 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
   std::vector<Eigen::Vector3d> sphere(mesh.num_vertices(), Eigen::Vector3d(0, 0, 1));
   for (int v = 0; v < disk.num_vertices(); ++v)
     sphere[punctured.original[v]] = inverse_stereographic(s * (plane[v] - q.head<2>()));
-  if (is_yamabe(structure)) return fit_yamabe_to_chords(mesh, structure, sphere);
+  if (is_yamabe(structure)) return fit_yamabe_to_chords(mesh, structure, sphere, order);
 
   // u on the sphere: the projection scales lengths at y by 2 / (1 + |y|^2), and the similarity by
   // s, so a small circle at x becomes e^u s / (1 + |y|^2) on the sphere, where the length laws
@@ -303,20 +312,21 @@ Eigen::VectorXd lift_from_puncture(const CompactMesh& mesh, const ConformalStruc
 
 std::optional<Eigen::VectorXd> flow_start(const CompactMesh& mesh,
                                           const ConformalStructure& structure,
-                                          const TargetCurvature& target,
-                                          const FlowOptions& options) {
+                                          const TargetCurvature& target, const FlowOptions& options,
+                                          const VertexOrder& order) {
   if (!options.stereographic_start || structure.geometry != Geometry::Spherical ||
       !mesh.is_closed() || mesh.genus() != 0 || target.num_fixed() > 0) {
     return std::nullopt;
   }
   try {
-    return stereographic_start(mesh, structure);
+    return stereographic_start(mesh, structure, order);
   } catch (const Error&) {
     return std::nullopt;  // no puncture flattened: the direct flow may still converge
   }
 }
 
-Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure) {
+Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure,
+                                    const VertexOrder& order) {
   // Punctures to try: first the vertex of highest degree (its star is a well-shaped cap), then
   // the vertices whose link lengths vary least (the fixed u = -2 log L_pa on the link then varies
   // least, so the punctured flow starts from valid triangles).
@@ -345,7 +355,7 @@ Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStru
   std::string failures;
   for (int p : candidates) {
     try {
-      return lift_from_puncture(mesh, structure, p);
+      return lift_from_puncture(mesh, structure, p, order);
     } catch (const Error& e) {
       failures = e.what();
     }

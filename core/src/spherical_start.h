@@ -13,6 +13,7 @@
 #include "ricci/ricci_flow.h"
 #include "ricci/scheme.h"
 #include "ricci/target.h"
+#include "ricci/vertex_order.h"
 
 namespace ricci {
 
@@ -23,15 +24,18 @@ namespace ricci {
 //! each vertex's u is scaled by the projection's conformal factor, and the puncture's u is the best
 //! fit of its lifted edge lengths.
 //! \pre mesh is a closed genus-0 surface, structure.geometry is S2.
+//! `order`, a fill-reducing order of the mesh's vertices (VertexOrder), orders the punctured flow
+//! on the mesh's own triangulation and the final fit instead of an ordering of their own.
 //! \throws ConvergenceError when the punctured flow does not converge.
-Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure);
+Eigen::VectorXd stereographic_start(const CompactMesh& mesh, const ConformalStructure& structure,
+                                    const VertexOrder& order = {});
 
 //! Where the flow to `target` walks before Newton: the stereographic start on a closed genus-0
 //! surface in S2 with a curvature target at every vertex (when options.stereographic_start and a
 //! puncture flattened); otherwise none.
 std::optional<Eigen::VectorXd> flow_start(const CompactMesh& mesh,
                                           const ConformalStructure& structure,
-                                          const TargetCurvature& target,
-                                          const FlowOptions& options);
+                                          const TargetCurvature& target, const FlowOptions& options,
+                                          const VertexOrder& order = {});
 
 }  // namespace ricci

@@ -432,7 +432,8 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
     if (run.preset == TargetPreset::UnitDisk) {
       by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
     } else {
-      const std::optional<Eigen::VectorXd> start = flow_start(mesh, run.structure, target, o.flow);
+      const std::optional<Eigen::VectorXd> start =
+          flow_start(mesh, run.structure, target, o.flow, o.vertex_order);
       run.result = solver.solve(target, start ? &*start : nullptr);
       run.totals.add(run.result);
     }

@@ -1,6 +1,7 @@
 #include "ricci/vertex_order.h"
 
 #include <algorithm>
+#include <exception>
 #include <system_error>
 #include <utility>
 
@@ -111,6 +112,25 @@ std::vector<int> VertexOrder::ranks() const {
   std::vector<int> out;
   out.reserve(from_->size());
   for (int v : *from_) out.push_back(rank[v]);
+  return out;
+}
+
+std::vector<int> VertexOrder::rows(const std::vector<int>& row_of_vertex) const {
+  if (static_cast<int>(row_of_vertex.size()) != num_vertices()) return {};
+  std::vector<int> rank;
+  try {
+    rank = ranks();
+  } catch (const std::exception&) {  // the ordering's thread failed (out of memory)
+    return {};
+  }
+  if (rank.size() != row_of_vertex.size()) return {};  // METIS failed
+  std::vector<std::pair<int, int>> ranked;             // (rank, vertex) of each vertex with a row
+  for (size_t v = 0; v < row_of_vertex.size(); ++v)
+    if (row_of_vertex[v] >= 0) ranked.emplace_back(rank[v], static_cast<int>(v));
+  std::sort(ranked.begin(), ranked.end());
+  std::vector<int> out;
+  out.reserve(ranked.size());
+  for (const auto& [r, v] : ranked) out.push_back(row_of_vertex[v]);
   return out;
 }
 

@@ -50,6 +50,11 @@ class VertexOrder {
   //! Per vertex, its place in the order (copies of a vertex share it); waits until the ordering
   //! is done. Empty when METIS failed; rethrows what the ordering's thread threw. \pre !empty()
   std::vector<int> ranks() const;
+  //! The rows of a system whose row for vertex v is row_of_vertex[v] (-1: none), listed in this
+  //! order (copies of a vertex, which share their rank, by vertex index): the permutation a
+  //! LinearSolver analysis takes. Waits until the ordering is done. Empty when row_of_vertex is
+  //! not one entry per vertex, or the ordering failed (METIS, or its thread). \pre !empty()
+  std::vector<int> rows(const std::vector<int>& row_of_vertex) const;
 
  private:
   std::shared_future<std::vector<int>> rank_;  // per ordered vertex
