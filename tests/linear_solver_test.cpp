@@ -230,6 +230,7 @@ TEST(VertexOrder, RestrictedOrderFollowsTheVertexMap) {
   EXPECT_TRUE(order.restricted({0, mesh.num_vertices()}).empty());
   EXPECT_TRUE(VertexOrder::start(mesh.num_vertices(), mesh.faces()).empty());
   EXPECT_TRUE(VertexOrder().restricted({0}).empty());
+  EXPECT_TRUE(VertexOrder().rows({}).empty());
 }
 
 }  // namespace

@@ -116,7 +116,7 @@ std::vector<int> VertexOrder::ranks() const {
 }
 
 std::vector<int> VertexOrder::rows(const std::vector<int>& row_of_vertex) const {
-  if (static_cast<int>(row_of_vertex.size()) != num_vertices()) return {};
+  if (empty() || static_cast<int>(row_of_vertex.size()) != num_vertices()) return {};
   std::vector<int> rank;
   try {
     rank = ranks();

@@ -52,8 +52,8 @@ class VertexOrder {
   std::vector<int> ranks() const;
   //! The rows of a system whose row for vertex v is row_of_vertex[v] (-1: none), listed in this
   //! order (copies of a vertex, which share their rank, by vertex index): the permutation a
-  //! LinearSolver analysis takes. Waits until the ordering is done. Empty when row_of_vertex is
-  //! not one entry per vertex, or the ordering failed (METIS, or its thread). \pre !empty()
+  //! LinearSolver analysis takes. Waits until the ordering is done. Empty for no order, when
+  //! row_of_vertex is not one entry per vertex, or when the ordering failed (METIS, its thread).
   std::vector<int> rows(const std::vector<int>& row_of_vertex) const;
 
  private:
