@@ -15,10 +15,10 @@
 
 #include "app.h"
 #include "bench_meshes.h"
-#include "hessian.h"
-#include "metric.h"
-#include "ricci/linear_solver.h"
-#include "ricci/ricci_flow.h"
+#include "flow/hessian.h"
+#include "flow/metric.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/linear/linear_solver.h"
 #include "test_meshes.h"
 
 namespace ricci::bench {

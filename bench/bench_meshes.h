@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "ricci/compact_mesh.h"
+#include "ricci/mesh/compact_mesh.h"
 
 namespace ricci::bench {
 

@@ -4,7 +4,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_meshes.h"
-#include "ricci/uniformize.h"
+#include "ricci/pipeline/uniformize.h"
 
 namespace ricci::bench {
 namespace {

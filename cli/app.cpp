@@ -14,13 +14,13 @@
 #include "options.h"
 #include "picture.h"
 #include "result_ply.h"
-#include "ricci/atlas.h"
-#include "ricci/errors.h"
-#include "ricci/mesh_io.h"
-#include "ricci/repair.h"
-#include "ricci/report.h"
-#include "ricci/uniformize.h"
-#include "ricci/vertex_order.h"
+#include "ricci/io/mesh_io.h"
+#include "ricci/linear/vertex_order.h"
+#include "ricci/mesh/errors.h"
+#include "ricci/pipeline/atlas.h"
+#include "ricci/pipeline/uniformize.h"
+#include "ricci/repair/repair.h"
+#include "ricci/report/report.h"
 
 namespace {
 

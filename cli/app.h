@@ -3,7 +3,7 @@
 #pragma once
 
 #include "options.h"
-#include "ricci/uniformize.h"
+#include "ricci/pipeline/uniformize.h"
 
 namespace ricci::cli {
 

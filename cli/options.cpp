@@ -8,7 +8,7 @@
 #include <functional>
 #include <sstream>
 
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 
 namespace ricci::cli {
 

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "ricci/uniformize.h"
+#include "ricci/pipeline/uniformize.h"
 
 namespace ricci::cli {
 

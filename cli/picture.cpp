@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <fstream>
 
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 
 namespace ricci::cli {
 

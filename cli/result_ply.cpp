@@ -4,7 +4,7 @@
 #include <fstream>
 #include <limits>
 
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 
 namespace ricci::cli {
 

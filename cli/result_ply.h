@@ -19,7 +19,7 @@
 
 #include <string>
 
-#include "ricci/atlas.h"
+#include "ricci/pipeline/atlas.h"
 
 namespace ricci::cli {
 

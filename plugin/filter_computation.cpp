@@ -3,7 +3,7 @@
 #include <cmath>
 #include <optional>
 
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 
 namespace ricci::plugin {
 

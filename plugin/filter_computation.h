@@ -14,10 +14,10 @@
 #include <vcg/complex/complex.h>
 
 #include "filter_settings.h"
-#include "ricci/atlas.h"
-#include "ricci/repair.h"
-#include "ricci/uniformize.h"
-#include "ricci/vcg_adapter.h"
+#include "ricci/mesh/vcg_adapter.h"
+#include "ricci/pipeline/atlas.h"
+#include "ricci/pipeline/uniformize.h"
+#include "ricci/repair/repair.h"
 
 namespace ricci::plugin {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 
 namespace ricci::plugin {
 

@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "ricci/geometry.h"
-#include "ricci/linear_solver.h"
-#include "ricci/ricci_flow.h"
-#include "ricci/scheme.h"
-#include "ricci/uniformize.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/flow/scheme.h"
+#include "ricci/linear/linear_solver.h"
+#include "ricci/mesh/geometry.h"
+#include "ricci/pipeline/uniformize.h"
 
 namespace ricci::plugin {
 

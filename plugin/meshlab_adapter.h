@@ -16,7 +16,7 @@
 
 #include "filter_computation.h"
 #include "filter_settings.h"
-#include "ricci/report.h"
+#include "ricci/report/report.h"
 
 namespace ricci::plugin {
 

@@ -16,12 +16,12 @@
 
 #include "app.h"
 #include "options.h"
-#include "ricci/atlas.h"
-#include "ricci/errors.h"
-#include "ricci/mesh_io.h"
-#include "ricci/repair.h"
-#include "ricci/report.h"
-#include "ricci/ricci_flow.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/io/mesh_io.h"
+#include "ricci/mesh/errors.h"
+#include "ricci/pipeline/atlas.h"
+#include "ricci/repair/repair.h"
+#include "ricci/report/report.h"
 
 namespace nb = nanobind;
 

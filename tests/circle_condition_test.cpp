@@ -7,13 +7,14 @@
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
-#include "circle_condition.h"
-#include "circle_domain.h"
-#include "minres.h"
-#include "ricci/errors.h"
-#include "ricci/layout.h"
-#include "ricci/presets.h"
-#include "ricci/ricci_flow.h"
+#include "flow/circle_condition.h"
+#include "linear/minres.h"
+#include "pipeline/circle_domain.h"
+#include "ricci/flow/presets.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/layout/lay_out.h"
+#include "ricci/layout/layout.h"
+#include "ricci/mesh/errors.h"
 #include "test_meshes.h"
 
 namespace ricci {

@@ -13,53 +13,16 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "cli_run.h"
 #include "ply_reader.h"
-#include "ricci/geometry.h"
+#include "ricci/mesh/geometry.h"
 #include "test_meshes.h"
 
 using ricci::kPi;
 
 namespace {
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Per-test file names: ctest runs the tests of this file in parallel processes.
-std::string temp(const std::string& name) {
-  const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  return ::testing::TempDir() + "/ricci_cli_" + test->name() + "_" + name;
-}
-
-CliRun ricci_flow(const std::string& args) {
-  const std::string out = temp("stdout.txt"), err = temp("stderr.txt");
-  const std::string cmd =
-      std::string(RICCI_CLI_PATH) + " " + args + " >" + out + " 2>" + err + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  CliRun r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
-
-std::string cgal(const std::string& name) {
-  return ricci::test::cgal_mesh_path(name);
-}
-
-using ricci::test::read_ply;
-
-void write_file(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
+using namespace ricci::test::cli;
 
 TEST(Cli, DiskResultFollowsThePlyContract) {
   const std::string out = temp("disk.ply"), report = temp("disk.json"), png = temp("disk.png");
@@ -251,84 +214,6 @@ TEST(Cli, MixedSchemeReadsEpsFileAndTargetFile) {
   EXPECT_EQ(r.out, "");
 }
 
-// --- bad input: exit status and one message naming the problem
-
-void expect_error(const std::string& args, int code, const std::vector<std::string>& words) {
-  const CliRun r = ricci_flow(args);
-  EXPECT_EQ(r.exit_code, code) << args << "\n" << r.err;
-  for (const auto& w : words)
-    EXPECT_NE(r.err.find(w), std::string::npos) << "'" << w << "' not in: " << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
-}
-
-TEST(Cli, BadInputGetsAClearError) {
-  const std::string out = " -o " + temp("bad.ply");
-  expect_error(cgal("no-such-mesh.off") + out, 1, {"cannot open", "no-such-mesh.off"});
-  // Usage errors (exit 2) are found before the mesh is read: a missing mesh does not hide them.
-  expect_error(cgal("no-such-mesh.off") + out + " --scheme ricci", 2, {"unknown scheme"});
-  expect_error(cgal("nefertiti.off"), 2, {"-o OUTPUT.ply"});
-  expect_error(cgal("nefertiti.off") + out + " --scheme ricci", 2, {"unknown scheme 'ricci'"});
-  expect_error(cgal("nefertiti.off") + out + " --frobnicate", 2, {"unknown option '--frobnicate'"});
-  expect_error(cgal("nefertiti.off") + out + " --tolerance abc", 2,
-               {"--tolerance expects a finite number"});
-  expect_error(cgal("nefertiti.off") + out + " --scheme mixed", 2, {"needs --eps FILE"});
-  expect_error(cgal("nefertiti.off") + out + " --angle 120 --scheme thurston", 2,
-               {"outside [0, 90]"});
-  expect_error(cgal("nefertiti.off") + out + " --solver umfpack", 2, {"unknown linear solver"});
-  // Topology and geometry
-  expect_error(cgal("pipe.off") + out + " --geometry spherical", 1,
-               {"spherical geometry needs", "genus 1"});
-  expect_error(cgal("sphere.off") + out + " --geometry hyperbolic", 1,
-               {"hyperbolic geometry needs"});
-  expect_error(cgal("sphere.off") + out + " --target free-boundary", 1, {"needs a boundary"});
-  expect_error(cgal("sphere.off") + out + " --picture " + temp("x.png"), 1,
-               {"--picture needs a layout in the plane"});
-  // PyVista's airplane (real-mesh set): the automatic target gives component 0's circle domain,
-  // squeezed below double precision, the free boundary, cut open.
-  expect_error(std::string(RICCI_REAL_MESH_DIR) + "/pyvista-airplane.ply" + out + " --picture " +
-                   temp("x.png"),
-               1, {"--picture needs a layout in the plane with one position per vertex"});
-  expect_error(cgal("blobby_3cc.off") + out + " --strict", 1,
-               {"3 connected components", "blobby_3cc.off"});
-  expect_error(cgal("nefertiti.off") + out + " --target zero", 1, {"Gauss-Bonnet fails"});
-  // Targets from a file
-  write_file(temp("short.txt"), "0\n0\n");
-  expect_error(cgal("nefertiti.off") + out + " --target " + temp("short.txt"), 1,
-               {"2 values for a mesh of 299 vertices"});
-  std::string big;
-  for (int v = 0; v < 160; ++v) big += (v == 5 ? "7\n" : "0\n");
-  write_file(temp("big.txt"), big);
-  expect_error(cgal("pipe.off") + out + " --target " + temp("big.txt"), 1,
-               {"vertex 5", "Kbar < 2 pi"});
-  write_file(temp("word.txt"), "0\nzero\n");
-  expect_error(cgal("nefertiti.off") + out + " --target " + temp("word.txt"), 1,
-               {"word.txt:2", "'zero' is not a number"});
-  // Broken meshes written as OFF files, refused with --strict (repaired by default: below)
-  write_file(temp("nonmanifold.off"),
-             "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n3 0 1 2\n3 0 2 3\n3 2 0 4\n");
-  expect_error(temp("nonmanifold.off") + out + " --strict", 1,
-               {"non-manifold edges", "edge (0, 2)"});
-  write_file(temp("bowtie.off"),
-             "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n");
-  expect_error(temp("bowtie.off") + out + " --strict", 1, {"non-manifold vertices", "vertex 0"});
-  write_file(temp("degenerate.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n3 0 1 2\n3 0 1 3\n");
-  expect_error(temp("degenerate.off") + out + " --strict", 1, {"degenerate faces", "face 0"});
-  write_file(temp("duplicate.off"),
-             "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 1 2 0\n");
-  expect_error(temp("duplicate.off") + out + " --strict", 1, {"duplicate faces"});
-  write_file(temp("unreferenced.off"),
-             "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n9 9 9\n3 0 1 2\n3 0 2 3\n");
-  expect_error(temp("unreferenced.off") + out + " --strict", 1,
-               {"unreferenced vertices", "vertex 4"});
-  write_file(temp("nan.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\nnan 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
-  expect_error(temp("nan.off") + out, 1, {"NaN or infinite", "vertex 2"});
-  // A flow that cannot converge on this triangulation
-  expect_error(cgal("elk.off") + out + " --scheme yamabe --no-flips", 1,
-               {"stalled at iteration", "degenerat"});
-  expect_error(cgal("nefertiti.off") + out + " --max-iterations 1", 1,
-               {"no convergence in 1 iterations"});
-}
-
 bool parses_as_json(const std::string& path) {
   // An independent parser: Python's.
   return std::system(("python3 -c 'import json, sys; json.load(open(sys.argv[1]))' " + path +
@@ -344,93 +229,6 @@ TEST(Cli, ReportsAreJsonForOneAndSeveralComponents) {
                " --scheme tangential");
     EXPECT_TRUE(parses_as_json(report)) << mesh << ": " << slurp(report);
   }
-}
-
-TEST(Cli, DirtyMeshesAreRepairedAndReported) {
-  // The defects --strict refuses (above) are repaired by default, keeping the surface, and said.
-  struct Case {
-    std::string name, off, repaired;
-    int vertices, faces;  // of the result
-  };
-  for (const Case& c : {
-           Case{"nonmanifold",
-                "5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n3 0 1 2\n3 0 2 3\n3 2 0 4\n",
-                "1 non-manifold edges cut open", 7, 3},
-           Case{"bowtie", "5 2 0\n0 0 0\n1 0 0\n1 1 0\n-1 0 0\n-1 -1 0\n3 0 1 2\n3 0 3 4\n",
-                "1 non-manifold vertices split", 6, 2},
-           Case{"degenerate", "4 2 0\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n3 0 1 2\n3 0 1 3\n",
-                "1 zero-area faces removed", 4, 1},
-           Case{"duplicate", "4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 1 2 0\n",
-                "1 duplicate faces dropped (first: face 2)", 4, 2},
-           Case{"unreferenced", "5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n9 9 9\n3 0 1 2\n3 0 2 3\n",
-                "1 unreferenced vertices kept without a result (first: vertex 4)", 5, 2},
-           // Vertex 0 in no face, as in OBJ files whose first vertex nothing uses: the UVs must
-           // stay with their vertices.
-           Case{"unreferenced-first",
-                "5 2 0\n9 9 9\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 1 2 3\n3 1 3 4\n",
-                "1 unreferenced vertices kept without a result (first: vertex 0)", 5, 2},
-           Case{"misoriented", "4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 3 2\n",
-                "1 faces reoriented", 4, 2},
-       }) {
-    write_file(temp(c.name + ".off"), "OFF\n" + c.off);
-    const std::string out = temp(c.name + "-repaired.ply");
-    const CliRun r = ricci_flow(temp(c.name + ".off") + " -o " + out);
-    ASSERT_EQ(r.exit_code, 0) << c.name << ": " << r.err;
-    EXPECT_NE(r.out.find("Repaired: " + c.repaired), std::string::npos) << c.name << r.out;
-    const ricci::test::PlyData ply = read_ply(out);
-    EXPECT_EQ(ply.vertex.at("x").size(), static_cast<size_t>(c.vertices)) << c.name;
-    EXPECT_EQ(ply.faces.size(), static_cast<size_t>(c.faces)) << c.name;
-    // The input's vertices keep their place; every face is laid out counter-clockwise.
-    EXPECT_EQ(ply.vertex.at("x")[1], c.name == "unreferenced-first" ? 0.0 : 1.0) << c.name;
-    for (const auto& f : ply.faces) {
-      const auto uv = [&](int k) {
-        return std::array<double, 2>{ply.vertex.at("texture_u")[f[k]],
-                                     ply.vertex.at("texture_v")[f[k]]};
-      };
-      const auto a = uv(0), b = uv(1), d = uv(2);
-      EXPECT_GT((b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]), 0) << c.name;
-    }
-  }
-}
-
-TEST(Cli, RealDirtyMeshesAsTheyCome) {
-  // From meshes/real-meshes.tsv (origins and licences there): an ASCII STL in capitals, an OBJ
-  // with negative indices and quads, one with 16-gons, one with a non-manifold edge, one with
-  // non-manifold vertices and misoriented faces, and STL faces back to back.
-  const std::string dir = RICCI_REAL_MESH_DIR;
-  for (const char* mesh :
-       {"admesh-block.stl", "uranium-negative-indices.obj", "bouncy-farmer.obj",
-        "minetest-chest-open.obj", "geomview-hook.off", "openscad-back-to-back.stl"}) {
-    const std::string out = temp("real.ply");
-    const CliRun r = ricci_flow(dir + "/" + mesh + " -o " + out);
-    EXPECT_EQ(r.exit_code, 0) << mesh << ": " << r.err;
-    if (r.exit_code != 0) continue;
-    // Every face laid out counter-clockwise: in the plane, or seen from outside the sphere, or
-    // in the texture of a surface cut open.
-    const ricci::test::PlyData ply = read_ply(out);
-    for (size_t k = 0; k < ply.faces.size(); ++k) {
-      const auto& f = ply.faces[k];
-      std::array<Eigen::Vector3d, 3> p;
-      for (int c = 0; c < 3; ++c) {
-        p[c] = ply.has_vertex("layout_x") ? Eigen::Vector3d(ply.vertex.at("layout_x")[f[c]],
-                                                            ply.vertex.at("layout_y")[f[c]],
-                                                            ply.vertex.at("layout_z")[f[c]])
-                                          : Eigen::Vector3d(ply.face_texcoords[k][2 * c],
-                                                            ply.face_texcoords[k][2 * c + 1], 0.0);
-      }
-      const bool plane = p[0].z() == 0 && p[1].z() == 0 && p[2].z() == 0;
-      const double orientation =
-          plane ? (p[1] - p[0]).cross(p[2] - p[0]).z() : p[0].dot(p[1].cross(p[2]));
-      EXPECT_GT(orientation, 0) << mesh << " face " << k;
-    }
-  }
-  // Closed genus-0 surfaces in S2: the ipp-3d scan converges (its punctured flow walks to the
-  // puncture's shifted u with flips); so do the parts of assimp's spider, whose Delaunay
-  // triangulations need two edges between one pair of vertices.
-  const CliRun ipp = ricci_flow(dir + "/ipp-3d.stl -o " + temp("ipp.ply"));
-  EXPECT_EQ(ipp.exit_code, 0) << ipp.err;
-  const CliRun r = ricci_flow(dir + "/assimp-spider.obj -o " + temp("spider.ply"));
-  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 // Where the Yamabe flow gives no map with either target (sumo-tram.obj's windowed bodies), the

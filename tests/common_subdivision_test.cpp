@@ -7,9 +7,9 @@
 #include <map>
 #include <string>
 
-#include "ricci/mesh_io.h"
-#include "ricci/repair.h"
-#include "ricci/uniformize.h"
+#include "ricci/io/mesh_io.h"
+#include "ricci/pipeline/uniformize.h"
+#include "ricci/repair/repair.h"
 #include "test_meshes.h"
 
 namespace ricci {

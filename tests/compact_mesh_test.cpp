@@ -1,5 +1,5 @@
 // Connectivity, topology and every rejected kind of mesh, with messages that say what and where.
-#include "ricci/compact_mesh.h"
+#include "ricci/mesh/compact_mesh.h"
 
 #include <cmath>
 #include <cstdio>
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 #include "test_meshes.h"
 
 namespace ricci {

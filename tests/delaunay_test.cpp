@@ -2,16 +2,16 @@
 // triangulation), and Yamabe with flips, whose result is discretely conformal to the input in
 // the Ptolemy sense, checked by replaying the flips with an independent Ptolemy rule; Ptolemy
 // flips from lengths that violate the triangle inequality, and the line search that uses them.
-#include "delaunay.h"
+#include "flow/delaunay.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "flow_steps.h"
-#include "metric.h"
-#include "ricci/ricci_flow.h"
+#include "flow/flow_steps.h"
+#include "flow/metric.h"
+#include "ricci/flow/ricci_flow.h"
 #include "test_meshes.h"
 
 namespace ricci {

@@ -4,10 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include "doubled_surface.h"
-#include "ricci/mesh_io.h"
-#include "ricci/presets.h"
-#include "ricci/repair.h"
+#include "pipeline/doubled_surface.h"
+#include "ricci/flow/presets.h"
+#include "ricci/io/mesh_io.h"
+#include "ricci/pipeline/uniformize.h"
+#include "ricci/repair/repair.h"
 #include "test_meshes.h"
 
 namespace ricci {

@@ -5,8 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "ricci/layout.h"
-#include "ricci/ricci_flow.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/layout/lay_out.h"
+#include "ricci/layout/layout.h"
 #include "test_meshes.h"
 
 namespace ricci {
@@ -24,9 +25,7 @@ class RealMesh : public ::testing::TestWithParam<Case> {};
 TEST_P(RealMesh, ConvergesWithFlips) {
   const Case c = GetParam();
   const CompactMesh mesh = test::subdivide_midpoint(test::cgal_mesh(c.mesh), c.subdivisions);
-  SchemeOptions scheme;
-  scheme.scheme = c.scheme;
-  for (int v = 0; v < mesh.num_vertices(); ++v) scheme.eps.push_back(v % 3 - 1);  // for mixed
+  const SchemeOptions scheme = test::scheme_options(c.scheme, mesh);
   const FlowResult r =
       compute_ricci_flow(mesh, c.geometry, scheme, TargetCurvature::free_boundary_or_zero(mesh));
   EXPECT_TRUE(r.converged);

@@ -1,6 +1,6 @@
 // Length law, cosine law and their derivatives in E2, H2, S2, checked against central finite
 // differences on random configurations for every combination of eps.
-#include "ricci/geometry.h"
+#include "ricci/mesh/geometry.h"
 
 #include <cmath>
 #include <random>

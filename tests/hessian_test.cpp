@@ -1,7 +1,7 @@
 // H = dK/du assembled over the mesh equals central finite differences of the curvature, is
 // symmetric, and has the definiteness the theory promises (E2 semi-definite with the constants in
 // its kernel on a closed surface, H2 definite).
-#include "hessian.h"
+#include "flow/hessian.h"
 
 #include <algorithm>
 #include <random>
@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
-#include "metric.h"
-#include "ricci/scheme.h"
+#include "flow/metric.h"
+#include "ricci/flow/scheme.h"
 #include "test_meshes.h"
 
 namespace ricci {

@@ -1,6 +1,7 @@
 // Layouts in the model spaces, checked with the models' own geometry (not the developer's):
 // angle sums and areas measured on the laid-out points, the cut's two sides glued by isometries.
-#include "ricci/layout.h"
+#include "ricci/layout/lay_out.h"
+#include "ricci/layout/layout.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
-#include "ricci/ricci_flow.h"
+#include "ricci/flow/ricci_flow.h"
 #include "test_meshes.h"
 
 namespace ricci {

@@ -1,14 +1,15 @@
 // Planar layout of flat metrics: it reproduces the metric, flips no triangle, and stays accurate
 // on real meshes with obtuse triangles; surfaces other than disks are cut open.
-#include "ricci/layout.h"
+#include "ricci/layout/layout.h"
+#include "ricci/layout/lay_out.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "layout_methods.h"
-#include "ricci/errors.h"
-#include "ricci/ricci_flow.h"
+#include "layout/layout_methods.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/mesh/errors.h"
 #include "test_meshes.h"
 
 namespace ricci {

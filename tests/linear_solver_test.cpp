@@ -1,7 +1,7 @@
 // The linear solver's preconditioning solve: CHOLMOD's factor rounded to single precision, applied
 // in double precision. It must stay close to the exact solve, differ from it by the rounding (so
 // the copy is what runs), and be one symmetric positive definite operator, as MINRES needs.
-#include "ricci/linear_solver.h"
+#include "ricci/linear/linear_solver.h"
 
 #include <algorithm>
 #include <numeric>
@@ -9,13 +9,13 @@
 
 #include <gtest/gtest.h>
 
-#include "hessian.h"
-#include "metric.h"
-#include "minres.h"
-#include "ricci/errors.h"
-#include "ricci/scheme.h"
-#include "ricci/vertex_order.h"
-#include "single_factor.h"
+#include "flow/hessian.h"
+#include "flow/metric.h"
+#include "linear/minres.h"
+#include "linear/single_factor.h"
+#include "ricci/flow/scheme.h"
+#include "ricci/linear/vertex_order.h"
+#include "ricci/mesh/errors.h"
 #include "test_meshes.h"
 
 namespace ricci {

@@ -1,6 +1,6 @@
 // Every format the tool reads, on files written here: the same square (two triangles, or one quad)
 // and the same tetrahedron in each, with the extras real files carry.
-#include "ricci/mesh_io.h"
+#include "ricci/io/mesh_io.h"
 
 #include <algorithm>
 #include <cctype>
@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 #include "test_meshes.h"
 
 namespace ricci {

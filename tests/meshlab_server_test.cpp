@@ -11,7 +11,7 @@
 #include <Eigen/Dense>
 
 #include "ply_reader.h"
-#include "ricci/geometry.h"
+#include "ricci/mesh/geometry.h"
 #include "test_meshes.h"
 
 using ricci::kPi;

@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "pattern_obstruction.h"
-#include "ricci/ricci_flow.h"
+#include "flow/pattern_obstruction.h"
+#include "ricci/flow/ricci_flow.h"
 #include "test_meshes.h"
 
 namespace ricci {

@@ -12,8 +12,8 @@
 #include <vcg/complex/append.h>
 #include <wrap/io_trimesh/import.h>
 
-#include "ricci/errors.h"
-#include "ricci/report.h"
+#include "ricci/mesh/errors.h"
+#include "ricci/report/report.h"
 #include "test_meshes.h"
 
 namespace ricci::plugin {

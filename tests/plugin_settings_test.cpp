@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 
 namespace ricci::plugin {
 namespace {

@@ -1,13 +1,13 @@
 // Repairs keep the surface: every component is a checked mesh, the input's vertices keep their
 // place, the area is the input's, and each defect is reported with where it was.
-#include "ricci/repair.h"
+#include "ricci/repair/repair.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "ricci/errors.h"
-#include "ricci/geometry.h"
+#include "ricci/mesh/errors.h"
+#include "ricci/mesh/geometry.h"
 #include "test_meshes.h"
 
 namespace ricci {

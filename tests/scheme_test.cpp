@@ -1,13 +1,13 @@
 // Scheme presets and the Appendix initialization: the initial metric reproduces the input
 // lengths (inversive distance, Yamabe, virtual radius, mixed) in E2, H2 and S2.
-#include "ricci/scheme.h"
+#include "ricci/flow/scheme.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "metric.h"
-#include "ricci/errors.h"
+#include "flow/metric.h"
+#include "ricci/mesh/errors.h"
 #include "test_meshes.h"
 
 namespace ricci {

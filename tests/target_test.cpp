@@ -1,13 +1,13 @@
 // Targets that admit no solution are refused before any iteration, with the reason.
-#include "ricci/target.h"
+#include "ricci/flow/target.h"
 
-#include "ricci/presets.h"
+#include "ricci/flow/presets.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 #include "test_meshes.h"
 
 namespace ricci {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <map>
 
-#include "ricci/geometry.h"
-#include "ricci/mesh_io.h"
+#include "ricci/io/mesh_io.h"
+#include "ricci/mesh/geometry.h"
 
 namespace ricci::test {
 
@@ -118,6 +118,20 @@ std::vector<int> interior_rows(const CompactMesh& mesh) {
     if (!mesh.is_boundary_vertex(v)) index[v] = n++;
   }
   return index;
+}
+
+SchemeOptions scheme_options(Scheme scheme, const CompactMesh& mesh) {
+  SchemeOptions o;
+  o.scheme = scheme;
+  o.eps.resize(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) o.eps[v] = v % 3 - 1;
+  return o;
+}
+
+FlowOptions without_flips() {
+  FlowOptions o;
+  o.edge_flips = EdgeFlips::Never;
+  return o;
 }
 
 }  // namespace ricci::test

@@ -5,7 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "ricci/compact_mesh.h"
+#include "ricci/flow/flow_result.h"
+#include "ricci/flow/scheme.h"
+#include "ricci/mesh/compact_mesh.h"
 
 namespace ricci::test {
 
@@ -25,5 +27,12 @@ CompactMesh cgal_mesh(const std::string& name);
 std::string cgal_mesh_path(const std::string& name);
 //! Per vertex its row among the interior vertices (in vertex order), -1 on the boundary.
 std::vector<int> interior_rows(const CompactMesh& mesh);
+
+//! The options of `scheme` on mesh, with eps -1, 0, +1 in turn over the vertices (used by the mixed
+//! scheme only).
+SchemeOptions scheme_options(Scheme scheme, const CompactMesh& mesh);
+
+//! The flow's default options with edge flips off (EdgeFlips::Never).
+FlowOptions without_flips();
 
 }  // namespace ricci::test

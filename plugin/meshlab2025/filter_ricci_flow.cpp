@@ -1,7 +1,7 @@
 #include "filter_ricci_flow.h"
 
 #include "meshlab_adapter.h"
-#include "ricci/errors.h"
+#include "ricci/mesh/errors.h"
 
 using namespace ricci::plugin;
 

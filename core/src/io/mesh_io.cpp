@@ -1,4 +1,4 @@
-#include "ricci/mesh_io.h"
+#include "ricci/io/mesh_io.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "text_reader.h"
+#include "io/text_reader.h"
 
 namespace ricci {
 

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "text_reader.h"
+#include "io/text_reader.h"
 
 namespace ricci::io {
 

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <unordered_map>
 
-#include "text_reader.h"
+#include "io/text_reader.h"
 
 namespace ricci::io {
 

@@ -7,8 +7,8 @@
 #include <string_view>
 #include <vector>
 
-#include "ricci/errors.h"
-#include "ricci/mesh_io.h"
+#include "ricci/io/mesh_file.h"
+#include "ricci/mesh/errors.h"
 
 namespace ricci::io {
 

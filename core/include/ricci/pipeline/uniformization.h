@@ -1,0 +1,160 @@
+// What a uniformization is asked (UniformizationOptions) and what it delivers (Uniformization):
+// the flow's result, its layout and the delivered mesh's positions, corners and quality
+// (uniformize.h runs it).
+#pragma once
+
+#include <array>
+#include <complex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/flow/flow_result.h"
+#include "ricci/flow/presets.h"
+#include "ricci/layout/layout.h"
+#include "ricci/linear/vertex_order.h"
+#include "ricci/mesh/compact_mesh.h"
+#include "ricci/pipeline/layout_quality.h"
+#include "ricci/subdivision/common_subdivision.h"
+
+namespace ricci {
+
+enum class LayoutKind {
+  None,          //!< no layout (S2 with a cut)
+  Plane,         //!< one position per vertex in the plane (disks, circle domains)
+  PlaneCut,      //!< E2 cut open: wedge positions
+  PoincareDisk,  //!< H2 cut open: wedge positions in the unit disk
+  Sphere,        //!< one position per vertex on the unit sphere
+};
+//! "none", "plane", "plane-cut", "poincare-disk", "sphere".
+std::string to_string(LayoutKind k);
+
+struct UniformizationOptions {
+  TargetPreset preset = TargetPreset::Automatic;
+  //! The geometry; empty: the preset's (preset_geometry), or for Values the one Gauss-Bonnet
+  //! admits (geometry_for_target).
+  std::optional<Geometry> geometry;
+  //! Values: Kbar per vertex, NaN where u stays fixed.
+  Eigen::VectorXd values;
+  //! Values given as cones instead (cone_target: flat and straight elsewhere); not empty: the
+  //! preset is Values and `values` is ignored.
+  std::vector<Cone> cones;
+  SchemeOptions scheme;
+  //! The flow's options, edge flips among them (when needed by default).
+  FlowOptions flow;
+  //! Disk preset: the vertex mapped to the centre of the unit disk, and the one mapped onto the
+  //! positive real axis (-1: none).
+  int center_vertex = -1, axis_vertex = -1;
+  //! Disk preset: the boundary curvature is re-fitted to the boundary's current lengths until it
+  //! changes by less than this (radians).
+  double boundary_tolerance = 1e-9;
+  //! The most flows of one run of repeated flows (there can be two: without flips, then with).
+  int max_boundary_iterations = 200;
+  //! After edge flips, lay out the input's own faces by their corners even when some turn over
+  //! (reported as an invalid layout) instead of delivering the common subdivision.
+  bool keep_input_triangulation = false;
+  //! A fill-reducing order of the vertices, found ahead (vertex_order.h; for uniformize_mesh, of
+  //! the input's vertices, as read); empty or for another number of vertices: the flow starts its
+  //! own (RicciFlowSolver).
+  VertexOrder vertex_order;
+};
+
+//! Sums over the flows of one uniformization (the disk preset runs several).
+struct FlowTotals {
+  int flows = 0;
+  int newton_iterations = 0;
+  int edge_flips = 0;
+  int symbolic_analyses = 0;
+  int numeric_factorizations = 0;
+  int krylov_iterations = 0;  //!< MINRES iterations (the disk preset's one-solve flow)
+  //! EdgeFlips::WhenNeeded: the Newton iteration, counted over the flows, from which edge flips
+  //! were on, and why the input's triangulation was not enough; -1 and "": never needed.
+  int flips_from_iteration = -1;
+  std::string without_flips;
+  //! The largest FlowResult::attainable_residual of the flows: 0 when each reached the tolerance.
+  double attainable_residual = 0;
+  FlowTimes times;
+  void add(const FlowResult& r);
+  void add(const FlowTotals& other);
+};
+
+struct Uniformization {
+  TargetPreset preset = TargetPreset::Automatic;  //!< the one used (never Automatic)
+  Geometry geometry = Geometry::Euclidean;
+  Scheme scheme = Scheme::Yamabe;
+  double tolerance = 0;          //!< the flow's, on max |K - Kbar|
+  ConformalStructure structure;  //!< the initial structure
+  FlowResult result;             //!< the last flow
+  FlowTotals totals;
+  double boundary_change = 0;  //!< disk preset: last change of the boundary curvature
+  double circle_error = 0;     //!< disk preset: max | |z - c| - r | / r over boundary loops
+
+  LayoutKind layout_kind = LayoutKind::None;
+  //! The layout of the flow's final triangulation (empty when the flow did not converge).
+  Layout layout;
+  //! Plane and Sphere: position per vertex (Plane: z = 0).
+  std::vector<Eigen::Vector3d> position;
+  //! Every layout: positions per face and corner of the delivered mesh (the input's, or the
+  //! common subdivision's).
+  std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  //! PoincareDisk laid out in several charts (Layout::chart): per delivered face, the chart its
+  //! corners are in; empty for one chart.
+  std::vector<int> face_chart;
+  //! The mesh delivered instead of the input's: when the flow flipped edges and the input's faces
+  //! drawn by their corners would turn over (common_subdivision.h); when the Poincare disk's
+  //! drawing split sides (disk_drawing.h) or needs charts (Layout::chart). `position` and
+  //! `corners` are then its.
+  std::optional<CommonSubdivision> subdivision;
+  //! Input faces that turned over when drawn by their corners on the flipped triangulation.
+  int input_faces_turned_over = 0;
+  //! Sphere: the centring Moebius map was not applied because it would turn faces over.
+  bool centring_skipped = false;
+  //! The flow ran on the surface doubled along its boundary (doubled_surface.h), because on the
+  //! surface itself triangles at the boundary stalled it; `result` is the half's part of it.
+  bool doubled = false;
+  std::string doubled_because;  //!< with `doubled`: why the flow on the surface itself stopped
+  //! Why the common subdivision could not be built, or "".
+  std::string subdivision_failure;
+  //! Flat torus (E2, closed genus 1): two translations spanning the period lattice, from the deck
+  //! transformations; |Im(conj(w0) w1)| is the torus's area.
+  std::vector<std::complex<double>> periods;
+  LayoutQuality quality;  //!< of the delivered mesh's layout
+  //! Why the layout is not a valid map (faces turned over, boundary off its circles), or "".
+  std::string layout_failure;
+  //! TargetPreset::Automatic: why the preset used is not the topology's choice, or "". A circle
+  //! domain (UnitDisk) that is not reached, or whose layout is no map (faces squeezed below what
+  //! double precision draws), gives way to FreeBoundary where that is valid.
+  std::string target_instead;
+  //! TargetPreset::Automatic with the Yamabe scheme: why the tangential scheme's run is delivered
+  //! instead of the Yamabe flow's, which gave no valid map, or "".
+  std::string scheme_instead;
+
+  bool converged() const { return result.converged; }
+  //! Converged, and the layout a valid map.
+  bool valid() const { return converged() && layout_failure.empty(); }
+  //! \throws ConvergenceError with flow_failure_message (naming `subject`, e.g. the input file,
+  //!   when not empty) when the flow did not converge, LayoutError when the layout is invalid.
+  void require_valid(const std::string& subject = "") const;
+};
+
+//! The kind of layout uniformize() gives for a resolved request, when the flow converges.
+LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geometry geometry);
+
+//! The delivered faces' corners drawn in the plane (x, y): the layout's, except that a Poincare
+//! disk layout in several charts has chart k's disk moved to its own place in a grid of disks
+//! (row-major, 2.25 apart). Empty for the sphere and no layout.
+std::vector<std::array<Eigen::Vector2d, 3>> drawn_corners(const Uniformization& run);
+
+//! Texture coordinates in [0, 1]^2 of a layout: per vertex for Plane (scaled with the aspect ratio
+//! kept), per face corner for PlaneCut (the same) and PoincareDisk ((z + 1) / 2 for one chart,
+//! the grid of drawn_corners scaled like PlaneCut for several); none for the sphere.
+struct TextureCoordinates {
+  std::vector<Eigen::Vector2d> vertex;
+  std::vector<std::array<Eigen::Vector2d, 3>> wedge;
+};
+TextureCoordinates texture_coordinates(const Uniformization& run);
+
+}  // namespace ricci

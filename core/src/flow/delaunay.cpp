@@ -1,0 +1,193 @@
+#include "flow/delaunay.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "flow/hessian.h"
+
+namespace ricci {
+
+namespace {
+
+int corner_of(const Triangulation& mesh, int f, int v) {
+  for (int c = 0; c < 3; ++c) {
+    if (mesh.face_vertex(f, c) == v) return c;
+  }
+  return -1;
+}
+
+// lambda-length of a Yamabe edge: l = lambda e^((ui+uj)/2) in E2, and the same with sinh(l/2)
+// or sin(l/2) for l/2 in H2 and S2.
+double lambda(const ConformalStructure& s, int e) {
+  return std::sqrt(2 * s.eta[e]);
+}
+
+// The chord of a geodesic of length l: l (E2), 2 sinh(l/2) (H2), 2 sin(l/2) (S2).
+double chord(Geometry g, double l) {
+  switch (g) {
+    case Geometry::Hyperbolic:
+      return 2 * std::sinh(l / 2);
+    case Geometry::Spherical:
+      return 2 * std::sin(l / 2);
+    default:
+      return l;
+  }
+}
+
+// Twice the cosine of the angle opposite side c in the triangle of sides a, b, c: defined for any
+// positive lengths, also where they violate the triangle inequality (then beyond [-2, 2]).
+double twice_cosine(double a, double b, double c) {
+  return a / b + b / a - (c / a) * (c / b);
+}
+
+}  // namespace
+
+bool all_ptolemy(const ConformalStructure& structure) {
+  return structure.geometry != Geometry::Spherical && is_yamabe(structure);
+}
+
+bool is_ptolemy_delaunay(const Triangulation& mesh, Geometry geometry, const MetricState& state,
+                         int e, double tolerance) {
+  if (mesh.is_boundary_edge(e)) return true;
+  const auto length = [&](int f, int c) {
+    return chord(geometry, state.edges[mesh.face_edge(f, c)].length);
+  };
+  double sum = 0;
+  for (int h : {mesh.edge_halfedge(e), mesh.twin(mesh.edge_halfedge(e))}) {
+    const int f = h / 3, c = h % 3;  // c: the corner opposite e in f
+    sum += twice_cosine(length(f, (c + 1) % 3), length(f, (c + 2) % 3), length(f, c));
+  }
+  return sum >= -tolerance;
+}
+
+bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, double tolerance) {
+  if (mesh.is_boundary_edge(e)) return true;
+  const auto [a, b] = mesh.edge_vertices(e);
+  double off_diagonal = 0, scale = 0;
+  for (int f : mesh.edge_faces(e)) {
+    const auto j = face_angle_jacobian(mesh, state, f);
+    const int ca = corner_of(mesh, f, a), cb = corner_of(mesh, f, b);
+    off_diagonal -= 0.5 * (j[ca][cb] + j[cb][ca]);  // dK_a/du_b = -d theta_a/d u_b
+    scale += std::abs(j[ca][ca]) + std::abs(j[cb][cb]);
+  }
+  return off_diagonal <= tolerance * scale;
+}
+
+namespace {
+
+// What the common subdivision needs to follow the input's edges through a flip of edge e.
+EdgeFlip flip_record(const Triangulation& mesh, const ConformalStructure& structure,
+                     const MetricState& state, int e) {
+  const int h = mesh.edge_halfedge(e), t = mesh.twin(h);
+  const int f = h / 3, c = h % 3, fg = t / 3, d = t % 3;
+  const int k = mesh.face_vertex(f, c), a = mesh.face_vertex(f, (c + 1) % 3),
+            b = mesh.face_vertex(f, (c + 2) % 3), l = mesh.face_vertex(fg, d);
+  const std::array<int, 5> quad_edges = {
+      mesh.face_edge(f, (c + 2) % 3), mesh.face_edge(fg, (d + 1) % 3),
+      mesh.face_edge(fg, (d + 2) % 3), mesh.face_edge(f, (c + 1) % 3), e};
+  EdgeFlip record;
+  record.edge = e;
+  for (int i = 0; i < 5; ++i) {
+    record.lambda[i] = lambda(structure, quad_edges[i]);
+    record.chord[i] = chord(structure.geometry, state.edges[quad_edges[i]].length);
+  }
+  const auto& eps = structure.eps;
+  record.ptolemy = eps[k] == 0 && eps[a] == 0 && eps[b] == 0 && eps[l] == 0;
+  return record;
+}
+
+}  // namespace
+
+FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
+                         const Eigen::VectorXd& u, MetricState& state, int max_flips) {
+  FlipReport report;
+  // Triangles that violate the triangle inequality have no angles: only Ptolemy flips (Euclidean
+  // and hyperbolic Yamabe) can be decided and made from the lengths alone, and they end in valid
+  // triangles.
+  const bool from_lengths = !state.valid();
+  if (from_lengths && !all_ptolemy(structure)) return report;
+  const auto delaunay = [&](int e) {
+    return from_lengths ? is_ptolemy_delaunay(mesh, structure.geometry, state, e)
+                        : is_delaunay(mesh, state, e);
+  };
+  // Only the edges that are not Delaunay now start the queue (usually few after the first
+  // round).
+  std::vector<int> stack;
+  std::vector<char> queued(mesh.num_edges(), 0);
+  for (int e = mesh.num_edges() - 1; e >= 0; --e) {
+    if (!delaunay(e)) {
+      stack.push_back(e);
+      queued[e] = 1;
+    }
+  }
+  if (stack.empty()) return report;
+  const Geometry g = structure.geometry;
+  while (!stack.empty() && report.flips < max_flips) {
+    const int e = stack.back();
+    stack.pop_back();
+    queued[e] = 0;
+    if (delaunay(e)) continue;
+    const int h = mesh.edge_halfedge(e), t = mesh.twin(h);
+    const int f = h / 3, c = h % 3, fg = t / 3, d = t % 3;
+    const int k = mesh.face_vertex(f, c), l = mesh.face_vertex(fg, d);
+    // The quadrilateral k, a, l, b must be convex at a and b for the new diagonal k-l.
+    const double angle_a = state.faces[f].angle[(c + 1) % 3] + state.faces[fg].angle[(d + 2) % 3];
+    const double angle_b = state.faces[f].angle[(c + 2) % 3] + state.faces[fg].angle[(d + 1) % 3];
+    // k-l may already be an edge: intrinsic Delaunay triangulations can need two edges between
+    // one pair of vertices (both sides of a thin ear). Only a self-loop is refused.
+    // (A quadrilateral whose Ptolemy diagonal is not Delaunay is convex.)
+    if (k == l || (!from_lengths && !(angle_a < kPi && angle_b < kPi))) {
+      ++report.blocked;
+      continue;
+    }
+    const int e_bk = mesh.face_edge(f, (c + 1) % 3), e_ka = mesh.face_edge(f, (c + 2) % 3);
+    const int e_al = mesh.face_edge(fg, (d + 1) % 3), e_lb = mesh.face_edge(fg, (d + 2) % 3);
+    const double old_eta = structure.eta[e];
+    double new_eta;
+    const auto& eps = structure.eps;
+    const EdgeFlip record = flip_record(mesh, structure, state, e);
+    if (record.ptolemy) {
+      // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
+      const double lam = (lambda(structure, e_ka) * lambda(structure, e_lb) +
+                          lambda(structure, e_al) * lambda(structure, e_bk)) /
+                         lambda(structure, e);
+      new_eta = lam * lam / 2;
+    } else {
+      const double diagonal =
+          third_side(g, state.edges[e_ka].length, state.edges[e_al].length, angle_a);
+      new_eta = conformal_structure_from_length(g, diagonal, u[k], u[l], eps[k], eps[l]);
+    }
+    // eta <= 0 leaves the range where the Ricci energy is convex (the paper's schemes ask eta > 0).
+    if (!(new_eta > 0) || !std::isfinite(new_eta)) {
+      ++report.blocked;
+      continue;
+    }
+    mesh.flip(e);
+    structure.eta[e] = new_eta;
+    update_metric_at_edge(mesh, structure, u, e, state);
+    // The other diagonal must be Delaunay: otherwise both are not (no proper weighted Delaunay
+    // triangulation exists for this quad) and flipping would only cycle.
+    if ((!from_lengths && !state.valid()) || !delaunay(e)) {
+      // Back to a-b. Flipping twice gives the same triangles in other face slots, so both flips
+      // are recorded: a replay of the sequence ends in the same arrays.
+      report.sequence.push_back(record);
+      report.sequence.push_back(flip_record(mesh, structure, state, e));
+      mesh.flip(e);
+      structure.eta[e] = old_eta;
+      update_metric_at_edge(mesh, structure, u, e, state);
+      ++report.blocked;
+      continue;
+    }
+    ++report.flips;
+    report.sequence.push_back(record);
+    for (int side : {e_bk, e_ka, e_al, e_lb}) {
+      if (!mesh.is_boundary_edge(side) && !queued[side]) {
+        stack.push_back(side);
+        queued[side] = 1;
+      }
+    }
+  }
+  return report;
+}
+
+}  // namespace ricci

@@ -1,0 +1,110 @@
+// The flow's triangulation: edge flips to (power) Delaunay, when they start, and the walk to a
+// start.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <utility>
+
+#include "flow/flow_state.h"
+#include "flow/pattern_obstruction.h"
+#include "ricci/mesh/errors.h"
+
+namespace ricci {
+
+using detail::Clock;
+using detail::seconds_since;
+
+void detail::FlowState::use_free_vertices(const TargetCurvature& target) {
+  std::vector<int> index =
+      detail::free_vertex_index(mesh.num_vertices(), structure.geometry, target);
+  if (index != free_index) pattern_current = false;
+  free_index = std::move(index);
+  if (!pattern_current) steps.set_pattern(triangulation, free_index, flip_sequence.empty());
+  pattern_current = true;
+}
+
+// Flips to (power) Delaunay; a changed connectivity needs a new Hessian pattern and analysis.
+void detail::FlowState::keep_delaunay() {
+  if (!flipping) return;
+  const auto t = Clock::now();
+  const FlipReport flips =
+      make_delaunay(triangulation, structure, u, metric, 10 * mesh.num_edges());
+  result.num_flips += flips.flips;
+  flip_sequence.insert(flip_sequence.end(), flips.sequence.begin(), flips.sequence.end());
+  // A flip that was undone leaves the same triangles in other face slots: the pattern's per-face
+  // entries change too.
+  if (!flips.sequence.empty()) {
+    ++result.connectivity_changes;
+    steps.set_pattern(triangulation, free_index, false);
+  }
+  times.flips += seconds_since(t);
+}
+
+// The triangulation a line search flipped to reach its accepted point.
+void detail::FlowState::adopt_flips(detail::LineSearch& step) {
+  triangulation = std::move(*step.flipped);
+  structure.eta = std::move(step.flipped_eta);
+  result.num_flips += step.flips.flips;
+  flip_sequence.insert(flip_sequence.end(), step.flips.sequence.begin(), step.flips.sequence.end());
+  ++result.connectivity_changes;
+  steps.set_pattern(triangulation, free_index, false);
+}
+
+// EdgeFlips::WhenNeeded: flips from here on, starting from the current u.
+void detail::FlowState::start_flipping(int iteration, const std::string& why) {
+  flipping = true;
+  result.flips_from_iteration = iteration;
+  result.without_flips = why;
+  stall = detail::StallWindow();
+  lm_weight = 1;
+  if (blocked_walk) {
+    // Newton got stuck after a blocked walk: the walk again from its origin, with flips, as it
+    // goes with flips always (it costs no factorization).
+    u = blocked_walk->first;
+    metric = evaluate_metric(triangulation, structure, u);
+    keep_delaunay();
+    const Eigen::VectorXd start = std::move(blocked_walk->second);
+    blocked_walk.reset();
+    walk_to(start);
+  } else {
+    if (iteration <= kStartOverByIteration) {
+      u = newton_start;
+      metric = evaluate_metric(triangulation, structure, u);
+    }
+    keep_delaunay();
+  }
+  k = curvature(triangulation, metric);
+}
+
+// Moves u towards `start` in the longest valid steps, flipping to Delaunay after each when flips
+// are on. Without them, the walk ends where no step of 1e-6 of the way is valid, or after three
+// steps in a row of at most 1/64 of the way; when needed, that is remembered, and the walk made
+// again with flips once Newton gets stuck on this triangulation.
+void detail::FlowState::walk_to(const Eigen::VectorXd& start) {
+  if (!start.allFinite()) return;
+  const Eigen::VectorXd origin = u;
+  int short_steps = 0;
+  for (int step = 0; step < 200; ++step) {
+    const Eigen::VectorXd d = start - u;
+    double alpha = 1;
+    MetricState trial;
+    for (; alpha > 1e-6; alpha *= 0.5) {
+      trial = evaluate_metric(triangulation, structure, u + alpha * d);
+      if (trial.valid()) break;
+    }
+    // Without flips, steps that stay short only creep along the valid set's boundary.
+    short_steps = alpha <= detail::kShortStep ? short_steps + 1 : 0;
+    if (!trial.valid() || (!flipping && short_steps > detail::StallWindow::kLengthBeforeFlips)) {
+      if (may_start_flipping()) blocked_walk.emplace(origin, start);
+      return;
+    }
+    u += alpha * d;
+    metric = std::move(trial);
+    keep_delaunay();
+    if (alpha == 1) return;
+  }
+}
+
+}  // namespace ricci

@@ -1,0 +1,108 @@
+// The flow's state on one mesh between solves (RicciFlowSolver's), and one solve as a sequence of
+// named steps: flow_solver.cpp runs a solve, flow_newton.cpp takes one Newton step and decides
+// where the flow stops, flow_flips.cpp keeps the triangulation Delaunay and walks to a start.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "flow/circle_condition.h"
+#include "flow/delaunay.h"
+#include "flow/flow_steps.h"
+#include "ricci/flow/flow_result.h"
+#include "ricci/flow/scheme.h"
+#include "ricci/flow/target.h"
+#include "ricci/mesh/compact_mesh.h"
+
+namespace ricci::detail {
+
+struct FlowState {
+  FlowState(const CompactMesh& m, const ConformalStructure& s, FlowOptions o)
+      : mesh(m),
+        input_structure(s),
+        options(std::move(o)),
+        triangulation(m),
+        structure(s),
+        u(s.u0),
+        flipping(options.edge_flips == EdgeFlips::Always),
+        flips_from_start(flipping),
+        steps(options.linear_solver) {}
+
+  const CompactMesh& mesh;
+  const ConformalStructure input_structure;
+  const FlowOptions options;
+
+  // Kept from one solve to the next.
+  IntrinsicTriangulation triangulation;  // the input's, then as flipped
+  ConformalStructure structure;          // eta changes with flips
+  Eigen::VectorXd u;
+  bool flipping;  // edge flips are on (EdgeFlips::WhenNeeded: once the input's were not enough)
+  // With flips on, the line search flips trial points whose triangles are invalid by Ptolemy's
+  // relation (delaunay.h, all_ptolemy): in E2 always; in H2 only after a solve got stuck on
+  // triangles without (this solve). On the real meshes, flipped trial points made the genus-97
+  // cura-zav-maxpro.stl converge where it stalled (in 11 iterations from the start, 20 after the
+  // stall), and from the start they cost occt-head.stl (genus 6, 41 boundary loops) its
+  // convergence: from iteration 7 on, full steps that flip thousands of edges each, the residual
+  // falling 1.5 % per step.
+  bool flip_trial_points = false;
+  bool defer_flips = false;  // EdgeFlips::WhenNeeded: stop where flips would start
+  // EdgeFlips::Always, or since restart_with_flips(), whose reason the next solve reports.
+  bool flips_from_start;
+  std::string flipping_because;
+  // EdgeFlips::WhenNeeded: a walk to a start that the input's triangulation blocked, from where
+  // and to where; when flips start, the walk is made again with them.
+  std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> blocked_walk;
+  // u at this solve's first Newton iteration. Flips that start by iteration kStartOverByIteration
+  // start from there: on the real meshes and CGAL's scans whose flips started at iteration 2 or 3,
+  // Newton then took as many iterations as with flips always, and from where it stopped up to 6
+  // more (cura-robot-support.stl: 26 after the 3 without flips, against 31;
+  // scripts/compare_flip_modes.py).
+  Eigen::VectorXd newton_start;
+  static constexpr int kStartOverByIteration = 3;
+  std::vector<EdgeFlip> flip_sequence;
+  std::vector<int> free_index;  // of the pattern the step solver holds
+  bool pattern_current = false;
+  detail::StepSolver steps;
+
+  // One solve.
+  FlowResult result;
+  FlowTimes times;
+  MetricState metric;
+  Eigen::VectorXd k;
+  double lm_weight = 1;  // S2 and circles: mu = lm_weight * |r|
+  detail::StallWindow stall;
+  // solve_circle_domain(): the boundary loops on circles, whose target moves with u; goal is the
+  // target at the current u (otherwise the solve's target).
+  std::optional<detail::CircleCondition> circles;
+  TargetCurvature goal;
+
+  bool spherical() const { return structure.geometry == Geometry::Spherical; }
+  bool hyperbolic() const { return structure.geometry == Geometry::Hyperbolic; }
+  bool may_start_flipping() const {
+    return !flipping && options.edge_flips == EdgeFlips::WhenNeeded;
+  }
+  void start_flipping(int iteration, const std::string& why);
+  void use_free_vertices(const TargetCurvature& target);
+  void keep_delaunay();
+  void adopt_flips(detail::LineSearch& step);
+  void walk_to(const Eigen::VectorXd& start);
+  std::string precondition_failure(const TargetCurvature& target);
+  std::string iterate(const TargetCurvature& target, int it);
+  double attainable_floor(const TargetCurvature& target) const;
+  double start_round_off = 0;  // max curvature_round_off where Newton started
+  void normalize_scale(const TargetCurvature& target);
+  void finish(const TargetCurvature& target);
+  void update_goal() {
+    if (circles && metric.valid()) circles->set_target(metric.lengths(), goal);
+  }
+  bool step_direction(const Eigen::VectorXd& r, Eigen::VectorXd& du);
+  std::string step_failure;           // why step_direction() failed, when H was factorized
+  bool blocked_by_triangles = false;  // the last line search met triangles that degenerate
+  FlowResult run(const Eigen::VectorXd* start);
+};
+
+}  // namespace ricci::detail

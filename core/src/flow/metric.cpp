@@ -1,0 +1,102 @@
+#include "flow/metric.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "mesh/two_threads.h"
+
+namespace ricci {
+
+namespace {
+
+std::array<double, 3> face_lengths(const Triangulation& mesh, const MetricState& state, int f) {
+  return {state.edges[mesh.face_edge(f, 0)].length, state.edges[mesh.face_edge(f, 1)].length,
+          state.edges[mesh.face_edge(f, 2)].length};
+}
+}  // namespace
+
+std::vector<double> MetricState::lengths() const {
+  std::vector<double> l(edges.size());
+  for (size_t e = 0; e < edges.size(); ++e) l[e] = edges[e].length;
+  return l;
+}
+
+MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure& structure,
+                            const Eigen::VectorXd& u) {
+  MetricState state;
+  const Geometry g = structure.geometry;
+  state.edges.resize(mesh.num_edges());
+  state.faces.resize(mesh.num_faces());
+  const Eigen::VectorXd x = u.array().exp();
+  int invalid_edges[2] = {0, 0}, invalid_faces[2] = {0, 0}, first_invalid[2] = {-1, -1};
+  detail::in_two_halves(mesh.num_edges(), [&](int part, int begin, int end) {
+    for (int e = begin; e < end; ++e) {
+      const auto [i, j] = mesh.edge_vertices(e);
+      state.edges[e] = edge_length_of_exponentials(g, x[i], x[j], structure.eps[i],
+                                                   structure.eps[j], structure.eta[e]);
+      invalid_edges[part] += !state.edges[e].valid;
+    }
+  });
+  detail::in_two_halves(mesh.num_faces(), [&](int part, int begin, int end) {
+    for (int f = begin; f < end; ++f) {
+      state.faces[f] = corner_angles(g, face_lengths(mesh, state, f));
+      if (!state.faces[f].valid && invalid_faces[part]++ == 0) first_invalid[part] = f;
+    }
+  });
+  state.num_invalid_edges = invalid_edges[0] + invalid_edges[1];
+  state.num_invalid_faces = invalid_faces[0] + invalid_faces[1];
+  state.first_invalid_face = first_invalid[0] >= 0 ? first_invalid[0] : first_invalid[1];
+  return state;
+}
+
+void update_metric_at_edge(const Triangulation& mesh, const ConformalStructure& structure,
+                           const Eigen::VectorXd& u, int e, MetricState& state) {
+  const auto [i, j] = mesh.edge_vertices(e);
+  state.num_invalid_edges -= !state.edges[e].valid;
+  state.edges[e] = edge_length(structure.geometry, u[i], u[j], structure.eps[i], structure.eps[j],
+                               structure.eta[e]);
+  state.num_invalid_edges += !state.edges[e].valid;
+  for (int f : mesh.edge_faces(e)) {
+    if (f < 0) continue;
+    state.num_invalid_faces -= !state.faces[f].valid;
+    state.faces[f] = corner_angles(structure.geometry, face_lengths(mesh, state, f));
+    if (!state.faces[f].valid && state.num_invalid_faces++ == 0) state.first_invalid_face = f;
+  }
+}
+
+Eigen::VectorXd curvature(const Triangulation& mesh, const MetricState& state) {
+  Eigen::VectorXd k(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) k[v] = mesh.is_boundary_vertex(v) ? kPi : 2 * kPi;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) k[mesh.face_vertex(f, c)] -= state.faces[f].angle[c];
+  }
+  return k;
+}
+
+Eigen::VectorXd curvature_round_off(const Triangulation& mesh, const MetricState& state) {
+  Eigen::VectorXd noise = Eigen::VectorXd::Zero(mesh.num_vertices());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    std::array<double, 3> l = face_lengths(mesh, state, f);
+    std::sort(l.begin(), l.end(), std::greater<double>());
+    const double a = l[0], b = l[1], c = l[2];
+    const double area4 =
+        std::sqrt(std::max(0.0, (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c))));
+    const double e = std::numeric_limits<double>::epsilon() * (a * a + b * b + c * c) /
+                     std::max(area4, std::numeric_limits<double>::min());
+    for (int corner = 0; corner < 3; ++corner) noise[mesh.face_vertex(f, corner)] += e;
+  }
+  return noise;
+}
+
+double total_area(const Triangulation& mesh, Geometry geometry, const MetricState& state) {
+  double area = 0;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    area += triangle_area(geometry, face_lengths(mesh, state, f), state.faces[f].angle);
+  }
+  return area;
+}
+
+}  // namespace ricci

@@ -1,0 +1,48 @@
+// The discrete metric at a conformal factor u: edge lengths, corner angles and their
+// derivatives, evaluated once per Newton iterate and shared by curvature and Hessian.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/flow/scheme.h"
+#include "ricci/mesh/geometry.h"
+#include "ricci/mesh/triangulation.h"
+
+namespace ricci {
+
+struct MetricState {
+  std::vector<EdgeLength> edges;      //!< per edge: l and dl/du at both endpoints
+  std::vector<TriangleAngles> faces;  //!< per face: corner angles and d angle / d l
+  int num_invalid_edges = 0;          //!< edges whose length law has no solution
+  int num_invalid_faces = 0;          //!< faces violating the triangle inequality
+  int first_invalid_face = -1;
+  bool valid() const { return num_invalid_edges == 0 && num_invalid_faces == 0; }
+  //! Edge lengths as a plain array.
+  std::vector<double> lengths() const;
+};
+
+//! Lengths and angles of the circle packing metric (eps, eta, u).
+MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure& structure,
+                            const Eigen::VectorXd& u);
+
+//! Recomputes edge e's length and the angles of its faces (after e was flipped or its eta
+//! changed), keeping the invalid counts up to date.
+void update_metric_at_edge(const Triangulation& mesh, const ConformalStructure& structure,
+                           const Eigen::VectorXd& u, int e, MetricState& state);
+
+//! Discrete Gauss curvature: 2 pi - sum of angles inside, pi - sum on the boundary.
+//! \pre state.valid()
+Eigen::VectorXd curvature(const Triangulation& mesh, const MetricState& state);
+
+//! The round-off in the curvature of each vertex's angle sum: unit round-off times, over its
+//! faces, (a^2 + b^2 + c^2) / (4 area), the condition of the law of cosines (the Euclidean area
+//! of the side lengths, from Kahan's formula, in every geometry). Its maximum is what a residual
+//! can be brought down to. \pre state.valid()
+Eigen::VectorXd curvature_round_off(const Triangulation& mesh, const MetricState& state);
+
+//! Total area of the metric in its background geometry. \pre state.valid()
+double total_area(const Triangulation& mesh, Geometry geometry, const MetricState& state);
+
+}  // namespace ricci

@@ -1,0 +1,24 @@
+#include "ricci/layout/lay_out.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "layout/layout_methods.h"
+
+namespace ricci {
+
+Layout lay_out(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
+               LinearSolverKind solver, double chart_radius) {
+  Layout layout;
+  if (geometry == Geometry::Euclidean) {
+    layout = detail::plane_layout(mesh, lengths, solver);
+  } else {
+    layout = detail::develop(mesh, geometry, lengths, std::min(chart_radius, kChartRadius));
+    detail::glue_along_cut(mesh, layout);
+  }
+  layout.relation_error =
+      layout.chart.empty() ? surface_group_relation_error(mesh, layout) : std::nan("");
+  return layout;
+}
+
+}  // namespace ricci

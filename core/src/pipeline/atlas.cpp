@@ -1,0 +1,340 @@
+#include "ricci/pipeline/atlas.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "ricci/mesh/errors.h"
+
+namespace ricci {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Where an input vertex is: its component and the component's vertex, or {-1, -1}.
+std::vector<std::pair<int, int>> locate_inputs(const RepairedMesh& m) {
+  std::vector<std::pair<int, int>> where(m.positions.size(), {-1, -1});
+  for (size_t k = 0; k < m.components.size(); ++k) {
+    const MeshComponent& c = m.components[k];
+    for (size_t i = 0; i < c.vertex.size(); ++i) {
+      where[c.vertex[i]] = {static_cast<int>(k), static_cast<int>(i)};
+    }
+  }
+  for (size_t v = 0; v < m.positions.size(); ++v) {
+    if (where[v].first < 0 && m.represented_by[v] >= 0) where[v] = where[m.represented_by[v]];
+  }
+  return where;
+}
+
+// A vertex option (centre, axis) given in the input's numbering, for component k.
+int component_vertex(int input_vertex, const std::vector<std::pair<int, int>>& where,
+                     int num_input_vertices, int k, const char* what) {
+  if (input_vertex < 0) return -1;
+  if (input_vertex >= num_input_vertices || where[input_vertex].first < 0) {
+    throw InvalidArgumentError(std::string("the ") + what + " vertex " +
+                               std::to_string(input_vertex) + " is in no face of the mesh");
+  }
+  return where[input_vertex].first == k ? where[input_vertex].second : -1;
+}
+
+UniformizationOptions component_options(const UniformizationOptions& o, const RepairedMesh& m,
+                                        const std::vector<std::pair<int, int>>& where, int k) {
+  UniformizationOptions c = o;
+  const MeshComponent& component = m.components[k];
+  if (o.preset == TargetPreset::Values && o.cones.empty()) {
+    if (o.values.size() != m.num_input_vertices) {
+      throw InvalidTargetError("target curvature: " + std::to_string(o.values.size()) +
+                               " values for a mesh of " + std::to_string(m.num_input_vertices) +
+                               " vertices; give one value per vertex, in vertex order");
+    }
+    c.values.resize(static_cast<long>(component.vertex.size()));
+    for (size_t i = 0; i < component.vertex.size(); ++i) {
+      c.values[static_cast<long>(i)] = o.values[m.original[component.vertex[i]]];
+    }
+  }
+  if (!o.scheme.eps.empty()) {  // the mixed scheme's eps per input vertex
+    if (static_cast<int>(o.scheme.eps.size()) != m.num_input_vertices) {
+      throw InvalidArgumentError("mixed scheme: eps has " + std::to_string(o.scheme.eps.size()) +
+                                 " values but the mesh has " +
+                                 std::to_string(m.num_input_vertices) +
+                                 " vertices; give one of +1, 0, -1 per vertex");
+    }
+    c.scheme.eps.clear();
+    for (int v : component.vertex) c.scheme.eps.push_back(o.scheme.eps[m.original[v]]);
+  }
+  c.cones.clear();
+  for (const Cone& cone : o.cones) {
+    if (cone.vertex < 0 || cone.vertex >= m.num_input_vertices) {
+      throw InvalidTargetError("cone at vertex " + std::to_string(cone.vertex) +
+                               ": the mesh has vertices 0.." +
+                               std::to_string(m.num_input_vertices - 1));
+    }
+    const int local = component_vertex(cone.vertex, where, m.num_input_vertices, k, "cone");
+    if (local >= 0) c.cones.push_back({local, cone.angle});
+  }
+  if (!o.cones.empty() && c.cones.empty()) {  // no cone here: flat, and straight on the boundary
+    c.preset = TargetPreset::Values;
+    c.values = Eigen::VectorXd::Zero(static_cast<long>(component.vertex.size()));
+  }
+  if (o.vertex_order.num_vertices() == m.num_input_vertices) {
+    std::vector<int> input_vertex;
+    input_vertex.reserve(component.vertex.size());
+    for (int v : component.vertex) input_vertex.push_back(m.original[v]);
+    c.vertex_order = o.vertex_order.restricted(std::move(input_vertex));
+  }
+  c.center_vertex = component_vertex(o.center_vertex, where, m.num_input_vertices, k, "center");
+  c.axis_vertex = component_vertex(o.axis_vertex, where, m.num_input_vertices, k, "axis");
+  return c;
+}
+
+// === The atlas
+
+struct Chart {
+  std::vector<std::array<Eigen::Vector2d, 3>> corners;  // per component face
+  Eigen::Vector2d lo, size;                             // bounding box, in scaled units
+  double scale = 1;                                     // layout units -> atlas units
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();     // where the box goes
+};
+
+// Each chart scaled to its surface's area, then the boxes packed on shelves, tallest first.
+void pack(std::vector<Chart>& charts, const std::vector<double>& surface_area) {
+  double total = 0, widest = 0;
+  for (size_t k = 0; k < charts.size(); ++k) {
+    Chart& c = charts[k];
+    if (c.corners.empty()) continue;
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
+    double area = 0;
+    for (const auto& t : c.corners) {
+      for (const auto& p : t) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+      const Eigen::Vector2d a = t[1] - t[0], b = t[2] - t[0];
+      area += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
+    }
+    c.scale = area > 0 ? std::sqrt(surface_area[k] / area) : 1;
+    c.lo = lo;
+    c.size = (hi - lo) * c.scale;
+    total += surface_area[k];
+    widest = std::max(widest, c.size.x());
+  }
+  const double gap = 0.02 * std::sqrt(total);
+  double boxes = 0;
+  for (const Chart& c : charts) {
+    if (!c.corners.empty()) boxes += (c.size.x() + gap) * (c.size.y() + gap);
+  }
+  const double width = std::max(widest + gap, std::sqrt(boxes));
+  std::vector<size_t> order(charts.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return charts[a].size.y() > charts[b].size.y(); });
+  double x = 0, y = 0, shelf = 0;
+  for (size_t k : order) {
+    Chart& c = charts[k];
+    if (c.corners.empty()) continue;
+    if (x > 0 && x + c.size.x() > width) x = 0, y += shelf + gap, shelf = 0;
+    c.offset = Eigen::Vector2d(x, y);
+    x += c.size.x() + gap;
+    shelf = std::max(shelf, c.size.y());
+  }
+  double extent = 0;
+  for (const Chart& c : charts) {
+    if (!c.corners.empty()) extent = std::max(extent, (c.offset + c.size).maxCoeff());
+  }
+  for (Chart& c : charts) {
+    c.scale /= extent;
+    c.offset /= extent;
+  }
+}
+
+// The delivered vertex of component k's vertex i (i past the component's vertices: a new vertex
+// of its common subdivision).
+int delivered_vertex(const MeshUniformization& out, size_t k, int i) {
+  const std::vector<int>& vertex = out.mesh.components[k].vertex;
+  if (i < static_cast<int>(vertex.size())) return vertex[static_cast<size_t>(i)];
+  return out.new_vertex_base[k] + i - static_cast<int>(vertex.size());
+}
+
+Eigen::Vector2d atlas_point(const Chart& c, const Eigen::Vector2d& p) {
+  return c.offset + (p - c.lo) * c.scale;
+}
+
+void gather_texture(MeshUniformization& out) {
+  const size_t n = out.components.size();
+  if (n == 1) {  // the component's own normalization, its vertex UVs on the repaired mesh's
+    const TextureCoordinates t = texture_coordinates(out.components[0]);
+    out.texture.wedge = t.wedge;
+    if (t.vertex.empty()) return;
+    out.texture.vertex.assign(out.positions.size(), Eigen::Vector2d::Zero());
+    for (size_t i = 0; i < t.vertex.size(); ++i) {
+      out.texture.vertex[delivered_vertex(out, 0, static_cast<int>(i))] = t.vertex[i];
+    }
+    for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
+      const int r = out.mesh.represented_by[v];
+      if (r >= 0 && r != static_cast<int>(v)) out.texture.vertex[v] = out.texture.vertex[r];
+    }
+    return;
+  }
+  std::vector<Chart> charts(n);
+  std::vector<double> area(n);
+  bool any = false, all_per_vertex = true;
+  for (size_t k = 0; k < n; ++k) {
+    charts[k].corners = drawn_corners(out.components[k]);
+    area[k] = out.mesh.components[k].mesh.input_area();
+    any = any || !charts[k].corners.empty();
+    all_per_vertex = all_per_vertex && out.components[k].layout_kind == LayoutKind::Plane;
+  }
+  if (!any) return;
+  pack(charts, area);
+  if (all_per_vertex) {
+    out.texture.vertex.assign(out.positions.size(), Eigen::Vector2d::Zero());
+    for (size_t k = 0; k < n; ++k) {
+      const auto& position = out.components[k].position;
+      for (size_t i = 0; i < position.size(); ++i) {
+        out.texture.vertex[delivered_vertex(out, k, static_cast<int>(i))] =
+            atlas_point(charts[k], position[i].head<2>());
+      }
+    }
+    for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
+      const int r = out.mesh.represented_by[v];
+      if (r >= 0 && r != static_cast<int>(v)) out.texture.vertex[v] = out.texture.vertex[r];
+    }
+    return;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    for (size_t f = 0; f < out.components[k].corners.size(); ++f) {
+      std::array<Eigen::Vector2d, 3> uv = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
+                                           Eigen::Vector2d::Zero()};
+      if (!charts[k].corners.empty()) {
+        for (int c = 0; c < 3; ++c) uv[c] = atlas_point(charts[k], charts[k].corners[f][c]);
+      }
+      out.texture.wedge.push_back(uv);
+    }
+  }
+}
+
+// Per-vertex results of every component, on the delivered vertices.
+void gather_vertices(MeshUniformization& out) {
+  out.positions = out.mesh.positions;
+  for (size_t k = 0; k < out.components.size(); ++k) {
+    out.new_vertex_base.push_back(static_cast<int>(out.positions.size()));
+    if (const auto& sub = out.components[k].subdivision) {
+      out.positions.insert(out.positions.end(), sub->positions.begin() + sub->num_input_vertices,
+                           sub->positions.end());
+    }
+  }
+  const size_t nv = out.positions.size();
+  for (Eigen::VectorXd* x : {&out.u, &out.radius, &out.curvature, &out.target}) {
+    *x = Eigen::VectorXd::Constant(static_cast<long>(nv), kNaN);
+  }
+  out.vertex_input_face.assign(nv, -1);
+  out.vertex_barycentric.assign(nv, Eigen::Vector3d::Zero());
+  bool any_position = false;
+  for (const Uniformization& run : out.components) any_position |= !run.position.empty();
+  if (any_position) out.position.assign(nv, Eigen::Vector3d::Constant(kNaN));
+  for (size_t k = 0; k < out.components.size(); ++k) {
+    const MeshComponent& c = out.mesh.components[k];
+    const Uniformization& run = out.components[k];
+    const FlowResult& r = run.result;
+    for (size_t i = 0; i < c.vertex.size(); ++i) {
+      const int v = c.vertex[i];
+      const long l = static_cast<long>(i);
+      out.u[v] = r.u.size() > l ? r.u[l] : kNaN;
+      out.radius[v] = r.radius.size() > l ? r.radius[l] : kNaN;
+      out.curvature[v] = r.curvature.size() > l ? r.curvature[l] : kNaN;
+      out.target[v] = r.target.size() > l ? r.target[l] : kNaN;
+      if (!run.position.empty()) out.position[v] = run.position[i];
+    }
+    if (!run.subdivision) {
+      for (size_t f = 0; f < c.face.size(); ++f) {
+        const auto& t = c.mesh.faces()[f];
+        out.faces.push_back({c.vertex[t[0]], c.vertex[t[1]], c.vertex[t[2]]});
+        out.input_face.push_back(c.face[f]);
+      }
+      continue;
+    }
+    const CommonSubdivision& sub = *run.subdivision;
+    for (size_t i = c.vertex.size(); i < sub.positions.size(); ++i) {
+      const int v = delivered_vertex(out, k, static_cast<int>(i));
+      out.u[v] = sub.u[static_cast<long>(i)];
+      out.radius[v] = radius_from_conformal_factor(run.geometry, out.u[v]);
+      out.curvature[v] = 0;
+      if (!run.position.empty()) out.position[v] = run.position[i];
+      out.vertex_input_face[v] = c.face[sub.vertex_input_face[i]];
+      out.vertex_barycentric[v] = sub.vertex_barycentric[i];
+    }
+    for (size_t f = 0; f < sub.faces.size(); ++f) {
+      std::array<int, 3> t{};
+      for (int j = 0; j < 3; ++j) t[j] = delivered_vertex(out, k, sub.faces[f][j]);
+      out.faces.push_back(t);
+      out.input_face.push_back(c.face[sub.input_face[f]]);
+    }
+  }
+  for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
+    const int r = out.mesh.represented_by[v];
+    if (r < 0 || r == static_cast<int>(v)) continue;
+    for (Eigen::VectorXd* x : {&out.u, &out.radius, &out.curvature, &out.target}) {
+      (*x)[static_cast<long>(v)] = (*x)[r];
+    }
+    if (any_position) out.position[v] = out.position[r];
+  }
+}
+
+}  // namespace
+
+bool MeshUniformization::converged() const {
+  return std::all_of(components.begin(), components.end(),
+                     [](const Uniformization& run) { return run.converged(); });
+}
+
+bool MeshUniformization::valid() const {
+  return std::all_of(components.begin(), components.end(),
+                     [](const Uniformization& run) { return run.valid(); });
+}
+
+void MeshUniformization::require_valid(const std::string& subject) const {
+  for (size_t k = 0; k < components.size(); ++k) {
+    if (components.size() == 1) {
+      components[k].require_valid(subject);
+    } else {
+      components[k].require_valid((subject.empty() ? "" : subject + ", ") + "component " +
+                                  std::to_string(k));
+    }
+  }
+}
+
+std::vector<LayoutKind> planned_layouts(const RepairedMesh& mesh,
+                                        const UniformizationOptions& options) {
+  const std::vector<std::pair<int, int>> where = locate_inputs(mesh);
+  std::vector<LayoutKind> kinds;
+  for (size_t k = 0; k < mesh.components.size(); ++k) {
+    const CompactMesh& m = mesh.components[k].mesh;
+    const auto [preset, geometry] =
+        resolve_request(m, component_options(options, mesh, where, static_cast<int>(k)));
+    kinds.push_back(planned_layout(m, preset, geometry));
+  }
+  return kinds;
+}
+
+MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOptions& options) {
+  MeshUniformization out;
+  out.mesh = std::move(mesh);
+  const std::vector<std::pair<int, int>> where = locate_inputs(out.mesh);
+  for (size_t k = 0; k < out.mesh.components.size(); ++k) {
+    const UniformizationOptions o =
+        component_options(options, out.mesh, where, static_cast<int>(k));
+    try {
+      out.components.push_back(uniformize(out.mesh.components[k].mesh, o));
+    } catch (const InvalidTargetError& e) {
+      if (out.mesh.components.size() == 1) throw;
+      throw InvalidTargetError("component " + std::to_string(k) + ": " + e.what());
+    } catch (const InvalidArgumentError& e) {
+      if (out.mesh.components.size() == 1) throw;
+      throw InvalidArgumentError("component " + std::to_string(k) + ": " + e.what());
+    }
+  }
+  gather_vertices(out);
+  gather_texture(out);
+  return out;
+}
+
+}  // namespace ricci

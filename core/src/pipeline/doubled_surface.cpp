@@ -1,0 +1,198 @@
+#include "pipeline/doubled_surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <sstream>
+#include <unordered_map>
+#include <utility>
+
+#include "layout/layout_methods.h"
+#include "pipeline/circle_domain.h"
+#include "ricci/flow/presets.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/flow/scheme.h"
+#include "ricci/mesh/errors.h"
+#include "ricci/mesh/geometry.h"
+
+namespace ricci::detail {
+
+bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
+                        const TargetCurvature& target, const Uniformization& run) {
+  const LayoutKind kind = planned_layout(half, run.preset, run.geometry);
+  // With u held fixed (free boundary) the boundary lengths are part of the request, and on the
+  // double a flipped boundary edge no longer has its length: not for such targets.
+  return !run.result.converged && run.result.stalled_at_boundary && !half.is_closed() &&
+         target.num_fixed() == 0 && options.flow.edge_flips != EdgeFlips::Never &&
+         is_yamabe(run.structure) &&
+         ((run.geometry == Geometry::Euclidean && kind == LayoutKind::Plane) ||
+          (run.geometry == Geometry::Hyperbolic && kind == LayoutKind::PoincareDisk));
+}
+
+TargetCurvature doubled_target(const CompactMesh& half, const CompactMesh& twice,
+                               const TargetCurvature& target) {
+  const int n = half.num_vertices();
+  TargetCurvature t;
+  t.curvature = Eigen::VectorXd::Zero(twice.num_vertices());
+  t.fixed.assign(twice.num_vertices(), 0);
+  int copy = n;
+  for (int v = 0; v < n; ++v) {
+    const bool boundary = half.is_boundary_vertex(v);
+    const double k = (boundary ? 2.0 : 1.0) * target.curvature[v];
+    t.curvature[v] = k;
+    t.fixed[v] = target.fixed[v];
+    if (boundary) continue;
+    t.curvature[copy] = k;
+    t.fixed[copy] = target.fixed[v];
+    ++copy;
+  }
+  return t;
+}
+
+FlowResult half_result(const CompactMesh& half, const FlowResult& twice) {
+  FlowResult r = twice;
+  const int n = half.num_vertices();
+  for (Eigen::VectorXd* x : {&r.u, &r.radius, &r.curvature, &r.target}) {
+    if (x->size() == 0) continue;
+    x->conservativeResize(n);
+    for (int v = 0; v < n; ++v) {
+      if (half.is_boundary_vertex(v) && (x == &r.curvature || x == &r.target)) (*x)[v] /= 2;
+    }
+  }
+  r.edge_lengths.clear();
+  r.triangulation.reset();
+  r.flip_sequence.clear();
+  r.area = twice.area / 2;
+  return r;
+}
+
+Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
+                           const std::vector<double>& lengths) {
+  Layout layout;
+  layout.geometry = geometry;
+  layout.corners.resize(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    // Sides: corner 0 to 1 is the edge opposite corner 2, and so on.
+    const double a = lengths[mesh.face_edge(f, 2)], b = lengths[mesh.face_edge(f, 1)],
+                 c = lengths[mesh.face_edge(f, 0)];
+    if (geometry == Geometry::Hyperbolic) {
+      // Corner 0 at the centre of the Poincare disk, where a geodesic of length d from it ends
+      // at radius tanh(d / 2).
+      const double angle = corner_angles(geometry, {c, b, a}).angle[0];
+      const std::complex<double> z = std::polar(std::tanh(b / 2), angle);
+      layout.corners[f] = {Eigen::Vector3d::Zero(), Eigen::Vector3d(std::tanh(a / 2), 0, 0),
+                           Eigen::Vector3d(z.real(), z.imag(), 0)};
+      continue;
+    }
+    const double x = (a * a + b * b - c * c) / (2 * a);
+    layout.corners[f] = {Eigen::Vector3d::Zero(), Eigen::Vector3d(a, 0, 0),
+                         Eigen::Vector3d(x, std::sqrt(std::max(0.0, b * b - x * x)), 0)};
+  }
+  return layout;
+}
+
+namespace {
+
+// The double's common subdivision cut down to the half.
+HalfSubdivision subdivide_half(const CompactMesh& half, const CompactMesh& twice,
+                               const ConformalStructure& structure, const FlowResult& result) {
+  const Geometry g = structure.geometry;
+  const Triangulation& flowed = result_triangulation(twice, result);
+  const Layout frames = face_by_face_layout(flowed, g, result.edge_lengths);
+  return half_subdivision(
+      half, common_subdivision(twice, structure, result, frames, DiskSidePoints::OnGeodesic),
+      frames);
+}
+
+}  // namespace
+
+void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int outer,
+                    const TargetCurvature& target, Uniformization& run) {
+  const CompactMesh twice = CompactMesh::doubled(half);
+  const TargetCurvature twice_target = doubled_target(half, twice, target);
+  const ConformalStructure structure = prepare_flow(twice, run.geometry, o.scheme, twice_target);
+  FlowOptions flow = o.flow;
+  flow.edge_flips = EdgeFlips::Always;  // the half's flow has shown that flips are needed
+  RicciFlowSolver solver(twice, structure, flow);
+
+  Uniformization on_double;  // its totals are the double's flows only
+  std::optional<HalfSubdivision> last;
+  try {
+    if (run.preset == TargetPreset::UnitDisk) {
+      const BoundaryRefit refit = [&](const FlowResult& r) {
+        last = subdivide_half(half, twice, structure, r);
+        return doubled_target(half, twice,
+                              circle_boundary_target(half, last->boundary_lengths, outer));
+      };
+      fit_boundary_to_circles(solver, twice, refit, twice_target, o, on_double);
+    } else {
+      on_double.result = solver.solve(twice_target);
+      on_double.totals.add(on_double.result);
+    }
+    if (on_double.result.converged && !last) {
+      last = subdivide_half(half, twice, structure, on_double.result);
+    }
+  } catch (const LayoutError& e) {
+    run.result.failure += "; on the surface doubled along its boundary the flow converged, but " +
+                          std::string(e.what());
+    return;
+  }
+  run.totals.add(on_double.totals);
+  if (!on_double.result.converged) {
+    std::ostringstream s;
+    s << "; on the surface doubled along its boundary, where boundary edges flip too, the flow "
+         "stopped as well: "
+      << on_double.result.failure;
+    const Eigen::VectorXd& u = on_double.result.u;
+    const double squeeze = u.size() ? std::exp(-(u.maxCoeff() - u.minCoeff()) / 2) : 1;
+    if (squeeze < 1e-6) {
+      s << " (by then lengths in one part were " << squeeze
+        << " times those in another: the map squeezes part of the surface below what double "
+           "precision resolves, as a long protrusion mapped onto a disk is"
+        << (run.geometry == Geometry::Euclidean
+                ? "; --target free-boundary keeps the boundary's lengths)"
+                : ")");
+    }
+    run.result.failure += s.str();
+    return;
+  }
+
+  run.doubled = true;
+  run.doubled_because = run.result.failure;
+  run.result = half_result(half, on_double.result);
+  run.boundary_change = on_double.boundary_change;
+  // u of the half is measured from the double's scaled input (H2 scales to the area of the
+  // double's hyperbolic metric): the half's structure at that scale.
+  run.structure = initialize_scheme(half, run.geometry, o.scheme, structure.length_scale);
+  run.layout = Layout{};
+  run.layout.geometry = run.geometry;
+  run.layout.closure_error = last->closure_error;
+  run.layout.max_relative_length_error = std::nan("");  // of the flow's triangles: not laid out
+  CommonSubdivision& sub = last->subdivision;
+  if (run.geometry == Geometry::Hyperbolic) {
+    // Cut open where the development did not cross: the subdivision, with positions per corner
+    // (the cut's deck transformations and relation error are not computed for it).
+    run.layout_kind = LayoutKind::PoincareDisk;
+    run.layout.relation_error = std::nan("");
+    run.layout.corners = sub.corners;
+    run.subdivision = std::move(sub);
+    return;
+  }
+  run.layout_kind = LayoutKind::Plane;
+  // The half's own faces drawn by their corners: delivered instead when none turns over.
+  for (const auto& t : half.faces()) {
+    std::array<Eigen::Vector3d, 3> p;
+    for (int c = 0; c < 3; ++c) p[c] = sub.vertex_layout[t[c]];
+    run.input_faces_turned_over += !(orientation(Geometry::Euclidean, p) > 0);
+  }
+  if (run.input_faces_turned_over == 0 || o.keep_input_triangulation) {
+    run.position.assign(sub.vertex_layout.begin(), sub.vertex_layout.begin() + half.num_vertices());
+  } else {
+    run.position = sub.vertex_layout;
+    run.layout.corners = sub.corners;
+    run.subdivision = std::move(sub);
+  }
+}
+
+}  // namespace ricci::detail

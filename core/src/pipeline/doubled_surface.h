@@ -1,0 +1,59 @@
+// Edge flips across the boundary: the flow on the double of a surface with boundary
+// (CompactMesh::doubled), as Campen, Capouellez, Shen, Zhu, Panozzo and Zorin 2021 do for
+// discrete conformal maps with boundary (written for this project). On the double every edge is
+// interior, so the Ptolemy flips of the Euclidean Yamabe flow reach a valid triangulation at every
+// u (Springborn 2020), and the Delaunay flips of the hyperbolic one reach boundary edges too. The
+// double's target and metric are symmetric under the reflection that swaps the two copies; the
+// reflection's fixed set, the original boundary, is then a geodesic between boundary vertices, and
+// the half is a flat (hyperbolic) surface whose boundary is straight (geodesic) between its
+// vertices, with angle sums half the double's there.
+//
+// The half's own faces are not triangles of the final metric (that is why the flow needed the
+// double), so what is delivered is always the common subdivision: the pieces of the double's
+// common subdivision that lie in the half's faces, developed in the plane piece by piece.
+// (Not installed API.)
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipeline/half_subdivision.h"
+#include "ricci/flow/flow_result.h"
+#include "ricci/mesh/compact_mesh.h"
+#include "ricci/pipeline/uniformization.h"
+#include "ricci/subdivision/common_subdivision.h"
+
+namespace ricci::detail {
+
+//! Whether the flow of `run` may be repeated on the double: a Yamabe flow on a surface with
+//! boundary laid out in the plane (E2) or the Poincare disk (H2), a curvature target at every
+//! vertex, flips allowed, stopped by triangles at the boundary.
+bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
+                        const TargetCurvature& target, const Uniformization& run);
+
+//! Kbar on the double: the half's at its vertices and at their copies, twice the half's at its
+//! boundary vertices (a boundary angle sum theta is 2 theta on the double: K = 2 pi - 2 theta
+//! = 2 (pi - theta)); held fixed where the half's is.
+TargetCurvature doubled_target(const CompactMesh& half, const CompactMesh& twice,
+                               const TargetCurvature& target);
+
+//! The half's part of the double's flow result: u, K, Kbar and radii at the half's vertices, K
+//! and Kbar halved at the boundary; counts and histories as they are. No edge lengths and no
+//! triangulation: the half's faces are not triangles of the final metric.
+FlowResult half_result(const CompactMesh& half, const FlowResult& twice);
+
+//! Each face of the triangulation drawn by itself from its lengths (corner 0 at the origin,
+//! corner 1 on the positive x axis), in the plane or the Poincare disk: a layout whose faces are
+//! the final metric's triangles but are not glued, which is all the common subdivision needs.
+Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
+                           const std::vector<double>& lengths);
+
+//! The flow of `run` repeated on the double (the disk preset's flows included), and its result
+//! put in `run` for the half: result, totals (the half's stalled flow counted too), the
+//! subdivision and per-vertex positions, `doubled`. Leaves `run` as it was when the flow on
+//! the double does not converge either, except for a note in run.result.failure.
+void flow_on_double(const CompactMesh& half, const UniformizationOptions& options, int outer_loop,
+                    const TargetCurvature& target, Uniformization& run);
+
+}  // namespace ricci::detail

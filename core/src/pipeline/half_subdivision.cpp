@@ -1,0 +1,280 @@
+#include "pipeline/half_subdivision.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <sstream>
+#include <unordered_map>
+#include <utility>
+
+#include "layout/layout_methods.h"
+#include "pipeline/circle_domain.h"
+#include "ricci/flow/presets.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/flow/scheme.h"
+#include "ricci/mesh/errors.h"
+#include "ricci/mesh/geometry.h"
+
+namespace ricci::detail {
+
+namespace {
+
+std::complex<double> complex_of(const Eigen::Vector3d& p) {
+  return {p.x(), p.y()};
+}
+
+// The sides of the pieces by vertex pair: the (one or two) pieces and the side's index in each.
+struct PieceSides {
+  struct Side {
+    int piece[2] = {-1, -1};
+    int corner[2] = {-1, -1};  // the side opposite this corner of the piece
+    int count = 0;
+  };
+  std::unordered_map<uint64_t, Side> sides;
+
+  static uint64_t key(int a, int b) {
+    return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
+  }
+  explicit PieceSides(const std::vector<std::array<int, 3>>& faces) {
+    sides.reserve(2 * faces.size());
+    for (size_t f = 0; f < faces.size(); ++f) {
+      for (int c = 0; c < 3; ++c) {
+        Side& s = sides[key(faces[f][(c + 1) % 3], faces[f][(c + 2) % 3])];
+        if (s.count < 2) {
+          s.piece[s.count] = static_cast<int>(f);
+          s.corner[s.count] = c;
+        }
+        ++s.count;
+      }
+    }
+  }
+};
+
+// Breadth-first order of the pieces from `start` across shared sides, with each piece's parent.
+std::pair<std::vector<int>, std::vector<int>> sweep(const std::vector<std::array<int, 3>>& faces,
+                                                    const PieceSides& sides, int start) {
+  std::vector<int> order = {start}, parent(faces.size(), -2);
+  parent[start] = -1;
+  for (size_t head = 0; head < order.size(); ++head) {
+    const int p = order[head];
+    for (int c = 0; c < 3; ++c) {
+      const PieceSides::Side& s =
+          sides.sides.at(PieceSides::key(faces[p][(c + 1) % 3], faces[p][(c + 2) % 3]));
+      if (s.count != 2) continue;
+      const int q = s.piece[s.piece[0] == p ? 1 : 0];
+      if (parent[q] != -2) continue;
+      parent[q] = p;
+      order.push_back(q);
+    }
+  }
+  return {order, parent};
+}
+
+// The Poincare disk draws a final face's sides straight in its coordinates, so a thin piece with
+// corners on a side's geodesic arc can come out turned over: each new vertex is moved from the arc
+// onto the straight side of its final face as developed (where the common subdivision puts it in
+// a layout of the final faces), the same place from both faces of the side where the development
+// crossed it.
+void draw_sides_straight(const CommonSubdivision& twice, const std::vector<int>& pieces,
+                         const Layout& frames, const std::vector<DiskIsometry>& motion,
+                         int num_input_vertices, const std::vector<std::array<int, 3>>& faces,
+                         std::vector<std::array<Eigen::Vector3d, 3>>& placed) {
+  const auto klein = [](const std::complex<double>& z) { return 2.0 * z / (1.0 + std::norm(z)); };
+  for (size_t q = 0; q < pieces.size(); ++q) {
+    const auto& frame = frames.corners[twice.final_face[pieces[q]]];
+    std::array<std::complex<double>, 3> corner, corner_klein;
+    for (int i = 0; i < 3; ++i) {
+      corner[i] = motion[q](complex_of(frame[i]));
+      corner_klein[i] = klein(complex_of(frame[i]));
+    }
+    for (int c = 0; c < 3; ++c) {
+      if (faces[q][c] < num_input_vertices) continue;
+      // The side whose geodesic holds the point: straight through it in the Klein model.
+      const std::complex<double> k = klein(complex_of(twice.corners[pieces[q]][c]));
+      int side = 0;
+      double best = INFINITY;
+      for (int i = 0; i < 3; ++i) {
+        const std::complex<double> d = corner_klein[(i + 1) % 3] - corner_klein[i];
+        const double off = std::abs(std::imag(std::conj(d) * (k - corner_klein[i]))) / std::abs(d);
+        if (off < best) best = off, side = i;
+      }
+      const auto point = [](std::complex<double> z) {
+        return Eigen::Vector3d(z.real(), z.imag(), 0);
+      };
+      placed[q][c] =
+          onto_drawn_side(point(corner[side]), point(corner[(side + 1) % 3]), placed[q][c]);
+    }
+  }
+}
+
+}  // namespace
+
+HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice,
+                                 const Layout& frames) {
+  const Geometry geometry = frames.geometry;
+  const int n = half.num_vertices(), nf = half.num_faces();
+  HalfSubdivision out;
+  CommonSubdivision& sub = out.subdivision;
+  sub.num_input_vertices = n;
+  sub.num_flips = twice.num_flips;
+  sub.seconds = twice.seconds;
+
+  // The pieces in the half's faces, and the vertices they use: the half's, then new ones.
+  std::vector<int> pieces;
+  std::vector<int> index(twice.positions.size(), -1);
+  for (int v = 0; v < n; ++v) index[v] = v;
+  for (size_t f = 0; f < twice.faces.size(); ++f) {
+    if (twice.input_face[f] >= nf) continue;
+    pieces.push_back(static_cast<int>(f));
+    for (int v : twice.faces[f]) {
+      if (index[v] < 0) index[v] = -2;
+    }
+  }
+  const int twice_n = twice.num_input_vertices;
+  std::vector<int> vertices(n);
+  for (int v = 0; v < n; ++v) vertices[v] = v;
+  for (size_t v = twice_n; v < twice.positions.size(); ++v) {
+    if (index[v] == -2) {
+      index[v] = static_cast<int>(vertices.size());
+      vertices.push_back(static_cast<int>(v));
+    }
+  }
+  const int nv = static_cast<int>(vertices.size());
+  sub.u.resize(nv);
+  for (int i = 0; i < nv; ++i) {
+    const int v = vertices[i];
+    sub.positions.push_back(twice.positions[v]);
+    sub.vertex_input_face.push_back(twice.vertex_input_face[v]);
+    sub.vertex_barycentric.push_back(twice.vertex_barycentric[v]);
+    sub.u[i] = twice.u[v];
+    if (i >= n) {
+      sub.vertex_input_edge.push_back(twice.vertex_input_edge[v - twice_n]);
+      sub.vertex_edge_parameter.push_back(twice.vertex_edge_parameter[v - twice_n]);
+    }
+  }
+  for (int f : pieces) {
+    const auto& t = twice.faces[f];
+    sub.faces.push_back({index[t[0]], index[t[1]], index[t[2]]});
+    sub.input_face.push_back(twice.input_face[f]);
+    sub.final_face.push_back(twice.final_face[f]);
+  }
+  for (int v = 0; v < n; ++v) {
+    if (sub.vertex_input_face[v] >= nf) {
+      throw LayoutError("doubled surface: vertex " + std::to_string(v) +
+                        " is placed in a face of the mirror copy");
+    }
+  }
+
+  // Development: each piece placed by the isometry that puts the side it shares with a placed
+  // piece onto that piece's side (its own corners are an isometric copy, in its final face's
+  // frame), breadth-first from a central piece (the middle of the longest of two sweeps), so that
+  // in the Poincare disk no piece lies farther out than the surface's radius.
+  const int np = static_cast<int>(pieces.size());
+  if (np == 0) throw LayoutError("doubled surface: no piece lies in the surface's faces");
+  const PieceSides sides(sub.faces);
+  int start = 0;
+  if (geometry == Geometry::Hyperbolic) {
+    const int far = sweep(sub.faces, sides, 0).first.back();
+    const auto [order, parent] = sweep(sub.faces, sides, far);
+    std::vector<int> path = {order.back()};
+    while (parent[path.back()] >= 0) path.push_back(parent[path.back()]);
+    start = path[path.size() / 2];
+  }
+  const auto [order, parent] = sweep(sub.faces, sides, start);
+  if (static_cast<int>(order.size()) != np) {
+    throw LayoutError("doubled surface: the pieces in the surface's faces are not connected");
+  }
+  std::vector<std::array<Eigen::Vector3d, 3>> placed(np);
+  placed[start] = twice.corners[pieces[start]];
+  std::vector<DiskIsometry> motion(np, DiskIsometry{geometry});  // own frame -> developed
+  for (size_t i = 1; i < order.size(); ++i) {
+    const int q = order[i], p = parent[q];
+    int qc = -1, pa = -1, pb = -1;  // q's corner off the shared side; p's corners on it
+    for (int c = 0; c < 3; ++c) {
+      bool shared = false;
+      for (int d = 0; d < 3; ++d) shared = shared || sub.faces[p][d] == sub.faces[q][c];
+      if (!shared) qc = c;
+    }
+    if (qc < 0) throw LayoutError("doubled surface: two pieces on the same three vertices");
+    const int qa = (qc + 1) % 3, qb = (qc + 2) % 3;
+    for (int d = 0; d < 3; ++d) {
+      if (sub.faces[p][d] == sub.faces[q][qa]) pa = d;
+      if (sub.faces[p][d] == sub.faces[q][qb]) pb = d;
+    }
+    if (pa < 0 || pb < 0) throw LayoutError("doubled surface: two pieces share no side");
+    const auto& own = twice.corners[pieces[q]];
+    const DiskIsometry move =
+        DiskIsometry::mapping(geometry, complex_of(own[qa]), complex_of(own[qb]),
+                              complex_of(placed[p][pa]), complex_of(placed[p][pb]));
+    const std::complex<double> z = move(complex_of(own[qc]));
+    placed[q][qc] = Eigen::Vector3d(z.real(), z.imag(), 0);
+    placed[q][qa] = placed[p][pa];
+    placed[q][qb] = placed[p][pb];
+    motion[q] = move;
+  }
+
+  // Plane: per vertex the mean of its corners, whose spread is the closure error. Poincare disk:
+  // the surface is cut open where the development did not cross, so positions are per corner
+  // (vertex_layout: the first corner's).
+  if (geometry != Geometry::Euclidean) {
+    draw_sides_straight(twice, pieces, frames, motion, sub.num_input_vertices, sub.faces, placed);
+  }
+  std::vector<Eigen::Vector3d> sum(nv, Eigen::Vector3d::Zero());
+  std::vector<int> count(nv, 0);
+  for (int p = 0; p < np; ++p) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = sub.faces[p][c];
+      if (geometry == Geometry::Euclidean || count[v] == 0) sum[v] += placed[p][c], ++count[v];
+    }
+  }
+  sub.vertex_layout.resize(nv);
+  for (int v = 0; v < nv; ++v) {
+    if (count[v] == 0) throw LayoutError("doubled surface: a vertex lies in no piece");
+    sub.vertex_layout[v] = sum[v] / count[v];
+  }
+  if (geometry != Geometry::Euclidean) {
+    sub.corners = std::move(placed);
+    out.closure_error = std::nan("");
+    return out;
+  }
+  sub.corners.resize(np);
+  for (int p = 0; p < np; ++p) {
+    for (int c = 0; c < 3; ++c) {
+      sub.corners[p][c] = sub.vertex_layout[sub.faces[p][c]];
+      out.closure_error = std::max(out.closure_error, (placed[p][c] - sub.corners[p][c]).norm());
+    }
+  }
+
+  // The boundary: sides of one piece only, each on one boundary edge of the half (the one its new
+  // vertex lies on, or the one joining its two ends), measured in the piece's own frame.
+  out.boundary_lengths.assign(half.num_edges(), 0.0);
+  std::unordered_map<uint64_t, int> boundary_edge;
+  for (int e = 0; e < half.num_edges(); ++e) {
+    if (half.is_boundary_edge(e)) {
+      const auto [a, b] = half.edge_vertices(e);
+      boundary_edge[PieceSides::key(a, b)] = e;
+    }
+  }
+  for (const auto& [key, s] : sides.sides) {
+    if (s.count != 1) continue;
+    const int p = s.piece[0], c = s.corner[0];
+    const int a = sub.faces[p][(c + 1) % 3], b = sub.faces[p][(c + 2) % 3];
+    int e = -1;
+    for (int v : {a, b}) {
+      if (v >= n) e = sub.vertex_input_edge[v - n];
+    }
+    if (e < 0) {
+      const auto it = boundary_edge.find(key);
+      if (it != boundary_edge.end()) e = it->second;
+    }
+    if (e < 0 || !half.is_boundary_edge(e)) {
+      throw LayoutError("doubled surface: a side of the pieces' boundary lies on no boundary edge");
+    }
+    const auto& own = twice.corners[pieces[p]];
+    out.boundary_lengths[e] += (own[(c + 1) % 3] - own[(c + 2) % 3]).norm();
+  }
+  return out;
+}
+
+}  // namespace ricci::detail

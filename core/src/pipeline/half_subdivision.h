@@ -1,0 +1,34 @@
+// The half's part of the common subdivision of a surface doubled along its boundary
+// (doubled_surface.h), developed in the plane or the Poincare disk (not installed API).
+#pragma once
+
+#include <vector>
+
+#include "ricci/layout/layout.h"
+#include "ricci/mesh/compact_mesh.h"
+#include "ricci/subdivision/common_subdivision.h"
+
+namespace ricci::detail {
+
+struct HalfSubdivision {
+  CommonSubdivision subdivision;  //!< of the half; corners and vertex_layout developed
+  //! Plane: per edge of the half, its length in the final metric on the boundary, 0 inside;
+  //! empty in the Poincare disk.
+  std::vector<double> boundary_lengths;
+  //! Plane: largest distance between a vertex's position and a piece's corner there; NaN in the
+  //! Poincare disk (not measured).
+  double closure_error = 0;
+};
+
+//! The pieces of the double's common subdivision that lie in the half's faces, renumbered (the
+//! half's vertices first, then the new ones in the double's order), developed across their shared
+//! sides: in the plane from the first piece, glued into one position per vertex; in the Poincare
+//! disk from a central piece, with positions per corner (cut open where the development did not
+//! cross), new vertices on the straight sides of their final faces as developed. `twice` must be
+//! built on `frames` (face_by_face_layout) with its new vertices on the geodesics
+//! (DiskSidePoints::OnGeodesic).
+//! \throws LayoutError when the pieces do not form one surface.
+HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice,
+                                 const Layout& frames);
+
+}  // namespace ricci::detail

@@ -1,0 +1,294 @@
+#include "ricci/pipeline/uniformize.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <sstream>
+
+#include "flow/spherical_start.h"
+#include "pipeline/circle_domain.h"
+#include "pipeline/delivered_layout.h"
+#include "pipeline/disk_drawing.h"
+#include "pipeline/doubled_surface.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/mesh/errors.h"
+
+namespace ricci {
+
+namespace {
+
+void check_request(const CompactMesh& mesh, TargetPreset preset, Geometry geometry,
+                   const UniformizationOptions& o) {
+  const std::string topology = mesh.topology_name();
+  if (preset == TargetPreset::UnitDisk) {
+    if (mesh.is_closed() || mesh.genus() != 0) {
+      throw InvalidTargetError(
+          "the disk target maps a genus-0 surface with boundary to the unit "
+          "disk, but the mesh is a " +
+          topology + "; use the auto target (it picks the metric for this topology)");
+    }
+    if (geometry != Geometry::Euclidean) {
+      throw InvalidTargetError(
+          "the disk target is a euclidean layout; choose euclidean (or "
+          "auto) geometry instead of " +
+          to_string(geometry));
+    }
+  }
+  if (preset == TargetPreset::FreeBoundary && mesh.is_closed()) {
+    throw InvalidTargetError("the free-boundary target needs a boundary, but the mesh is a " +
+                             topology + "; use the zero or auto target");
+  }
+  for (const auto& [vertex, name] :
+       {std::pair{o.center_vertex, "center"}, std::pair{o.axis_vertex, "axis"}}) {
+    if (vertex < 0) continue;
+    if (preset != TargetPreset::UnitDisk) {
+      throw InvalidArgumentError(std::string("the ") + name +
+                                 " vertex normalizes the unit disk map; it needs the disk target");
+    }
+    if (vertex >= mesh.num_vertices()) {
+      throw InvalidArgumentError(std::string("the ") + name + " vertex " + std::to_string(vertex) +
+                                 " is out of range: the mesh has vertices "
+                                 "0.." +
+                                 std::to_string(mesh.num_vertices() - 1));
+    }
+  }
+  if (o.center_vertex >= 0 && mesh.is_boundary_vertex(o.center_vertex)) {
+    throw InvalidArgumentError("the center vertex " + std::to_string(o.center_vertex) +
+                               " lies on the boundary, which maps to the unit circle; choose an "
+                               "interior vertex");
+  }
+  if (o.center_vertex >= 0 && o.center_vertex == o.axis_vertex) {
+    throw InvalidArgumentError("the axis vertex must differ from the center vertex");
+  }
+}
+
+// Cones as the Values preset's per-vertex curvature.
+UniformizationOptions with_cone_values(const CompactMesh& mesh, UniformizationOptions o) {
+  if (o.cones.empty()) return o;
+  o.preset = TargetPreset::Values;
+  o.values = cone_target(mesh, o.cones).values();
+  o.cones.clear();
+  return o;
+}
+
+// The preset's target before any flow (the disk preset's is refitted by the flows).
+TargetCurvature initial_target(const CompactMesh& mesh, TargetPreset preset,
+                               const UniformizationOptions& o, int outer_loop) {
+  switch (preset) {
+    case TargetPreset::UnitDisk:
+      return circle_boundary_target(mesh, mesh.input_lengths(), outer_loop);
+    case TargetPreset::FreeBoundary:
+      return TargetCurvature::free_boundary(mesh);
+    case TargetPreset::Values:
+      return TargetCurvature::from_values(mesh, o.values);
+    default:
+      return TargetCurvature::zero(mesh);
+  }
+}
+
+}  // namespace
+
+std::pair<TargetPreset, Geometry> resolve_request(const CompactMesh& mesh,
+                                                  const UniformizationOptions& request) {
+  const UniformizationOptions o = with_cone_values(mesh, request);
+  TargetPreset preset = o.preset;
+  Geometry geometry;
+  if (preset == TargetPreset::Automatic) {
+    const auto automatic = automatic_preset(mesh);
+    preset = automatic.first;
+    geometry = o.geometry.value_or(automatic.second);
+  } else if (preset == TargetPreset::Values) {
+    geometry = o.geometry.value_or(
+        geometry_for_target(mesh, TargetCurvature::from_values(mesh, o.values)));
+  } else {
+    geometry = o.geometry.value_or(preset_geometry(mesh, preset));
+  }
+  check_request(mesh, preset, geometry, o);
+  return {preset, geometry};
+}
+
+namespace {
+
+// The flow (the disk preset: by one solve when one_solve, else or where that does not converge by
+// the fixed point of repeated flows; the double where the surface's own triangulation stalls at
+// the boundary) and the layout of its result.
+// Returns true when the result is the disk preset's one solve.
+bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, int outer,
+                      const TargetCurvature& target, bool one_solve, Uniformization& run) {
+  bool by_one_solve = false;
+  {
+    // Its factorizations are freed before the flow on the double and the layout, which need none.
+    RicciFlowSolver solver(mesh, run.structure, o.flow, o.vertex_order);
+    if (run.preset == TargetPreset::UnitDisk) {
+      by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
+    } else {
+      const std::optional<Eigen::VectorXd> start =
+          flow_start(mesh, run.structure, target, o.flow, o.vertex_order);
+      run.result = solver.solve(target, start ? &*start : nullptr);
+      run.totals.add(run.result);
+    }
+  }
+  if (detail::may_flow_on_double(mesh, o, target, run)) {
+    detail::flow_on_double(mesh, o, outer, target, run);
+  }
+  const auto measure = [&] {
+    if (run.subdivision) {
+      run.quality = measure_layout(face_sides(run.subdivision->positions, run.subdivision->faces),
+                                   run.geometry, run.result, run.corners);
+    } else {
+      run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
+    }
+  };
+  if (run.doubled) {
+    detail::place_delivered(mesh, o, outer, std::move(run.position), {}, run);
+  } else if (run.result.converged) {
+    detail::lay_out_result(mesh, o, outer, kChartRadius, run);
+  }
+  measure();
+  // H2 in charts: the common subdivision of many flips has pieces far thinner than the flowed
+  // faces, which can turn over near a chart's rim (cura-zav-maxpro.stl, genus 97, 80k flips:
+  // 2116 at radius 12, none at 6). Smaller charts keep them farther from it.
+  for (double radius = kChartRadius / 2;
+       radius >= kChartRadius / 4 && !run.doubled && !o.keep_input_triangulation &&
+       run.quality.flipped_faces > 0 && run.layout.num_charts() > 1;
+       radius /= 2) {
+    detail::lay_out_result(mesh, o, outer, radius, run);
+    measure();
+  }
+  if (run.result.converged) run.layout_failure = detail::layout_failure(run);
+  return by_one_solve;
+}
+
+// The run for the preset resolved from the request.
+Uniformization uniformize_as_requested(const CompactMesh& mesh,
+                                       const UniformizationOptions& request) {
+  const UniformizationOptions o = with_cone_values(mesh, request);
+  Uniformization run;
+  std::tie(run.preset, run.geometry) = resolve_request(mesh, o);
+  run.scheme = o.scheme.scheme;
+  run.tolerance = o.flow.tolerance;
+  const int outer =
+      run.preset == TargetPreset::UnitDisk ? outer_boundary_loop(mesh, mesh.input_lengths()) : -1;
+  const TargetCurvature target = initial_target(mesh, run.preset, o, outer);
+  run.structure = prepare_flow(mesh, run.geometry, o.scheme, target);
+  const bool one_solve = run.preset == TargetPreset::UnitDisk &&
+                         run.geometry == Geometry::Euclidean && is_yamabe(run.structure);
+  const Uniformization start = run;
+  const bool by_one_solve = flow_and_lay_out(mesh, o, outer, target, one_solve, run);
+  // The one solve leaves the disk's Moebius maps free, and can end at one that squeezes most of
+  // the surface below what double precision lays out (pymeshlab's face scan: u from -65 to 4.6,
+  // the circles lost); the repeated flows, each with a boundary target held fixed, end near the
+  // input's own proportions.
+  if (by_one_solve && run.result.converged && !run.layout_failure.empty()) {
+    Uniformization again = start;
+    again.totals = run.totals;
+    flow_and_lay_out(mesh, o, outer, target, false, again);
+    return again;
+  }
+  return run;
+}
+
+// A request the automatic target answers as best it can: no cones, centre or axis.
+bool best_effort(const UniformizationOptions& request) {
+  return request.preset == TargetPreset::Automatic && request.cones.empty() &&
+         request.center_vertex < 0 && request.axis_vertex < 0;
+}
+
+// What an attempt that is not delivered adds to the cost (flows, iterations, factorizations,
+// times); its edge flips and convergence floor are not the delivered run's.
+FlowTotals cost_of(const FlowTotals& attempt) {
+  FlowTotals cost = attempt;
+  cost.edge_flips = 0;
+  cost.flips_from_iteration = -1;
+  cost.without_flips.clear();
+  cost.attainable_residual = 0;
+  return cost;
+}
+
+// `instead`, delivered in place of `attempt`, whose cost counts before its own.
+Uniformization delivered_instead(const Uniformization& attempt, Uniformization instead) {
+  FlowTotals totals = cost_of(attempt.totals);
+  totals.add(instead.totals);
+  instead.totals = totals;
+  return instead;
+}
+
+// Why a run is not valid.
+std::string why_not_valid(const Uniformization& run) {
+  return run.converged() ? "gave no map: " + run.layout_failure
+                         : "was not reached: " + run.result.failure;
+}
+
+// The requested preset, and for the automatic target where the circle domain fails, the free
+// boundary; where that fails too, `free_failure` says why.
+Uniformization uniformize_by_target(const CompactMesh& mesh, const UniformizationOptions& request,
+                                    std::string& free_failure) {
+  Uniformization run = uniformize_as_requested(mesh, request);
+  // The automatic target asks for a map, not a circle domain at any price: where the circle
+  // domain is not reached (its boundary does not settle) or its layout is no map (it squeezes
+  // faces below what double precision draws, loops far down a tube), the free boundary, which
+  // keeps the boundary's lengths.
+  const bool circles_failed = run.preset == TargetPreset::UnitDisk &&
+                              run.result.stop != FlowStop::Cancelled && !run.valid();
+  if (!best_effort(request) || !circles_failed) return run;
+  UniformizationOptions free = request;
+  free.preset = TargetPreset::FreeBoundary;
+  Uniformization instead = uniformize_as_requested(mesh, free);
+  if (instead.result.stop == FlowStop::Cancelled) return instead;
+  if (!instead.valid()) {
+    run.totals.add(cost_of(instead.totals));
+    free_failure = "the free-boundary target, tried instead, " + why_not_valid(instead);
+    return run;
+  }
+  std::ostringstream why;
+  if (!run.converged()) {
+    why << "the circle domain was not reached: " << run.result.failure;
+  } else if (run.quality.collapsed_faces > 0) {
+    why << "the circle domain squeezes " << run.quality.collapsed_faces
+        << " faces below 1e-12 of the mean area (circle error " << run.circle_error
+        << "): loops far down a tube shrink below what double precision resolves";
+  } else {
+    why << "the circle domain's layout is no map: " << run.layout_failure;
+  }
+  instead = delivered_instead(run, std::move(instead));
+  instead.target_instead = why.str();
+  return instead;
+}
+
+}  // namespace
+
+Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+  std::string free_failure;
+  Uniformization run = uniformize_by_target(mesh, request, free_failure);
+  // The automatic target with the Yamabe scheme, where it gives no map (for a circle domain:
+  // neither it nor the free boundary): the tangential scheme, whose triangles are valid at every
+  // u (sumo-tram.obj's windowed body: boundary vertices of one triangle that a circle domain needs
+  // above 180 degrees, stalled on the surface and on its double, and a free boundary whose
+  // boundary triangles degenerate). Not where the request holds the Yamabe flow to the input's
+  // triangulation or asks for the input's faces as laid out.
+  const bool yamabe_best_effort = best_effort(request) && request.scheme.scheme == Scheme::Yamabe &&
+                                  request.flow.edge_flips != EdgeFlips::Never &&
+                                  !request.keep_input_triangulation;
+  if (!yamabe_best_effort || run.valid() || run.result.stop == FlowStop::Cancelled) return run;
+  UniformizationOptions tangential = request;
+  tangential.scheme = SchemeOptions();
+  tangential.scheme.scheme = Scheme::Tangential;
+  std::string tangential_free_failure;
+  Uniformization instead = uniformize_by_target(mesh, tangential, tangential_free_failure);
+  std::string why =
+      "with the Yamabe scheme the " + to_string(run.preset) + " target " + why_not_valid(run);
+  if (!free_failure.empty()) why += "; " + free_failure;
+  if (!instead.valid() && instead.result.stop != FlowStop::Cancelled) {
+    // The Yamabe run's failure, and that the tangential scheme was tried.
+    std::string& failure = run.converged() ? run.layout_failure : run.result.failure;
+    if (!free_failure.empty()) failure += "; " + free_failure;
+    failure += "; the tangential scheme, tried instead, " + why_not_valid(instead);
+    run.totals.add(cost_of(instead.totals));
+    return run;
+  }
+  instead = delivered_instead(run, std::move(instead));
+  instead.scheme_instead = why;
+  return instead;
+}
+
+}  // namespace ricci

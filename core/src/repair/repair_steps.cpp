@@ -1,0 +1,247 @@
+// The repairs that come before the split into fans and components (repair_steps.h).
+#include "repair/repair_steps.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "mesh/mesh_checks.h"
+#include "ricci/mesh/errors.h"
+
+namespace ricci::detail {
+
+void Reporter::add(const std::string& what, const std::string& element, int index) {
+  auto it = std::find_if(report.entries.begin(), report.entries.end(),
+                         [&](const RepairReport::Entry& e) { return e.what == what; });
+  if (it == report.entries.end()) {
+    report.entries.push_back({what, element, 0, {}});
+    it = report.entries.end() - 1;
+  }
+  ++it->count;
+  if (it->first.size() < 3) it->first.push_back(index);
+}
+
+void Reporter::merge(const Reporter& other) {
+  for (const RepairReport::Entry& e : other.report.entries) {
+    for (int index : e.first) add(e.what, e.element, index);
+    auto it = std::find_if(report.entries.begin(), report.entries.end(),
+                           [&](const RepairReport::Entry& x) { return x.what == e.what; });
+    it->count += e.count - static_cast<int>(e.first.size());
+  }
+}
+
+std::uint64_t edge_key(int a, int b) {
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
+  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
+  return lo << 32 | hi;
+}
+
+EdgeMap::EdgeMap(const std::vector<Face>& faces) {
+  const int n = 3 * static_cast<int>(faces.size());
+  int num_vertices = 0;
+  for (const Face& f : faces) {
+    for (int v : f.v) num_vertices = std::max(num_vertices, v + 1);
+  }
+  const auto ends = [&](int use) {
+    const auto& v = faces[use / 3].v;
+    return std::array<int, 2>{v[use % 3], v[(use % 3 + 1) % 3]};
+  };
+  const std::vector<int> order = order_by_vertex_pair(num_vertices, n, ends);
+  keys_.resize(n);
+  uses_.resize(n);
+  edge_of_use_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const int use = order[i], f = use / 3, c = use % 3;
+    keys_[i] = edge_key(faces[f].v[c], faces[f].v[(c + 1) % 3]);
+    uses_[i] = {f, faces[f].v[c]};
+    if (i == 0 || keys_[i] != keys_[i - 1]) start_.push_back(i);
+    edge_of_use_[use] = start_.size() - 1;
+  }
+  start_.push_back(n);
+}
+
+std::vector<std::pair<EdgeUse, EdgeUse>> glued_pairs(const EdgeUses& uses) {
+  std::vector<std::pair<EdgeUse, EdgeUse>> pairs;
+  std::vector<char> paired(uses.size(), 0);
+  for (size_t i = 0; i < uses.size(); ++i) {
+    for (size_t j = i + 1; j < uses.size() && !paired[i]; ++j) {
+      if (paired[j] || uses[j].from == uses[i].from) continue;
+      pairs.emplace_back(uses[i], uses[j]);
+      paired[i] = paired[j] = 1;
+    }
+  }
+  return pairs;
+}
+
+// === Needles, repeated vertices, duplicates
+
+std::vector<Face> drop_degenerate(const std::vector<Eigen::Vector3d>& p,
+                                  const std::vector<std::array<int, 3>>& input,
+                                  std::vector<int>& represented_by, Reporter& reporter) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (const auto& t : input) {
+    for (int v : t) lo = lo.cwiseMin(p[v]), hi = hi.cwiseMax(p[v]);
+  }
+  const double needle = 1e-12 * (hi - lo).norm();
+  const int n = static_cast<int>(p.size());
+  UnionFind weld(n);
+  for (const auto& t : input) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = t[c], b = t[(c + 1) % 3];
+      if (a != b && (p[a] - p[b]).norm() <= needle && weld.find(a) != weld.find(b)) {
+        reporter.add("zero-length edges collapsed", "edge", std::min(a, b));
+        weld.unite(a, b);
+      }
+    }
+  }
+  std::vector<int> smallest(n, n);
+  for (int v = 0; v < n; ++v) smallest[weld.find(v)] = std::min(smallest[weld.find(v)], v);
+  represented_by.resize(n);
+  for (int v = 0; v < n; ++v) represented_by[v] = smallest[weld.find(v)];
+  const auto welded_face = [&](int f) -> std::array<int, 3> {
+    return {represented_by[input[f][0]], represented_by[input[f][1]], represented_by[input[f][2]]};
+  };
+  const auto repeats_a_vertex = [&](int f) {
+    const std::array<int, 3> v = welded_face(f);
+    return v[0] == v[1] || v[1] == v[2] || v[2] == v[0];
+  };
+  // Faces with three distinct vertices; a later one on the same three is a duplicate.
+  std::vector<int> proper;
+  for (int f = 0; f < static_cast<int>(input.size()); ++f) {
+    if (!repeats_a_vertex(f)) proper.push_back(f);
+  }
+  std::vector<char> duplicate(input.size(), 0);
+  for (int k : repeated_triangles(n, static_cast<int>(proper.size()),
+                                  [&](int k) { return welded_face(proper[k]); })) {
+    duplicate[proper[k]] = 1;
+  }
+  std::vector<Face> faces;
+  for (int f = 0; f < static_cast<int>(input.size()); ++f) {
+    if (repeats_a_vertex(f)) {
+      reporter.add("faces with a repeated vertex dropped", "face", f);
+    } else if (duplicate[f]) {
+      reporter.add("duplicate faces dropped", "face", f);
+    } else {
+      faces.push_back({welded_face(f), f});
+    }
+  }
+  return faces;
+}
+
+// === Orientation
+
+void orient(std::vector<Face>& faces, Reporter& reporter) {
+  const int nf = static_cast<int>(faces.size());
+  const EdgeMap edges(faces);
+  std::vector<int> component(nf, -1);
+  std::vector<char> flipped(nf, 0);
+  const auto effective_from = [&](const EdgeUse& use, int a, int b) {
+    return flipped[use.face] ? (use.from == a ? b : a) : use.from;
+  };
+  int num_components = 0;
+  for (int seed = 0; seed < nf; ++seed) {
+    if (component[seed] >= 0) continue;
+    std::vector<int> members = {seed};
+    component[seed] = num_components;
+    for (size_t k = 0; k < members.size(); ++k) {
+      const int f = members[k];
+      for (int c = 0; c < 3; ++c) {
+        const int a = faces[f].v[c], b = faces[f].v[(c + 1) % 3];
+        const EdgeUses uses = edges.uses(edges.edge_of(f, c));
+        if (uses.size() != 2) continue;  // boundary or non-manifold: not glued
+        const EdgeUse& mine = uses[0].face == f ? uses[0] : uses[1];
+        const EdgeUse& other = uses[0].face == f ? uses[1] : uses[0];
+        const int g = other.face;
+        const bool agree = effective_from(mine, a, b) != other.from;
+        if (component[g] < 0) {
+          component[g] = num_components;
+          flipped[g] = !agree;
+          members.push_back(g);
+        } else if (effective_from(mine, a, b) == effective_from(other, a, b)) {
+          throw InvalidMeshError(
+              "mesh: the surface of face " + std::to_string(faces[f].input) +
+              " is not orientable (a Moebius strip, a Klein bottle, ...): it has no conformal map "
+              "to the plane, the disk or the sphere; orientable components can be used on their "
+              "own (e.g. MeshLab's Filters > Selection > Select Connected Faces, then Delete)");
+        }
+      }
+    }
+    const auto count =
+        std::count_if(members.begin(), members.end(), [&](int f) { return flipped[f] != 0; });
+    const bool invert = 2 * count > static_cast<long>(members.size());
+    for (int f : members) {
+      if ((flipped[f] != 0) == invert) continue;
+      std::swap(faces[f].v[1], faces[f].v[2]);
+      reporter.add("faces reoriented to agree with their neighbours", "face", faces[f].input);
+    }
+    ++num_components;
+  }
+}
+
+// === Caps
+
+namespace {
+
+// The corner of a zero-area face whose vertex lies inside the opposite (longest) edge, or -1.
+int cap_corner(const std::vector<Eigen::Vector3d>& p, const Face& f) {
+  const Eigen::Vector3d& a = p[f.v[0]];
+  const Eigen::Vector3d e1 = p[f.v[1]] - a, e2 = p[f.v[2]] - a;
+  const std::array<double, 3> opposite = {(p[f.v[2]] - p[f.v[1]]).squaredNorm(), e2.squaredNorm(),
+                                          e1.squaredNorm()};
+  const int c =
+      static_cast<int>(std::max_element(opposite.begin(), opposite.end()) - opposite.begin());
+  // The same test as CompactMesh's: twice the area against the longest edge squared; or side
+  // lengths that make no triangle in double precision (the metric the flow starts from).
+  const double longest = std::sqrt(opposite[c]);
+  const double others = std::sqrt(opposite[(c + 1) % 3]) + std::sqrt(opposite[(c + 2) % 3]);
+  return e1.cross(e2).norm() > 1e-12 * opposite[c] && others > longest * (1 + 1e-14) ? -1 : c;
+}
+
+}  // namespace
+
+void remove_caps(const std::vector<Eigen::Vector3d>& p, std::vector<Face>& faces,
+                 Reporter& reporter) {
+  for (int pass = 0; pass < 20; ++pass) {
+    if (std::none_of(faces.begin(), faces.end(),
+                     [&](const Face& f) { return cap_corner(p, f) >= 0; }))
+      return;
+    const EdgeMap edges(faces);
+    std::vector<char> touched(faces.size(), 0), dropped(faces.size(), 0);
+    std::vector<Face> added;
+    for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+      const int c = cap_corner(p, faces[f]);
+      if (c < 0 || touched[f]) continue;
+      const int m = faces[f].v[c], a = faces[f].v[(c + 1) % 3], b = faces[f].v[(c + 2) % 3];
+      const EdgeUses uses = edges.uses(edges.edge_of(f, (c + 1) % 3));
+      const EdgeUse* across = nullptr;
+      for (const EdgeUse& u : uses) {
+        if (u.face != f) across = &u;
+      }
+      if (uses.size() == 2 && touched[across->face]) continue;  // next pass
+      touched[f] = dropped[f] = 1;
+      reporter.add("zero-area faces removed (the face across the longest edge split)", "face",
+                   faces[f].input);
+      if (uses.size() != 2 || across->from != b) continue;  // boundary (or non-manifold): dropped
+      Face& g = faces[across->face];
+      touched[across->face] = 1;
+      int d = g.v[0];
+      for (int v : g.v) {
+        if (v != a && v != b) d = v;
+      }
+      added.push_back({{m, a, d}, g.input});  // g runs b -> a -> d; m lies on b -> a
+      g.v = {b, m, d};
+    }
+    if (added.empty() && std::none_of(dropped.begin(), dropped.end(), [](char x) { return x; })) {
+      return;
+    }
+    std::vector<Face> kept;
+    for (size_t f = 0; f < faces.size(); ++f) {
+      if (!dropped[f]) kept.push_back(faces[f]);
+    }
+    kept.insert(kept.end(), added.begin(), added.end());
+    faces = std::move(kept);
+  }
+}
+
+}  // namespace ricci::detail

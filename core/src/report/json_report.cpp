@@ -1,0 +1,219 @@
+// json_report (report.h): the run, its components and repairs as JSON.
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ricci/pipeline/atlas.h"
+#include "ricci/report/report.h"
+
+namespace ricci {
+
+namespace {
+
+std::string quoted(const std::string& s) {
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      q += '\\';
+      q += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      q += ' ';
+    } else {
+      q += c;
+    }
+  }
+  return q + "\"";
+}
+
+std::string number(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream s;
+  s.precision(std::numeric_limits<double>::max_digits10);
+  s << x;
+  return s.str();
+}
+
+std::string array(const std::vector<double>& xs) {
+  std::string a = "[";
+  for (size_t i = 0; i < xs.size(); ++i) a += (i ? ", " : "") + number(xs[i]);
+  return a + "]";
+}
+
+std::string complex_pair(std::complex<double> z) {
+  return "[" + number(z.real()) + ", " + number(z.imag()) + "]";
+}
+
+std::string layout_json(const Uniformization& run) {
+  if (run.layout_kind == LayoutKind::None) return "null";
+  const LayoutQuality& q = run.quality;
+  const Layout& m = run.layout;
+  std::ostringstream j;
+  j << "{\"kind\": " << quoted(to_string(run.layout_kind))
+    << ", \"flipped_faces\": " << q.flipped_faces << ", \"collapsed_faces\": " << q.collapsed_faces
+    << ", \"failure\": " << (run.layout_failure.empty() ? "null" : quoted(run.layout_failure))
+    << ", \"quasi_conformal\": {\"median\": " << number(q.quasi_conformal_median)
+    << ", \"p95\": " << number(q.quasi_conformal_p95)
+    << ", \"max\": " << number(q.quasi_conformal_max) << "}"
+    << ", \"area_ratio\": {\"p5\": " << number(q.area_ratio_p5)
+    << ", \"median\": " << number(q.area_ratio_median) << ", \"p95\": " << number(q.area_ratio_p95)
+    << "}";
+  if (run.preset == TargetPreset::UnitDisk) j << ", \"circle_error\": " << number(run.circle_error);
+  j << ", \"input_faces_turned_over\": " << run.input_faces_turned_over;
+  if (run.subdivision) {
+    const CommonSubdivision& sub = *run.subdivision;
+    j << ", \"common_subdivision\": {\"vertices\": " << sub.positions.size()
+      << ", \"new_vertices\": " << sub.positions.size() - sub.num_input_vertices
+      << ", \"faces\": " << sub.faces.size() << ", \"flips_followed\": " << sub.num_flips
+      << ", \"disk_splits\": " << sub.disk_splits << ", \"seconds\": " << number(sub.seconds)
+      << "}";
+  } else {
+    j << ", \"common_subdivision\": null";
+  }
+  if (!run.subdivision_failure.empty()) {
+    j << ", \"common_subdivision_failure\": " << quoted(run.subdivision_failure);
+  }
+  if (run.geometry == Geometry::Euclidean) {
+    j << ", \"max_relative_length_error\": " << number(m.max_relative_length_error);
+  }
+  j << ", \"flipped_faces_of_flow_triangulation\": " << m.num_flipped_faces
+    << ", \"closure_error\": " << number(m.closure_error)
+    << ", \"relation_error\": " << number(m.relation_error)
+    << ", \"cut_paths\": " << m.cut.paths.size() << ", \"generators\": " << m.cut.num_generators;
+  if (run.geometry == Geometry::Hyperbolic && m.reach > 0) {
+    j << ", \"reach\": " << number(m.reach) << ", \"charts\": " << m.num_charts();
+    if (m.num_charts() > 1) j << ", \"chart_radius\": " << number(m.chart_radius);
+  }
+  if (!run.periods.empty()) {
+    j << ", \"periods\": [" << complex_pair(run.periods[0]) << ", " << complex_pair(run.periods[1])
+      << "]";
+  }
+  // E2: z -> a z + b; H2: z -> (a z + b) / (conj(b) z + conj(a)); a and b as [re, im].
+  j << ", \"deck_transformations\": [";
+  for (size_t k = 0; k < m.deck.size(); ++k) {
+    j << (k ? ", " : "") << "{\"a\": " << complex_pair(m.deck[k].a)
+      << ", \"b\": " << complex_pair(m.deck[k].b) << "}";
+  }
+  j << "]}";
+  return j.str();
+}
+
+}  // namespace
+
+namespace {
+
+// The keys of one component's report, one per line, without the braces.
+std::string component_json_body(const CompactMesh& mesh, const Uniformization& run,
+                                const RunContext& context) {
+  const FlowResult& result = run.result;
+  const FlowTotals& totals = run.totals;
+  const FlowTimes& t = totals.times;
+  const LayoutQuality& q = run.quality;
+  std::ostringstream j;
+  j << "  \"input\": " << quoted(context.input) << ",\n";
+  j << "  \"mesh\": {\"vertices\": " << mesh.num_vertices() << ", \"faces\": " << mesh.num_faces()
+    << ", \"edges\": " << mesh.num_edges()
+    << ", \"euler_characteristic\": " << mesh.euler_characteristic()
+    << ", \"genus\": " << mesh.genus() << ", \"boundary_loops\": " << mesh.num_boundary_loops()
+    << ", \"topology\": " << quoted(mesh.topology_name()) << "},\n";
+  j << "  \"geometry\": " << quoted(to_string(run.geometry)) << ",\n";
+  j << "  \"scheme\": " << quoted(to_string(run.scheme)) << ",\n";
+  j << "  \"target\": " << quoted(context.target) << ",\n";
+  j << "  \"preset\": " << quoted(to_string(run.preset)) << ",\n";
+  j << "  \"tolerance\": " << number(run.tolerance) << ",\n";
+  j << "  \"length_scale\": " << number(run.structure.length_scale) << ",\n";
+  j << "  \"converged\": " << (result.converged ? "true" : "false") << ",\n";
+  j << "  \"failure\": " << (result.converged ? "null" : quoted(result.failure)) << ",\n";
+  j << "  \"residual\": " << number(result.residual) << ",\n";
+  j << "  \"attainable_residual\": "
+    << (totals.attainable_residual > 0 ? number(totals.attainable_residual) : "null") << ",\n";
+  const bool needed = totals.flips_from_iteration >= 0;
+  j << "  \"edge_flips_needed\": " << (needed ? "true" : "false") << ",\n";
+  j << "  \"flips_from_iteration\": "
+    << (needed ? std::to_string(totals.flips_from_iteration) : "null") << ",\n";
+  j << "  \"without_flips\": " << (needed ? quoted(totals.without_flips) : "null") << ",\n";
+  j << "  \"target_instead\": "
+    << (run.target_instead.empty() ? "null" : quoted(run.target_instead)) << ",\n";
+  j << "  \"scheme_instead\": "
+    << (run.scheme_instead.empty() ? "null" : quoted(run.scheme_instead)) << ",\n";
+  j << "  \"doubled_surface\": " << (run.doubled ? "true" : "false") << ",\n";
+  j << "  \"flows\": " << totals.flows << ",\n";
+  j << "  \"iterations\": " << totals.newton_iterations << ",\n";
+  j << "  \"edge_flips\": " << totals.edge_flips << ",\n";
+  j << "  \"symbolic_analyses\": " << totals.symbolic_analyses << ",\n";
+  j << "  \"numeric_factorizations\": " << totals.numeric_factorizations << ",\n";
+  j << "  \"krylov_iterations\": " << totals.krylov_iterations << ",\n";
+  j << "  \"last_flow\": {\"iterations\": " << result.iterations
+    << ", \"residual_history\": " << array(result.residual_history)
+    << ", \"step_history\": " << array(result.step_history)
+    << ", \"edge_flips\": " << result.num_flips
+    << ", \"connectivity_changes\": " << result.connectivity_changes << "},\n";
+  j << "  \"seconds\": {\"read\": " << number(context.read_seconds)
+    << ", \"setup\": " << number(t.setup) << ", \"assembly\": " << number(t.assembly)
+    << ", \"analysis\": " << number(t.analysis)
+    << ", \"factorization\": " << number(t.factorization) << ", \"solve\": " << number(t.solve)
+    << ", \"line_search\": " << number(t.line_search) << ", \"flips\": " << number(t.flips)
+    << ", \"flows\": " << number(t.total) << "},\n";
+  j << "  \"errors\": {\"max_abs_curvature_error\": " << number(q.max_curvature_error)
+    << ", \"mean_abs_curvature_error\": " << number(q.mean_curvature_error)
+    << ", \"gauss_bonnet_error\": " << number(gauss_bonnet_error(mesh, run.geometry, result))
+    << ", \"initial_length_error\": " << number(initial_length_error(mesh, run.structure))
+    << "},\n";
+  j << "  \"area\": " << number(result.area) << ",\n";
+  j << "  \"layout\": " << layout_json(run);
+  return j.str();
+}
+
+std::string repairs_json(const RepairReport& report) {
+  std::string a = "[";
+  for (size_t k = 0; k < report.entries.size(); ++k) {
+    const RepairReport::Entry& e = report.entries[k];
+    std::string first;
+    for (size_t i = 0; i < e.first.size(); ++i)
+      first += (i ? ", " : "") + std::to_string(e.first[i]);
+    a += (k ? ", " : "") + std::string("{\"what\": ") + quoted(e.what) +
+         ", \"element\": " + quoted(e.element) + ", \"count\": " + std::to_string(e.count) +
+         ", \"first\": [" + first + "]}";
+  }
+  return a + "]";
+}
+
+std::string indented(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    out += c;
+    if (c == '\n') out += "  ";
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string json_report(const CompactMesh& mesh, const Uniformization& run,
+                        const RunContext& context) {
+  return "{\n" + component_json_body(mesh, run, context) + "\n}\n";
+}
+
+std::string json_report(const MeshUniformization& run, const RunContext& context) {
+  const RepairedMesh& m = run.mesh;
+  if (run.components.size() == 1) {
+    return "{\n" + component_json_body(m.components[0].mesh, run.components[0], context) +
+           ",\n  \"repairs\": " + repairs_json(m.report) + "\n}\n";
+  }
+  std::ostringstream j;
+  j << "{\n";
+  j << "  \"input\": " << quoted(context.input) << ",\n";
+  j << "  \"converged\": " << (run.converged() ? "true" : "false") << ",\n";
+  j << "  \"repairs\": " << repairs_json(m.report) << ",\n";
+  j << "  \"components\": [";
+  for (size_t k = 0; k < run.components.size(); ++k) {
+    j << (k ? ", " : "") << "{\n  "
+      << indented(component_json_body(m.components[k].mesh, run.components[k], context)) << "\n  }";
+  }
+  j << "]\n}\n";
+  return j.str();
+}
+
+}  // namespace ricci

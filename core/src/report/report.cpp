@@ -1,0 +1,197 @@
+#include "ricci/report/report.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "flow/metric.h"
+#include "ricci/pipeline/atlas.h"
+
+namespace ricci {
+
+double initial_length_error(const CompactMesh& mesh, const ConformalStructure& structure) {
+  const MetricState state = evaluate_metric(mesh, structure, structure.u0);
+  double err = 0;
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const double want = structure.length_scale * mesh.input_lengths()[e];
+    const double got = state.edges[e].valid ? state.edges[e].length : INFINITY;
+    err = std::max(err, std::abs(got / want - 1));
+  }
+  return err;
+}
+
+double gauss_bonnet_error(const CompactMesh& mesh, Geometry geometry, const FlowResult& result) {
+  return result.curvature.sum() + background_curvature(geometry) * result.area -
+         2 * kPi * mesh.euler_characteristic();
+}
+
+std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& run) {
+  return {
+      {"iterations", run.totals.newton_iterations},
+      {"edge_flips", run.totals.edge_flips},
+      {"max_curvature_error", run.quality.max_curvature_error},
+      {"flipped_faces", run.quality.flipped_faces},
+      {"quasi_conformal_median", run.quality.quasi_conformal_median},
+      {"closure_error", run.layout.closure_error},
+      {"circle_error", run.circle_error},
+      {"flows", run.totals.flows},
+      {"collapsed_faces", run.quality.collapsed_faces},
+      {"input_faces_turned_over", run.input_faces_turned_over},
+      {"new_vertices", run.subdivision ? static_cast<double>(run.subdivision->positions.size() -
+                                                             run.subdivision->num_input_vertices)
+                                       : 0.0}};
+}
+
+std::vector<std::string> summary_lines(const MeshUniformization& run, const RunContext& context) {
+  std::vector<std::string> lines;
+  for (const std::string& line : run.mesh.report.lines()) lines.push_back("Repaired: " + line);
+  const size_t n = run.components.size();
+  if (n > 1) {
+    lines.push_back(std::to_string(n) + " connected components, each mapped by its own topology");
+  }
+  for (size_t k = 0; k < n; ++k) {
+    RunContext c = context;
+    if (n > 1)
+      c.input += (c.input.empty() ? "" : ", ") + std::string("component ") + std::to_string(k);
+    for (const std::string& line :
+         summary_lines(run.mesh.components[k].mesh, run.components[k], c)) {
+      lines.push_back(line);
+    }
+  }
+  return lines;
+}
+
+std::vector<std::pair<std::string, double>> result_numbers(const MeshUniformization& run) {
+  if (run.components.size() == 1) return result_numbers(run.components[0]);
+  std::vector<std::pair<std::string, double>> total;
+  for (const Uniformization& c : run.components) {
+    const auto numbers = result_numbers(c);
+    if (total.empty()) {
+      total = numbers;
+      continue;
+    }
+    for (size_t i = 0; i < numbers.size(); ++i) {
+      const std::string& name = numbers[i].first;
+      const bool sum = name == "iterations" || name == "edge_flips" || name == "flipped_faces" ||
+                       name == "flows" || name == "collapsed_faces" ||
+                       name == "input_faces_turned_over" || name == "new_vertices";
+      total[i].second =
+          sum ? total[i].second + numbers[i].second : std::max(total[i].second, numbers[i].second);
+    }
+  }
+  total.emplace_back("components", static_cast<double>(run.components.size()));
+  return total;
+}
+
+std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformization& run,
+                                       const RunContext& context) {
+  std::vector<std::string> lines;
+  std::ostringstream s;
+  s << "Ricci flow" << (context.input.empty() ? "" : " on " + context.input) << ": "
+    << mesh.topology_name() << ", " << mesh.num_vertices() << " vertices, " << mesh.num_faces()
+    << " faces; " << to_string(run.geometry) << " geometry, " << to_string(run.scheme)
+    << " scheme, target " << to_string(run.preset);
+  lines.push_back(s.str());
+  const auto line = [&](auto&&... parts) {
+    std::ostringstream l;
+    l.precision(3);
+    (l << ... << parts);
+    lines.push_back(l.str());
+  };
+  const FlowTotals& t = run.totals;
+  if (!run.converged()) {
+    line("Not converged after ", t.newton_iterations, " Newton iterations: ", run.result.failure);
+    return lines;
+  }
+  line("Converged in ", t.newton_iterations, " Newton iterations with ", t.edge_flips,
+       " edge flips: max |K - Kbar| = ", run.quality.max_curvature_error, ", mean ",
+       run.quality.mean_curvature_error, " (", t.times.total, " s)");
+  if (t.attainable_residual > 0) {
+    line("The tolerance ", run.tolerance,
+         " is below what double precision allows on this metric: ", "converged within ",
+         t.attainable_residual, " (10 times the angle sums' round-off)");
+  }
+  if (!run.scheme_instead.empty()) {
+    line("Warning: the ", to_string(run.scheme), " scheme instead of Yamabe: ", run.scheme_instead);
+  }
+  if (!run.target_instead.empty()) {
+    line("Warning: the ", to_string(run.preset),
+         " target instead of the automatic one: ", run.target_instead);
+  }
+  if (t.flips_from_iteration >= 0) {
+    line("Edge flips were needed from iteration ", t.flips_from_iteration,
+         " on: on the input's triangulation, ", t.without_flips);
+  }
+  if (run.doubled) {
+    line(
+        "Flowed on the surface doubled along its boundary, where boundary edges flip too: on "
+        "the surface itself the flow ",
+        run.doubled_because);
+  }
+  if (run.preset == TargetPreset::UnitDisk) {
+    line("Boundary loops on circles after ", t.flows, " flows: circle error ", run.circle_error);
+  }
+  if (run.layout_kind == LayoutKind::None) {
+    line("No layout: a ", mesh.topology_name(), " in ", to_string(run.geometry),
+         " geometry has none here");
+    return lines;
+  }
+  const LayoutQuality& q = run.quality;
+  const char* faces = "input's faces";
+  if (run.subdivision) {
+    const CommonSubdivision& sub = *run.subdivision;
+    faces = "subdivision's faces";
+    if (run.input_faces_turned_over > 0) {
+      line("Common subdivision: ", run.input_faces_turned_over,
+           " of the input's faces would turn over on the flipped triangulation, so the input is "
+           "cut along its edges: ",
+           sub.positions.size(), " vertices (", sub.positions.size() - mesh.num_vertices(),
+           " new: on input edges, and any rim splits below), ", sub.faces.size(), " faces (",
+           sub.seconds, " s)");
+    }
+    if (sub.disk_splits > 0) {
+      line("Poincare disk drawing: ", sub.disk_splits,
+           " sides split on their geodesics (at the midpoint, or for a cap at the foot of the "
+           "perpendicular from its third corner; a new vertex each, dividing the side on the "
+           "surface alike), as thin faces near the rim turn over when drawn straight: ",
+           sub.positions.size(), " vertices, ", sub.faces.size(), " faces");
+    }
+  } else if (run.input_faces_turned_over > 0 && !run.subdivision_failure.empty()) {
+    line("No common subdivision: ", run.subdivision_failure);
+  }
+  line("Layout (", to_string(run.layout_kind), "): ", q.flipped_faces, " of the ", faces,
+       " flipped; quasi-conformal ratio median ", q.quasi_conformal_median, ", 95% ",
+       q.quasi_conformal_p95, ", max ", q.quasi_conformal_max, "; area ratio 5%..95% ",
+       q.area_ratio_p5, "..", q.area_ratio_p95);
+  if (q.collapsed_faces > 0) {
+    line("Warning: ", q.collapsed_faces, " of the ", faces,
+         " are squeezed to almost no area in "
+         "the layout (first: face ",
+         q.first_collapsed_face,
+         "): the conformal map shrinks "
+         "protrusions exponentially");
+  }
+  if (run.centring_skipped) {
+    line("The sphere is not centred: the centring Moebius map would turn faces over");
+  }
+  if (!run.layout_failure.empty()) line("Invalid layout: ", run.layout_failure);
+  const Layout& m = run.layout;
+  if (m.num_charts() > 1) {
+    line("Poincare disk in ", m.num_charts(), " charts: the domain reaches hyperbolic distance ",
+         m.reach,
+         " from its centre, where double precision no longer draws its faces in one disk; ",
+         "each chart is a piece of it moved within ", m.chart_radius,
+         " of a disk's centre, the disks side by side in the texture (no deck transformations)");
+  }
+  if (!m.cut.paths.empty()) {
+    line("Cut into a disk along ", m.cut.paths.size(), " paths (", m.cut.num_generators,
+         " generators): closure error ", m.closure_error, ", relation error ", m.relation_error);
+  }
+  if (!run.periods.empty()) {
+    line("Flat torus: periods (", run.periods[0].real(), ", ", run.periods[0].imag(), ") and (",
+         run.periods[1].real(), ", ", run.periods[1].imag(), ")");
+  }
+  return lines;
+}
+
+}  // namespace ricci

@@ -1,0 +1,184 @@
+// RicciFlowSolver's behaviour around the algorithm: what a result records, the attainable floor,
+// resuming, cancelling, limits, and failures explained.
+#include "ricci/flow/ricci_flow.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "flow/flow_steps.h"
+#include "flow/metric.h"
+#include "ricci/flow/presets.h"
+#include "ricci/mesh/errors.h"
+#include "test_meshes.h"
+
+namespace ricci {
+namespace {
+
+TEST(RicciFlow, ResultHasHistoryAndTimings) {
+  const CompactMesh mesh = test::bumpy_disk(10);
+  int calls = 0;
+  FlowOptions options;
+  options.progress = [&](const FlowProgress&) { return ++calls > 0; };
+  const FlowResult r =
+      compute_ricci_flow(mesh, Geometry::Euclidean, test::scheme_options(Scheme::Yamabe, mesh),
+                         TargetCurvature::free_boundary(mesh), options);
+  EXPECT_EQ(static_cast<int>(r.residual_history.size()), r.iterations + 1);
+  EXPECT_EQ(static_cast<int>(r.step_history.size()), r.iterations);
+  EXPECT_EQ(calls, r.iterations + 1);
+  // The merit line search makes the residual fall at every iteration.
+  for (size_t i = 1; i < r.residual_history.size(); ++i) {
+    EXPECT_LT(r.residual_history[i], r.residual_history[i - 1]);
+  }
+  EXPECT_GT(r.times.total, 0.0);
+  EXPECT_GE(r.times.total, r.times.factorization);
+}
+
+TEST(RicciFlow, AToleranceBelowDoublePrecisionConvergesAtTheAttainableFloor) {
+  // 1e-18 is below what the angle sums' round-off allows on a real scan: the flow goes on until
+  // no step reduces the residual, and counts as converged there, saying within what.
+  const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
+  const TargetCurvature target = TargetCurvature::free_boundary(mesh);
+  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target);
+  FlowOptions tight;
+  tight.tolerance = 1e-18;
+  const FlowResult r = run_ricci_flow(mesh, s, target, tight);
+  ASSERT_TRUE(r.converged) << r.failure;
+  EXPECT_GT(r.attainable_residual, tight.tolerance);
+  EXPECT_LT(r.attainable_residual, 1e-11);
+  EXPECT_LE(r.residual, r.attainable_residual);
+  // At the usual tolerance, the tolerance itself is reached.
+  const FlowResult usual = run_ricci_flow(mesh, s, target);
+  ASSERT_TRUE(usual.converged);
+  EXPECT_EQ(usual.attainable_residual, 0);
+  // A genuine stall is no floor: the input's triangulation of a scan (elk.off, a torus) without
+  // flips stops far above it.
+  const CompactMesh elk = test::cgal_mesh("elk.off");
+  FlowOptions fixed;
+  fixed.edge_flips = EdgeFlips::Never;
+  const TargetCurvature zero = TargetCurvature::zero(elk);
+  const FlowResult stalled =
+      run_ricci_flow(elk, prepare_flow(elk, Geometry::Euclidean, {}, zero), zero, fixed);
+  EXPECT_FALSE(stalled.converged);
+  EXPECT_EQ(stalled.attainable_residual, 0);
+}
+
+TEST(RicciFlow, ThePinnedGaugeVertexCarriesTheOthersRoundOff) {
+  // A flat torus (E2, no fixed vertex): vertex 0 is pinned against the scaling, and its residual
+  // is minus the sum of all the others' (Gauss-Bonnet), so their round-off adds up there. At a
+  // tolerance below double precision the flow converges at the floor all the same.
+  const CompactMesh mesh = test::torus(160, 120);
+  const TargetCurvature target = TargetCurvature::zero(mesh);
+  FlowOptions tight;
+  tight.tolerance = 1e-18;
+  const FlowResult r =
+      run_ricci_flow(mesh, prepare_flow(mesh, Geometry::Euclidean, {}, target), target, tight);
+  ASSERT_TRUE(r.converged) << r.failure;
+  EXPECT_GT(r.attainable_residual, 0);
+  EXPECT_LE(r.residual, r.attainable_residual);
+  EXPECT_LT(r.attainable_residual, 1e-9);
+  std::printf("[ floor    ] %d vertices: residual %.3g (vertex 0: %.3g), floor %.3g\n",
+              mesh.num_vertices(), r.residual, std::abs(r.curvature[0]), r.attainable_residual);
+}
+
+TEST(RicciFlow, SolverResumesFromItsLastResult) {
+  // The disk target's second flow (presets.h): boundary curvature refitted to circles through the
+  // first result's boundary chords, a target near the first. Resumed from the first result (a real
+  // scan whose flow flipped edges), it takes fewer iterations and reaches the cold start's u.
+  const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
+  const int outer = outer_boundary_loop(mesh, mesh.input_lengths());
+  const TargetCurvature target1 = circle_boundary_target(mesh, mesh.input_lengths(), outer);
+  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target1);
+  FlowOptions always;
+  always.edge_flips = EdgeFlips::Always;
+  RicciFlowSolver solver(mesh, s, always);
+  const FlowResult first = solver.solve(target1);
+  ASSERT_TRUE(first.converged);
+  ASSERT_GT(first.num_flips, 0);
+  const TargetCurvature target2 =
+      circle_boundary_target(result_triangulation(mesh, first), first.edge_lengths, outer);
+  const FlowResult cold = run_ricci_flow(mesh, s, target2, always);
+  const FlowResult warm = solver.solve(target2);
+  ASSERT_TRUE(cold.converged) << cold.failure;
+  ASSERT_TRUE(warm.converged) << warm.failure;
+  EXPECT_LT(warm.iterations, cold.iterations);
+  EXPECT_LE(warm.num_analyses, cold.num_analyses);
+  EXPECT_LE((warm.u - cold.u).cwiseAbs().maxCoeff(), 1e-8);
+  // The flips replay from the input: the sequence starts with the first flow's.
+  ASSERT_GE(warm.flip_sequence.size(), first.flip_sequence.size());
+  EXPECT_TRUE(std::equal(first.flip_sequence.begin(), first.flip_sequence.end(),
+                         warm.flip_sequence.begin(),
+                         [](const EdgeFlip& x, const EdgeFlip& y) { return x.edge == y.edge; }));
+  ASSERT_TRUE(warm.triangulation.has_value());
+}
+
+TEST(RicciFlow, CancelStopsTheFlow) {
+  const CompactMesh mesh = test::bumpy_disk(10);
+  FlowOptions options;
+  options.progress = [](const FlowProgress& p) { return p.iteration < 1; };
+  const auto target = TargetCurvature::free_boundary(mesh);
+  const ConformalStructure s =
+      prepare_flow(mesh, Geometry::Euclidean, test::scheme_options(Scheme::Yamabe, mesh), target);
+  const FlowResult r = run_ricci_flow(mesh, s, target, options);
+  EXPECT_FALSE(r.converged);
+  EXPECT_NE(r.failure.find("cancelled"), std::string::npos);
+}
+
+TEST(RicciFlow, IterationLimitIsReported) {
+  const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
+  FlowOptions options;
+  options.max_iterations = 1;
+  try {
+    compute_ricci_flow(mesh, Geometry::Euclidean, test::scheme_options(Scheme::Yamabe, mesh),
+                       TargetCurvature::free_boundary(mesh), options);
+    FAIL() << "expected ConvergenceError";
+  } catch (const ConvergenceError& e) {
+    EXPECT_NE(std::string(e.what()).find("no convergence in 1 iterations"), std::string::npos)
+        << e.what();
+    EXPECT_EQ(e.iterations(), 1);
+    EXPECT_GT(e.residual(), 1e-10);
+  }
+}
+
+TEST(RicciFlow, StallOnARealMeshIsExplained) {
+  // A torus scan on a fixed triangulation: Yamabe runs into degenerate triangles (DESIGN.md).
+  const CompactMesh mesh = test::cgal_mesh("elk.off");
+  try {
+    compute_ricci_flow(mesh, Geometry::Euclidean, test::scheme_options(Scheme::Yamabe, mesh),
+                       TargetCurvature::zero(mesh), test::without_flips());
+    FAIL() << "expected ConvergenceError";
+  } catch (const ConvergenceError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("stalled at iteration"), std::string::npos) << m;
+    EXPECT_NE(m.find("degenerat"), std::string::npos) << m;
+    EXPECT_LT(e.iterations(), 100);
+  }
+  // The tangential packing, whose triangles are always valid, converges on the same mesh, and
+  // so does Yamabe with edge flips.
+  const FlowResult r =
+      compute_ricci_flow(mesh, Geometry::Euclidean, test::scheme_options(Scheme::Tangential, mesh),
+                         TargetCurvature::zero(mesh), test::without_flips());
+  EXPECT_TRUE(r.converged);
+  const FlowResult flipped =
+      compute_ricci_flow(mesh, Geometry::Euclidean, test::scheme_options(Scheme::Yamabe, mesh),
+                         TargetCurvature::zero(mesh));
+  EXPECT_TRUE(flipped.converged);
+  EXPECT_GT(flipped.num_flips, 0);
+}
+
+TEST(RicciFlow, TopologyThatCannotCarryTheGeometryIsRefusedUpFront) {
+  const CompactMesh torus = test::torus(10, 6);
+  EXPECT_THROW(
+      compute_ricci_flow(torus, Geometry::Spherical, test::scheme_options(Scheme::Yamabe, torus),
+                         TargetCurvature::zero(torus)),
+      InvalidTargetError);
+  EXPECT_THROW(
+      compute_ricci_flow(torus, Geometry::Hyperbolic, test::scheme_options(Scheme::Yamabe, torus),
+                         TargetCurvature::zero(torus)),
+      InvalidTargetError);
+}
+
+}  // namespace
+}  // namespace ricci
