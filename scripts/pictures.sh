@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Renders the README's pictures: for one mesh of each topology, the checkerboard texture of its
-# `ricci-flow --target auto` layout on the mesh, and the layout itself (docs/uniformization-*.png).
+# Renders the pictures of docs/mathematics.md: for one mesh of each topology, the checkerboard
+# texture of its `ricci-flow --target auto` layout on the mesh, and the layout itself
+# (docs/uniformization-*.png).
 # Needs the Release build (scripts/build.sh release) and numpy (a venv under build/ is made).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)

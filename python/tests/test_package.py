@@ -206,14 +206,36 @@ def test_pymeshlab_plugin_from_the_wheel():
 
 
 def readme_examples():
-    text = open(os.path.join(ROOT, "README.md")).read()
-    return re.findall(r"<!-- python example -->\s*```python\n(.*?)```", text, re.S)
+    """The ```python blocks after a `<!-- python example -->` line, by page: README.md, then each
+    docs/*.md (paths relative to the repository's root)."""
+    docs = os.path.join(ROOT, "docs")
+    pages = ["README.md"] + sorted(os.path.join("docs", name) for name in os.listdir(docs)
+                                   if name.endswith(".md"))
+    examples = {}
+    for page in pages:
+        text = open(os.path.join(ROOT, page)).read()
+        examples[page] = re.findall(r"<!-- python example -->\s*```python\n(.*?)```", text, re.S)
+    return examples
 
 
 def test_readme_examples_run_as_written():
     examples = readme_examples()
-    assert len(examples) >= 2
+    assert len(examples["README.md"]) >= 2
+    for page, codes in examples.items():
+        for code in codes:
+            done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                                  text=True)
+            assert done.returncode == 0, page + ":\n" + code + done.stderr
+
+
+def test_readme_shell_examples_run_as_written():
+    """The ```sh blocks after a `<!-- shell example -->` line in README.md, run by bash from the
+    repository's root with this venv's console scripts (ricci-flow) first on PATH."""
+    text = open(os.path.join(ROOT, "README.md")).read()
+    examples = re.findall(r"<!-- shell example -->\s*```sh\n(.*?)```", text, re.S)
+    assert len(examples) >= 1
+    env = dict(os.environ, PATH=os.path.dirname(sys.executable) + os.pathsep + os.environ["PATH"])
     for code in examples:
-        done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
-                              text=True)
+        done = subprocess.run(["bash", "-euo", "pipefail", "-c", code], cwd=ROOT, env=env,
+                              capture_output=True, text=True)
         assert done.returncode == 0, code + done.stderr
