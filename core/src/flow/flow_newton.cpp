@@ -4,6 +4,7 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <string>
 #include <utility>
 
 #include "flow/flow_state.h"
@@ -120,6 +121,19 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
       "; triangles at the boundary degenerate, and no edge flip of this surface removes a "
       "boundary edge: try the tangential scheme, whose triangles are always valid";
   const bool at_boundary = flipping && step.blocked_at_boundary;
+  // Why a stalled flow stalled, after what it did: the metric exists, the boundary's triangles
+  // degenerate, or `otherwise`.
+  const auto stalled_because = [&](const std::string& otherwise) {
+    if (exists) {
+      s << exists_note;
+    } else if (at_boundary) {
+      s << boundary_note;
+      result.stalled_at_boundary = true;
+    } else {
+      s << otherwise;
+    }
+    return s.str();
+  };
   if (!step.accepted) {
     // A tolerance below what double precision allows here: the floor is convergence.
     result.attainable_residual = attainable_floor(target);
@@ -128,16 +142,8 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
       << ": no step of length >= 2^-" << options.max_step_halvings << " reduces the residual";
     if (!step.state.valid())
       s << " while keeping every triangle valid (" << detail::describe_invalid(step.state) << ")";
-    if (exists) {
-      s << exists_note;
-    } else if (at_boundary) {
-      s << boundary_note;
-      result.stalled_at_boundary = true;
-    } else {
-      s << "; the solution may not exist" << (flipping ? " for this mesh" : flips_help)
-        << ", or try another scheme";
-    }
-    return s.str();
+    return stalled_because(std::string("; the solution may not exist") +
+                           (flipping ? " for this mesh" : flips_help) + ", or try another scheme");
   }
   const std::vector<double>& history = result.residual_history;
   if (stall.stalled(step, history)) {
@@ -145,16 +151,9 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
       << " iterations the step was cut below 1/64 to keep triangles from degenerating, and "
          "max |K - Kbar| only went from "
       << history[history.size() - detail::StallWindow::kLength] << " to " << result.residual;
-    if (exists) {
-      s << exists_note;
-    } else if (at_boundary) {
-      s << boundary_note;
-      result.stalled_at_boundary = true;
-    } else {
-      s << "; the target is not reachable" << (flipping ? " even with edge flips" : flips_help)
-        << ", or try the tangential scheme, whose triangles are always valid";
-    }
-    return s.str();
+    return stalled_because(std::string("; the target is not reachable") +
+                           (flipping ? " even with edge flips" : flips_help) +
+                           ", or try the tangential scheme, whose triangles are always valid");
   }
   if (spherical() || circles)
     lm_weight = step.alpha == 1 ? std::max(lm_weight / 4, 1e-8) : std::min(lm_weight * 8, 1e8);

@@ -251,22 +251,24 @@ void InputOverlay::flip(const EdgeFlip& record) {
   const Eigen::Vector2d zk = q.z[K], zl = q.z[L], kl = zl - zk;
   for (Cut& cut : cuts) {
     const Strand& st = strands[cut.strand];
-    std::vector<Point> pts = {st.p0};
-    if (st.m >= 0) pts.push_back({st.m, -1});
-    pts.push_back(st.p1);
-    std::vector<Eigen::Vector2d> zs;
-    std::vector<double> side;
-    for (const Point& p : pts) {
-      zs.push_back(place(p));
-      side.push_back(cross(kl, zs.back() - zk));
+    // The strand's polyline: its ends and the crossing between them, if any (on the stack: a flip
+    // has a cut per input edge crossing the new diagonal, and many flips build a subdivision).
+    std::array<Point, 3> pts = {st.p0, st.p1, st.p1};
+    size_t num_pts = 2;
+    if (st.m >= 0) pts[1] = {st.m, -1}, num_pts = 3;
+    std::array<Eigen::Vector2d, 3> zs;
+    std::array<double, 3> side{};
+    for (size_t i = 0; i < num_pts; ++i) {
+      zs[i] = place(pts[i]);
+      side[i] = cross(kl, zs[i] - zk);
     }
     // The first segment whose ends lie on opposite sides of the line k-l (the ends of the strand
     // do, combinatorially; in rounding the middle point may sit on the line).
     size_t seg = 0;
-    for (; seg + 1 < zs.size(); ++seg) {
+    for (; seg + 1 < num_pts; ++seg) {
       if ((side[seg] > 0) != (side[seg + 1] > 0)) break;
     }
-    if (seg + 1 >= zs.size()) seg = 0;
+    if (seg + 1 >= num_pts) seg = 0;
     const double d0 = side[seg], d1 = side[seg + 1];
     const double sigma = d0 != d1 ? std::clamp(d0 / (d0 - d1), 0.0, 1.0) : 0.5;
     const Eigen::Vector2d x = zs[seg] + sigma * (zs[seg + 1] - zs[seg]);
