@@ -186,5 +186,55 @@ TEST(MeshIo, ReadsARealFileAndNamesWhatIsWrong) {
             std::string::npos);
 }
 
+// Hostile files (found by fuzzing the readers): indices past int's range, header counts that the
+// file cannot hold, an element of no properties and 2^63 - 1 items, float indices that are no
+// integer. Each is refused by one message naming what is wrong, at once.
+TEST(MeshIo, HostileCountsAndIndicesAreRefusedByName) {
+  const auto message = [](const std::string& name, const std::string& bytes) {
+    try {
+      read_mesh_file(write_file(name, bytes));
+    } catch (const IoError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string square = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  EXPECT_NE(message("wrap.obj", square + "f 4294967297 2 3\n").find("out of range"),
+            std::string::npos);
+  EXPECT_NE(message("negative.obj", square + "f -4294967296 2 3\n").find("out of range"),
+            std::string::npos);
+  EXPECT_NE(message("wrap.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 4294967296\n")
+                .find("out of range"),
+            std::string::npos);
+  EXPECT_NE(message("huge.off", "OFF\n2147483648 1 0\n0 0 0\n").find("more than the file"),
+            std::string::npos);
+  EXPECT_NE(message("huge.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 100000000000000000\n"
+                    "property float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n")
+                .find("more than the"),
+            std::string::npos);
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\n";
+  const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
+  // No properties: nothing to read, however many items (the reader looped 2^63 times).
+  const MeshFile empty = read_mesh_file(
+      write_file("empty-element.ply", header +
+                                          "element nothing 9223372036854775807\n"
+                                          "element face 1\nproperty list uchar int vertex_indices\n"
+                                          "end_header\n" +
+                                          vertices + "3 0 1 2\n"));
+  EXPECT_EQ(empty.triangles.size(), 1u);
+  for (const char* index : {"1e30", "nan", "inf", "0.5", "4294967296"}) {
+    const std::string faces =
+        "element face 1\nproperty list uchar float vertex_indices\n"
+        "end_header\n" +
+        vertices + "3 0 1 " + std::string(index) + "\n";
+    EXPECT_NE(message("float-index.ply", header + faces).find("is not an integer index"),
+              std::string::npos)
+        << index;
+  }
+}
+
 }  // namespace
 }  // namespace ricci

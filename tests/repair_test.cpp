@@ -149,5 +149,19 @@ TEST(Repair, RefusesWhatCannotBeRepaired) {
   EXPECT_THROW(repair_mesh(p, {{0, 1, 2}, {0, 1, 2}}, {true}), InvalidMeshError);
 }
 
+// A fuzzer's find: splitting this mesh's caps made a face that reverses another, whose split made
+// faces that repeat a vertex, and the repair then dereferenced a missing neighbour. A cap whose
+// face across its longest edge is itself reversed is a fold of zero area: both faces go.
+TEST(Repair, CapsFoldedOntoThemselvesAreDroppedWithoutACrash) {
+  const Points p = {{713665, .4809, 0}, {.04222, .48095, -.12995}, {0, 0, 0}, {713664, .4809, 0}};
+  const Faces faces = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}};
+  try {
+    const RepairedMesh r = repair_mesh(p, faces);
+    for (const MeshComponent& c : r.components) EXPECT_GT(c.mesh.num_faces(), 0);
+  } catch (const InvalidMeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("face"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace ricci

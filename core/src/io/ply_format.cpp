@@ -2,9 +2,12 @@
 // element's x, y, z and the face element's index list are kept.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <sstream>
 
 #include "io/text_reader.h"
 
@@ -51,6 +54,21 @@ class PlyBody {
     if (encoding_ == Encoding::BigEndian) std::reverse(b, b + size);
     return decode(type, b);
   }
+
+  //! A vertex index: a value of `type` that is an integer within int's range.
+  int index(const std::string& type) {
+    const double x = value(type);
+    if (!(x >= std::numeric_limits<int>::min() && x <= std::numeric_limits<int>::max()) ||
+        x != std::floor(x)) {
+      std::ostringstream s;
+      s << "a face's vertex index " << x << " is not an integer index";
+      fail(s.str());
+    }
+    return static_cast<int>(x);
+  }
+
+  //! The bytes not yet read: each item of an element with properties takes at least one.
+  size_t remaining() const { return body_.size() - pos_; }
 
   [[noreturn]] void fail(const std::string& what) const {
     throw IoError("read_mesh: '" + path_ + "': " + what);
@@ -167,6 +185,15 @@ MeshFile read_ply(const std::string& path, std::string_view bytes) {
       body.fail("the vertex element has no x, y and z properties");
     }
     has_vertices = has_vertices || is_vertex;
+    // Items of an element with no properties hold nothing to read, however many the header
+    // declares; every other item takes at least a byte, so the header's count cannot reserve
+    // more than the file holds.
+    if (e.properties.empty()) continue;
+    if (static_cast<unsigned long>(e.count) > body.remaining()) {
+      body.fail("the header declares " + std::to_string(e.count) + " elements '" + e.name +
+                "', more than the " + std::to_string(body.remaining()) +
+                " bytes of data left can hold");
+    }
     if (is_vertex) mesh.positions.reserve(static_cast<size_t>(e.count));
     for (long i = 0; i < e.count; ++i) {
       Eigen::Vector3d p = Eigen::Vector3d::Zero();
@@ -183,7 +210,7 @@ MeshFile read_ply(const std::string& path, std::string_view bytes) {
         if (!(n >= 0 && n < 1e6)) body.fail("a list in element '" + e.name + "' has a bad count");
         corners.clear();
         for (int c = 0; c < static_cast<int>(n); ++c) {
-          corners.push_back(static_cast<int>(body.value(prop.type)));
+          corners.push_back(body.index(prop.type));
         }
         if (static_cast<int>(k) == index_list) add_polygon(mesh, corners);
       }
