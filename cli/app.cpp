@@ -8,6 +8,9 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -72,8 +75,49 @@ void write_text(const std::string& path, const std::string& text) {
   std::ofstream out(path);
   if (!out) throw IoError("cannot write '" + path + "'");
   out << text;
+  out.close();
   if (!out) throw IoError("writing '" + path + "' failed");
 }
+
+// A run's output files, each written beside its target under a temporary name and renamed into
+// place by commit() once all are complete: a run that fails part way (a full disk, a picture that
+// cannot be written) leaves none of them, and no truncated file under the target's name.
+class PendingOutputs {
+ public:
+  PendingOutputs() = default;
+  PendingOutputs(const PendingOutputs&) = delete;
+  PendingOutputs& operator=(const PendingOutputs&) = delete;
+  ~PendingOutputs() {
+    for (const auto& file : files_) std::remove(file.second.c_str());
+  }
+
+  //! Calls write_to with the name to write `path` under until commit(); its errors name `path`.
+  template <class Write>
+  void write(const std::string& path, const Write& write_to) {
+    files_.emplace_back(path, path + ".ricci-flow-" + std::to_string(getpid()) + ".part");
+    const std::string& temporary = files_.back().second;
+    try {
+      write_to(temporary);
+    } catch (const IoError& e) {
+      std::string what = e.what();
+      for (size_t at = what.find(temporary); at != std::string::npos; at = what.find(temporary))
+        what.replace(at, temporary.size(), path);
+      throw IoError(what);
+    }
+  }
+
+  void commit() {
+    for (const auto& [path, temporary] : files_) {
+      if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+        throw IoError("cannot write '" + path + "' (renaming '" + temporary + "' failed)");
+      }
+    }
+    files_.clear();
+  }
+
+ private:
+  std::vector<std::pair<std::string, std::string>> files_;  // target, temporary
+};
 
 }  // namespace
 
@@ -149,7 +193,13 @@ void run(const Options& o) {
   }
   const MeshUniformization run = uniformize_mesh(std::move(repaired), request);
   if (show_progress) std::fprintf(stderr, "\n");
-  if (!o.report.empty()) write_text(o.report, json_report(run, context));
+  if (!o.report.empty()) {
+    // The report is delivered for a failed run too: it says why.
+    PendingOutputs report;
+    report.write(o.report,
+                 [&](const std::string& to) { write_text(to, json_report(run, context)); });
+    report.commit();
+  }
   run.require_valid(o.input);
   if (!o.picture.empty() && !one_position_per_vertex(run)) {
     // The automatic target can give a circle domain's component the free boundary, cut open.
@@ -157,8 +207,14 @@ void run(const Options& o) {
         "--picture needs a layout in the plane with one position per vertex; a component was "
         "cut open (the free boundary instead of its circle domain, see the summary)");
   }
-  write_result_ply(o.output, run, o.ascii);
-  if (!o.picture.empty()) write_layout_png(o.picture, run.faces, run.texture.vertex, run.u);
+  PendingOutputs outputs;
+  outputs.write(o.output, [&](const std::string& to) { write_result_ply(to, run, o.ascii); });
+  if (!o.picture.empty()) {
+    outputs.write(o.picture, [&](const std::string& to) {
+      write_layout_png(to, run.faces, run.texture.vertex, run.u);
+    });
+  }
+  outputs.commit();
   if (!o.quiet) {
     for (const std::string& line : summary_lines(run, context)) std::printf("%s\n", line.c_str());
     for (const std::string& path : {o.output, o.picture, o.report}) {

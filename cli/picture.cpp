@@ -134,6 +134,7 @@ void write_png(const std::string& path, const Image& img) {
   put_chunk(file, "IHDR", header);
   put_chunk(file, "IDAT", z);
   put_chunk(file, "IEND", {});
+  file.close();
   if (!file) throw IoError("writing '" + path + "' failed");
 }
 

@@ -111,7 +111,7 @@ void write_result_ply(const std::string& path, const MeshUniformization& run, bo
     }
     ply.end_row();
   }
-  out.flush();
+  out.close();
   if (!out) throw IoError("writing '" + path + "' failed (disk full?)");
 }
 

@@ -320,6 +320,22 @@ TEST(Cli, FailedRunWritesNoMesh) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_FALSE(std::ifstream(out).good());
   EXPECT_NE(slurp(temp("never.json")).find("\"converged\": false"), std::string::npos);
+  // A converged run whose picture cannot be written leaves no mesh either, and no temporary.
+  const CliRun pictured =
+      ricci_flow(cgal("nefertiti.off") + " -o " + out + " --picture /nonexistent-folder/p.png");
+  EXPECT_EQ(pictured.exit_code, 1) << pictured.err;
+  EXPECT_NE(pictured.err.find("cannot write '/nonexistent-folder/p.png'"), std::string::npos)
+      << pictured.err;
+  EXPECT_FALSE(std::ifstream(out).good());
+  // A write that fails part way (past a file size limit of 1 KiB) leaves nothing either.
+  const int limited = std::system(("(ulimit -f 1; " + std::string(RICCI_CLI_PATH) + " " +
+                                   cgal("nefertiti.off") + " -o " + out + ") 2>/dev/null")
+                                      .c_str());
+  EXPECT_TRUE(WIFEXITED(limited) && WEXITSTATUS(limited) == 1) << limited;
+  EXPECT_FALSE(std::ifstream(out).good());
+  const std::string folder = out.substr(0, out.rfind('/'));
+  EXPECT_EQ(std::system(("ls " + folder + " | grep -q '\\.part$'").c_str()) != 0, true)
+      << "a temporary output was left in " << folder;
 }
 
 }  // namespace

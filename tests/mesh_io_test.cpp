@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -181,6 +183,17 @@ TEST(MeshIo, ReadsARealFileAndNamesWhatIsWrong) {
                     "end_header\n0\n")
                 .find("no x, y and z"),
             std::string::npos);
+  // A directory and a device are refused by what they are (they read as empty, or never end).
+  for (const auto& [path, what] :
+       {std::pair<std::string, std::string>{::testing::TempDir(), "is a directory"},
+        {"/dev/zero", "not a regular file"}}) {
+    try {
+      read_mesh(path);
+      ADD_FAILURE() << path << " was read";
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  }
   // Mesh defects are named with the file.
   EXPECT_NE(message("lonely.obj", std::string(kTetrahedronObj) + "v 5 5 5\n").find("lonely.obj"),
             std::string::npos);

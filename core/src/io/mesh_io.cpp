@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -16,6 +17,15 @@ namespace ricci {
 namespace io {
 
 std::string read_file(const std::string& path) {
+  // A directory opens as an empty file, a device never ends: both are refused by what they are.
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (std::filesystem::is_directory(status)) {
+    throw IoError("read_mesh: '" + path + "' is a directory, not a mesh file");
+  }
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    throw IoError("read_mesh: '" + path + "' is not a regular file (a device, pipe or socket)");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError("read_mesh: cannot open '" + path + "' (missing file or no permission)");
   std::ostringstream s;
