@@ -229,6 +229,13 @@ TEST(Cli, ReportsAreJsonForOneAndSeveralComponents) {
                " --scheme tangential");
     EXPECT_TRUE(parses_as_json(report)) << mesh << ": " << slurp(report);
   }
+  // A file name in another encoding (Latin-1's e acute) and with a control character: the report
+  // is JSON all the same, the name's undecodable byte as U+FFFD.
+  const std::string odd = temp("caf\xe9\x01.off"), report = temp("odd.json");
+  std::ofstream(odd, std::ios::binary) << slurp(cgal("nefertiti.off"));
+  ricci_flow("'" + odd + "' -o " + temp("odd.ply") + " --report " + report);
+  EXPECT_TRUE(parses_as_json(report)) << slurp(report);
+  EXPECT_NE(slurp(report).find("caf\\ufffd\\u0001.off"), std::string::npos) << slurp(report);
 }
 
 // Where the Yamabe flow gives no map with either target (sumo-tram.obj's windowed bodies), the

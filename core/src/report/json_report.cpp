@@ -13,17 +13,49 @@ namespace ricci {
 
 namespace {
 
+// The length of the well-formed UTF-8 sequence at s[i] (RFC 3629: no overlong forms, no
+// surrogates, nothing past U+10FFFF), or 0.
+size_t utf8_length(const std::string& s, size_t i) {
+  const auto byte = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char b = byte(i);
+  size_t n = 0;
+  unsigned char lo = 0x80, hi = 0xBF;  // the second byte's range
+  if (b < 0x80) return 1;
+  if (b >= 0xC2 && b <= 0xDF) n = 2;
+  if (b >= 0xE0 && b <= 0xEF) n = 3, lo = b == 0xE0 ? 0xA0 : 0x80, hi = b == 0xED ? 0x9F : 0xBF;
+  if (b >= 0xF0 && b <= 0xF4) n = 4, lo = b == 0xF0 ? 0x90 : 0x80, hi = b == 0xF4 ? 0x8F : 0xBF;
+  if (n == 0 || i + n > s.size() || byte(i + 1) < lo || byte(i + 1) > hi) return 0;
+  for (size_t k = 2; k < n; ++k) {
+    if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) return 0;
+  }
+  return n;
+}
+
+// A JSON string of any bytes: UTF-8 as it is, control characters escaped, and each byte that is
+// no part of a well-formed UTF-8 sequence (a file name in another encoding) as U+FFFD.
 std::string quoted(const std::string& s) {
   std::string q = "\"";
-  for (char c : s) {
+  for (size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    const size_t n = utf8_length(s, i);
     if (c == '"' || c == '\\') {
       q += '\\';
-      q += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      q += ' ';
+      q += static_cast<char>(c);
+    } else if (c < 0x20) {
+      const char* hex = "0123456789abcdef";
+      q += "\\u00";
+      q += hex[c >> 4];
+      q += hex[c & 15];
+    } else if (n == 0) {
+      q += "\\ufffd";
+      i += 1;
+      continue;
     } else {
-      q += c;
+      q.append(s, i, n);
+      i += n;
+      continue;
     }
+    i += 1;
   }
   return q + "\"";
 }
