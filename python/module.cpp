@@ -173,7 +173,9 @@ nb::dict uniformize_arrays(const Points& v, const Triangles& f, std::vector<std:
   return d;
 }
 
-nb::tuple read_mesh_arrays(const std::string& path) {
+// The path comes as bytes (os.fsencode): file names in any encoding reach the reader as they are.
+nb::tuple read_mesh_arrays(const nb::bytes& path_bytes) {
+  const std::string path(path_bytes.c_str(), path_bytes.size());
   MeshFile file;
   {
     nb::gil_scoped_release released;
@@ -276,7 +278,10 @@ NB_MODULE(_ricci_flow, m) {
     } catch (const ricci::InvalidMeshError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const ricci::IoError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
+      // Its message names the path in the file system's bytes: decoded as os.fsdecode does.
+      PyObject* message = PyUnicode_DecodeFSDefault(e.what());
+      PyErr_SetObject(PyExc_OSError, message);
+      Py_XDECREF(message);
     }
   });
   m.def("run_command_line", &run_command_line, nb::arg("args"),

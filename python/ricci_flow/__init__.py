@@ -67,7 +67,13 @@ def _flags(options, folder):
 
 def _arrays(vertices, faces):
     v = np.ascontiguousarray(vertices, dtype=np.float64)
-    f = np.ascontiguousarray(faces, dtype=np.int64)
+    given = np.asarray(faces)
+    if given.dtype.kind not in "iu":
+        # Float (or object) indices are taken only where each is an integer: no silent truncation.
+        as_float = np.asarray(given, dtype=np.float64)
+        if not np.all(np.isfinite(as_float)) or not np.all(as_float == np.round(as_float)):
+            raise ValueError("faces must hold integer vertex indices; found non-integer values")
+    f = np.ascontiguousarray(given, dtype=np.int64)
     if v.ndim != 2 or v.shape[1] != 3:
         raise ValueError("vertices must have shape (n, 3), not %s" % (v.shape,))
     if f.ndim != 2 or f.shape[1] != 3:
@@ -154,7 +160,16 @@ def read_mesh(path):
     """Vertices (n, 3) and triangles (m, 3) of a .off, .obj, .ply or .stl file, as the command
     line tool reads them (polygons split as fans from their first corner); repairs happen in
     uniformize."""
-    return _ricci_flow.read_mesh(os.fspath(path))
+    return _ricci_flow.read_mesh(_path_bytes(path))
+
+
+def _path_bytes(path):
+    """A str, bytes or os.PathLike path as the bytes the file system takes (names in any
+    encoding); ValueError for an embedded NUL, which would cut the name short."""
+    name = os.fsencode(os.fspath(path))
+    if b"\0" in name:
+        raise ValueError("read_mesh: the path %r has an embedded NUL character" % (path,))
+    return name
 
 
 class Solver:

@@ -154,6 +154,31 @@ def test_errors_carry_the_tools_message():
         ricci_flow.read_mesh("/nonexistent/mesh.off")
 
 
+def test_paths_of_every_kind_and_indices_that_are_no_integers(tmp_path):
+    source = os.path.join(MESHES, "nefertiti.off")
+    data = open(source, "rb").read()
+    V, F = ricci_flow.read_mesh(source)
+    # os.PathLike, bytes, and a name in another encoding (Latin-1's e acute) read the same mesh.
+    odd = os.path.join(os.fsencode(str(tmp_path)), b"caf\xe9.off")
+    open(odd, "wb").write(data)
+    for path in (tmp_path / ".." / tmp_path.name / os.fsdecode(b"caf\xe9.off"), odd):
+        W, G = ricci_flow.read_mesh(path)
+        assert np.array_equal(W, V) and np.array_equal(G, F)
+    # Refusals name what is wrong: an embedded NUL (it would cut the name short), a missing file
+    # of an undecodable name (OSError, the name as os.fsdecode gives it), a directory.
+    with pytest.raises(ValueError, match="embedded NUL"):
+        ricci_flow.read_mesh(source + "\0.png")
+    with pytest.raises(OSError, match="cannot open") as missing:
+        ricci_flow.read_mesh(os.path.join(os.fsencode(str(tmp_path)), b"gone\xff.off"))
+    assert os.fsdecode(b"gone\xff.off") in str(missing.value)
+    with pytest.raises(OSError, match="is a directory"):
+        ricci_flow.read_mesh(tmp_path)
+    # Float face indices are taken only where they are integers.
+    assert ricci_flow.uniformize(V, F.astype(np.float64)).converged
+    with pytest.raises(ValueError, match="integer vertex indices"):
+        ricci_flow.uniformize(V, F + 0.5)
+
+
 def test_the_solver_keeps_its_factorization():
     V, F = mesh("nefertiti.off")
     s = ricci_flow.Solver(V, F, geometry="euclidean", flips="never")
