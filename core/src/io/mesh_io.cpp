@@ -148,21 +148,21 @@ std::string sniff_format(std::string_view bytes) {
 
 }  // namespace
 
-MeshFile read_mesh_file(const std::string& path) {
-  const std::string bytes = io::read_file(path);
-  std::string format = lowercase_extension(path);
+namespace io {
+
+MeshFile read_mesh_bytes(const std::string& path, std::string_view bytes, std::string format) {
   if (format != "off" && format != "obj" && format != "ply" && format != "stl") {
     format = sniff_format(bytes);
   }
   MeshFile mesh;
   if (format == "off") {
-    mesh = io::read_off(path, bytes);
+    mesh = read_off(path, bytes);
   } else if (format == "obj") {
-    mesh = io::read_obj(path, bytes);
+    mesh = read_obj(path, bytes);
   } else if (format == "ply") {
-    mesh = io::read_ply(path, bytes);
+    mesh = read_ply(path, bytes);
   } else {
-    mesh = io::read_stl(path, bytes);
+    mesh = read_stl(path, bytes);
   }
   mesh.format = format;
   const int n = static_cast<int>(mesh.positions.size());
@@ -176,6 +176,12 @@ MeshFile read_mesh_file(const std::string& path) {
     }
   }
   return mesh;
+}
+
+}  // namespace io
+
+MeshFile read_mesh_file(const std::string& path) {
+  return io::read_mesh_bytes(path, io::read_file(path), lowercase_extension(path));
 }
 
 CompactMesh read_mesh(const std::string& path) {

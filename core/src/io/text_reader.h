@@ -58,4 +58,10 @@ MeshFile read_obj(const std::string& path, std::string_view text);
 MeshFile read_stl(const std::string& path, std::string_view bytes);
 MeshFile read_ply(const std::string& path, std::string_view bytes);
 
+//! The mesh a file's bytes hold, read as `format` ("off", "obj", "ply", "stl"; any other: by the
+//! first bytes) and its face indices checked against its vertices: read_mesh_file's reading, and
+//! what the fuzz targets (tests/fuzz/) run.
+//! \throws IoError naming `path` and what is wrong.
+MeshFile read_mesh_bytes(const std::string& path, std::string_view bytes, std::string format);
+
 }  // namespace ricci::io
