@@ -238,6 +238,13 @@ TEST(MeshIo, HostileCountsAndIndicesAreRefusedByName) {
                                           "end_header\n" +
                                           vertices + "3 0 1 2\n"));
   EXPECT_EQ(empty.triangles.size(), 1u);
+  // A binary STL whose header starts with "solid" and whose count is wrong.
+  std::string stl = "solid binary" + std::string(68, ' ');
+  put<std::uint32_t>(stl, 3);
+  stl += std::string(50, '\0');
+  EXPECT_NE(message("wrong-count.stl", stl).find("count of 3 triangles needs 234 bytes"),
+            std::string::npos)
+      << message("wrong-count.stl", stl);
   for (const char* index : {"1e30", "nan", "inf", "0.5", "4294967296"}) {
     const std::string faces =
         "element face 1\nproperty list uchar float vertex_indices\n"
@@ -246,6 +253,10 @@ TEST(MeshIo, HostileCountsAndIndicesAreRefusedByName) {
     EXPECT_NE(message("float-index.ply", header + faces).find("is not an integer index"),
               std::string::npos)
         << index;
+    // The data's errors name the byte where reading stopped.
+    EXPECT_NE(message("float-index.ply", header + faces).find("float-index.ply', byte "),
+              std::string::npos)
+        << message("float-index.ply", header + faces);
   }
 }
 

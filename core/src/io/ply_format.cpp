@@ -41,8 +41,9 @@ int type_size(const std::string& type) {
 // Reads the values of the body, ASCII or binary, one at a time.
 class PlyBody {
  public:
-  PlyBody(const std::string& path, std::string_view body, Encoding encoding)
-      : path_(path), body_(body), encoding_(encoding) {}
+  //! `body`: the file's bytes after the header, which start at byte `offset` of the file.
+  PlyBody(const std::string& path, std::string_view body, size_t offset, Encoding encoding)
+      : path_(path), body_(body), offset_(offset), encoding_(encoding) {}
 
   double value(const std::string& type) {
     if (encoding_ == Encoding::Ascii) return ascii_value();
@@ -70,8 +71,10 @@ class PlyBody {
   //! The bytes not yet read: each item of an element with properties takes at least one.
   size_t remaining() const { return body_.size() - pos_; }
 
+  //! Names the file and the byte where reading stopped.
   [[noreturn]] void fail(const std::string& what) const {
-    throw IoError("read_mesh: '" + path_ + "': " + what);
+    throw IoError("read_mesh: '" + path_ + "', byte " + std::to_string(offset_ + pos_) + ": " +
+                  what);
   }
 
  private:
@@ -104,6 +107,7 @@ class PlyBody {
 
   const std::string& path_;
   std::string_view body_;
+  size_t offset_;
   Encoding encoding_;
   size_t pos_ = 0;
 };
@@ -163,7 +167,7 @@ MeshFile read_ply(const std::string& path, std::string_view bytes) {
   const std::vector<Element>& elements = header.elements;
   const Encoding encoding = header.encoding;
   MeshFile mesh;
-  PlyBody body(path, bytes.substr(body_start), encoding);
+  PlyBody body(path, bytes.substr(body_start), body_start, encoding);
   std::vector<int> corners;
   bool has_vertices = false;
   for (const Element& e : elements) {

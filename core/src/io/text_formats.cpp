@@ -215,6 +215,15 @@ MeshFile read_stl(const std::string& path, std::string_view bytes) {
                   "' is neither ASCII STL (no 'solid') nor binary STL (its size is not 84 bytes "
                   "plus 50 per triangle)");
   }
+  if (mesh.triangles.empty() && bytes.size() >= 84) {
+    // A binary STL whose 80-byte header starts with "solid", as some exporters write it.
+    const std::uint64_t count = little_endian_uint32(bytes.data() + 80);
+    throw IoError("read_mesh: '" + path +
+                  "' starts like ASCII STL ('solid') but has no facets; read as binary STL, its "
+                  "count of " +
+                  std::to_string(count) + " triangles needs " + std::to_string(84 + 50 * count) +
+                  " bytes, and the file has " + std::to_string(bytes.size()));
+  }
   return mesh;
 }
 
