@@ -189,4 +189,22 @@ TEST(Cli, RealDirtyMeshesAsTheyCome) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
+// Faces of fewer than three corners are dropped and said so (they used to go without a word).
+TEST(Cli, FacesOfFewerThanThreeCornersAreReported) {
+  const std::string mesh = temp("short-faces.obj"), report = temp("short-faces.json");
+  write_file(mesh, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\nf 3\n");
+  const CliRun r = ricci_flow(mesh + " -o " + temp("short-faces.ply") + " --report " + report);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 faces with fewer than three corners dropped"), std::string::npos)
+      << r.out;
+  EXPECT_NE(slurp(report).find("\"what\": \"faces with fewer than three corners dropped\", "
+                               "\"element\": \"face\", \"count\": 2"),
+            std::string::npos)
+      << slurp(report);
+  const CliRun strict = ricci_flow(mesh + " -o " + temp("short-faces.ply") + " --strict");
+  EXPECT_EQ(strict.exit_code, 1);
+  EXPECT_NE(strict.err.find("2 faces with fewer than three corners"), std::string::npos)
+      << strict.err;
+}
+
 }  // namespace
