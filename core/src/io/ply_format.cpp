@@ -2,12 +2,12 @@
 // element's x, y, z and the face element's index list are kept.
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <sstream>
 
 #include "io/text_reader.h"
 
@@ -61,9 +61,9 @@ class PlyBody {
     const double x = value(type);
     if (!(x >= std::numeric_limits<int>::min() && x <= std::numeric_limits<int>::max()) ||
         x != std::floor(x)) {
-      std::ostringstream s;
-      s << "a face's vertex index " << x << " is not an integer index";
-      fail(s.str());
+      char shortest[32];  // the value as written, as far as a double holds it
+      const auto end = std::to_chars(shortest, shortest + sizeof shortest, x).ptr;
+      fail("a face's vertex index " + std::string(shortest, end) + " is not an integer index");
     }
     return static_cast<int>(x);
   }
