@@ -5,8 +5,12 @@
 #include <malloc.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <utility>
@@ -80,8 +84,9 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 // A run's output files, each written beside its target under a temporary name and renamed into
-// place by commit() once all are complete: a run that fails part way (a full disk, a picture that
-// cannot be written) leaves none of them, and no truncated file under the target's name.
+// place by commit() once all are written: a run that fails part way (a full disk, a picture that
+// cannot be written) leaves none of them, and no truncated file under the target's name. A target
+// that exists and is no regular file (/dev/null, a symlink, a pipe) is written to directly.
 class PendingOutputs {
  public:
   PendingOutputs() = default;
@@ -92,9 +97,25 @@ class PendingOutputs {
   }
 
   //! Calls write_to with the name to write `path` under until commit(); its errors name `path`.
+  //! \throws IoError for a target that is a directory, or named for two outputs.
   template <class Write>
   void write(const std::string& path, const Write& write_to) {
-    files_.emplace_back(path, path + ".ricci-flow-" + std::to_string(getpid()) + ".part");
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::symlink_status(path, error);
+    if (std::filesystem::is_directory(status)) {
+      throw IoError("cannot write '" + path + "': it is a directory");
+    }
+    for (const std::string& earlier : targets_) {
+      if (earlier == path) throw IoError("cannot write '" + path + "' twice (two outputs name it)");
+    }
+    targets_.push_back(path);
+    if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+      write_to(path);
+      return;
+    }
+    static std::atomic<int> count{0};
+    files_.emplace_back(path, path + ".ricci-flow-" + std::to_string(getpid()) + "-" +
+                                  std::to_string(count++) + ".part");
     const std::string& temporary = files_.back().second;
     try {
       write_to(temporary);
@@ -109,13 +130,15 @@ class PendingOutputs {
   void commit() {
     for (const auto& [path, temporary] : files_) {
       if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-        throw IoError("cannot write '" + path + "' (renaming '" + temporary + "' failed)");
+        throw IoError("cannot write '" + path + "' (renaming '" + temporary +
+                      "' failed: " + std::strerror(errno) + ")");
       }
     }
     files_.clear();
   }
 
  private:
+  std::vector<std::string> targets_;
   std::vector<std::pair<std::string, std::string>> files_;  // target, temporary
 };
 

@@ -280,8 +280,9 @@ NB_MODULE(_ricci_flow, m) {
     } catch (const ricci::IoError& e) {
       // Its message names the path in the file system's bytes: decoded as os.fsdecode does.
       PyObject* message = PyUnicode_DecodeFSDefault(e.what());
+      if (!message) return;  // the decoding's own error stands
       PyErr_SetObject(PyExc_OSError, message);
-      Py_XDECREF(message);
+      Py_DECREF(message);
     }
   });
   m.def("run_command_line", &run_command_line, nb::arg("args"),

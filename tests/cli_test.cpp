@@ -1,5 +1,6 @@
 // ricci-flow end to end: the PLY contract read back by an independent reader, the report, and
 // every kind of bad input answered by one message and a non-zero exit.
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <cmath>
@@ -340,9 +341,20 @@ TEST(Cli, FailedRunWritesNoMesh) {
                                       .c_str());
   EXPECT_TRUE(WIFEXITED(limited) && WEXITSTATUS(limited) == 1) << limited;
   EXPECT_FALSE(std::ifstream(out).good());
-  const std::string folder = out.substr(0, out.rfind('/'));
-  EXPECT_EQ(std::system(("ls " + folder + " | grep -q '\\.part$'").c_str()) != 0, true)
-      << "a temporary output was left in " << folder;
+  // No temporary of this test's outputs is left (other tests write beside them meanwhile).
+  EXPECT_NE(std::system(("ls " + out + ".ricci-flow-*.part >/dev/null 2>&1").c_str()), 0)
+      << "a temporary output of " << out << " was left";
+  // Outputs that are no regular file are written to directly (not replaced by a renamed file), and
+  // two outputs of one name are refused.
+  const CliRun to_null = ricci_flow(cgal("nefertiti.off") + " -o /dev/null --report /dev/null");
+  EXPECT_EQ(to_null.exit_code, 0) << to_null.err;
+  struct stat null_status {};
+  EXPECT_EQ(stat("/dev/null", &null_status), 0);
+  EXPECT_TRUE(S_ISCHR(null_status.st_mode)) << "/dev/null is no longer a device";
+  const CliRun twice = ricci_flow(cgal("nefertiti.off") + " -o " + out + " --picture " + out);
+  EXPECT_EQ(twice.exit_code, 1);
+  EXPECT_NE(twice.err.find("twice"), std::string::npos) << twice.err;
+  EXPECT_FALSE(std::ifstream(out).good());
 }
 
 }  // namespace

@@ -238,6 +238,14 @@ TEST(MeshIo, HostileCountsAndIndicesAreRefusedByName) {
                                           "end_header\n" +
                                           vertices + "3 0 1 2\n"));
   EXPECT_EQ(empty.triangles.size(), 1u);
+  // Other lists of the face element (MeshLab's wedge texcoord, ricci-flow's own result) are read
+  // past, whatever their values: only the vertex indices must be integers.
+  const MeshFile textured = read_mesh_file(
+      write_file("texcoord.ply", header +
+                                     "element face 1\nproperty list uchar int vertex_indices\n"
+                                     "property list uchar float texcoord\nend_header\n" +
+                                     vertices + "3 0 1 2 6 0.25 0.5 0.75 0.1 0.2 0.3\n"));
+  EXPECT_EQ(textured.triangles.size(), 1u);
   // A binary STL whose header starts with "solid" and whose count is wrong.
   std::string stl = "solid binary" + std::string(68, ' ');
   put<std::uint32_t>(stl, 3);

@@ -17,14 +17,16 @@ namespace ricci {
 namespace io {
 
 std::string read_file(const std::string& path) {
-  // A directory opens as an empty file, a device never ends: both are refused by what they are.
+  // A directory opens as an empty file, a device may never end: both are refused by what they
+  // are. A pipe (a shell's process substitution) ends, and is read.
   std::error_code error;
   const std::filesystem::file_status status = std::filesystem::status(path, error);
   if (std::filesystem::is_directory(status)) {
     throw IoError("read_mesh: '" + path + "' is a directory, not a mesh file");
   }
-  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
-    throw IoError("read_mesh: '" + path + "' is not a regular file (a device, pipe or socket)");
+  if (std::filesystem::is_character_file(status) || std::filesystem::is_block_file(status) ||
+      std::filesystem::is_socket(status)) {
+    throw IoError("read_mesh: '" + path + "' is not a regular file (a device or socket)");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError("read_mesh: cannot open '" + path + "' (missing file or no permission)");

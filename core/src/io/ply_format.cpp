@@ -212,11 +212,13 @@ MeshFile read_ply(const std::string& path, std::string_view bytes) {
         }
         const double n = body.value(prop.count_type);
         if (!(n >= 0 && n < 1e6)) body.fail("a list in element '" + e.name + "' has a bad count");
-        corners.clear();
-        for (int c = 0; c < static_cast<int>(n); ++c) {
-          corners.push_back(body.index(prop.type));
+        if (static_cast<int>(k) != index_list) {
+          for (int c = 0; c < static_cast<int>(n); ++c) body.value(prop.type);  // texcoord, ...
+          continue;
         }
-        if (static_cast<int>(k) == index_list) add_polygon(mesh, corners);
+        corners.clear();
+        for (int c = 0; c < static_cast<int>(n); ++c) corners.push_back(body.index(prop.type));
+        add_polygon(mesh, corners);
       }
       if (is_vertex) mesh.positions.push_back(p);
     }

@@ -215,7 +215,7 @@ MeshFile read_stl(const std::string& path, std::string_view bytes) {
                   "' is neither ASCII STL (no 'solid') nor binary STL (its size is not 84 bytes "
                   "plus 50 per triangle)");
   }
-  if (mesh.triangles.empty() && bytes.size() >= 84) {
+  if (mesh.triangles.empty() && bytes.size() >= 84 && bytes.find('\0') != std::string_view::npos) {
     // A binary STL whose 80-byte header starts with "solid", as some exporters write it.
     const std::uint64_t count = little_endian_uint32(bytes.data() + 80);
     throw IoError("read_mesh: '" + path +
