@@ -2,9 +2,9 @@
 #include <cctype>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 #include <string>
 #include <unordered_map>
+#include <utility>
 
 #include "io/text_reader.h"
 
@@ -25,12 +25,10 @@ int obj_vertex(const LineReader& reader, std::string_view corner, int num_vertic
   const long i = reader.integer(corner.substr(0, corner.find('/')));
   if (i == 0)
     reader.fail("face corner '" + std::string(corner) + "': OBJ vertex indices start at 1");
-  const long v = i > 0 ? i - 1 : num_vertices + i;
-  if (v < 0 || v > std::numeric_limits<int>::max()) {
-    reader.fail("face corner '" + std::string(corner) + "': vertex index " + std::to_string(i) +
-                " is out of range (" + std::to_string(num_vertices) + " vertices read so far)");
-  }
-  return static_cast<int>(v);
+  return reader.vertex_index(i > 0 ? i - 1 : num_vertices + i, i, [&] {
+    return std::pair("face corner '" + std::string(corner) + "'",
+                     std::to_string(num_vertices) + " vertices read so far");
+  });
 }
 
 // One STL vertex, by its exact coordinates (-0 and +0 alike), compared bit by bit: NaN corners of
@@ -145,11 +143,9 @@ MeshFile read_off(const std::string& path, std::string_view text) {
     corners.clear();
     for (long c = 1; c <= n; ++c) {
       const long v = reader.integer(f[c]);
-      if (v < 0 || v > std::numeric_limits<int>::max()) {
-        reader.fail("face " + std::to_string(k) + ": vertex index " + std::to_string(v) +
-                    " is out of range (" + std::to_string(nv) + " vertices)");
-      }
-      corners.push_back(static_cast<int>(v));
+      corners.push_back(reader.vertex_index(v, v, [&] {
+        return std::pair("face " + std::to_string(k), std::to_string(nv) + " vertices");
+      }));
     }
     add_polygon(mesh, corners);
   }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -39,6 +40,18 @@ class LineReader {
   [[noreturn]] void fail(const std::string& what) const;
   double number(std::string_view token) const;
   long integer(std::string_view token) const;
+  //! A vertex index `value` (0-based) as int. \throws IoError, saying "WHERE: vertex index
+  //! `as_written` is out of range (CONTEXT)" with {WHERE, CONTEXT} = describe(), for one below 0
+  //! or past int's range (describe runs only then: this is every face corner's check).
+  template <class Describe>
+  int vertex_index(long value, long as_written, const Describe& describe) const {
+    if (value < 0 || value > std::numeric_limits<int>::max()) {
+      const auto [where, context] = describe();
+      fail(where + ": vertex index " + std::to_string(as_written) + " is out of range (" + context +
+           ")");
+    }
+    return static_cast<int>(value);
+  }
 
  private:
   const std::string& path_;
