@@ -3,9 +3,13 @@
 // new vertices, cone angles kept, one chart without overlaps.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
+#include <vector>
+
+#include <Eigen/SVD>
 
 #include "ricci/io/mesh_io.h"
 #include "ricci/pipeline/uniformize.h"
@@ -73,6 +77,26 @@ void expect_input_surface(const CompactMesh& mesh, const CommonSubdivision& s) {
   }
 }
 
+// The quasi-conformal ratio of the affine map between two triangles of R^3 (each in its own plane):
+// the ratio of its singular values.
+double quasi_conformal_ratio(const std::array<Vec3, 3>& from, const std::array<Vec3, 3>& to) {
+  auto frame = [](const std::array<Vec3, 3>& t) {
+    const Vec3 x = (t[1] - t[0]).normalized();
+    const Vec3 y = (t[1] - t[0]).cross(t[2] - t[0]).cross(x).normalized();
+    Eigen::Matrix2d m;
+    m << (t[1] - t[0]).dot(x), (t[2] - t[0]).dot(x), (t[1] - t[0]).dot(y), (t[2] - t[0]).dot(y);
+    return m;
+  };
+  const Eigen::Matrix2d j = frame(to) * frame(from).inverse();
+  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(j);
+  return svd.singularValues()[0] / svd.singularValues()[1];
+}
+
+double percentile(std::vector<double> x, double p) {
+  std::sort(x.begin(), x.end());
+  return x[static_cast<size_t>(p * static_cast<double>(x.size() - 1))];
+}
+
 // Points of the plane inside two of the triangles, sampled on a 400 x 400 grid over their box.
 int overlaps(const std::vector<std::array<Vec3, 3>>& corners) {
   Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
@@ -138,6 +162,18 @@ TEST_P(CommonSubdivisionTest, IsTheInputSurfaceLaidOutWithoutTurnedFaces) {
   int turned = 0;
   for (const auto& t : run.corners) turned += !(turn(c.geometry, t) > 0);
   EXPECT_EQ(turned, 0);
+  // The map is the discrete conformal map: its pieces (a projective map on each, drawn linearly)
+  // keep their shapes about as the input's faces keep theirs where no flip happens (measured:
+  // median 1.04 to 1.26, p95 1.2 to 3.6). With the crossings of a flipped input edge placed in
+  // the quadrilateral's picture without its weights, rotor_small had median 9.7, p95 5e4.
+  std::vector<double> qc;
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    qc.push_back(quasi_conformal_ratio(
+        {s.positions[s.faces[f][0]], s.positions[s.faces[f][1]], s.positions[s.faces[f][2]]},
+        run.corners[f]));
+  }
+  EXPECT_LE(percentile(qc, 0.5), 1.3);
+  EXPECT_LE(percentile(qc, 0.95), 4.0);
 
   if (c.geometry != Geometry::Euclidean) return;
   // Plane: corner angles sum to 2 pi - Kbar at interior input vertices, 2 pi at new interior

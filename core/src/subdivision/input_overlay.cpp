@@ -292,6 +292,11 @@ void InputOverlay::flip(const EdgeFlip& record) {
       const double xx = along(sigma);
       const double odds = rho * xx / (1 - xx);
       cut.s = odds / (1 + odds);
+    } else if (q.circle && P.crossing < 0 && Q.crossing < 0) {
+      // The diagonal a-b itself: the picture's parameter turned into the convention's by the
+      // weights, as for the new edge's below.
+      const double bp = (1 - sigma) / q.w[q.local(P.vertex)], bq = sigma / q.w[q.local(Q.vertex)];
+      cut.s = sp + (sq - sp) * bq / (bp + bq);
     } else {
       cut.s = sp + sigma * (sq - sp);
     }
