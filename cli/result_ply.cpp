@@ -1,5 +1,6 @@
 #include "result_ply.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -40,6 +41,21 @@ class PlyOut {
   bool first_ = true;
 };
 
+// The face property ricci_layout: the model a face's layout lives in.
+std::uint8_t layout_model(LayoutKind kind) {
+  switch (kind) {
+    case LayoutKind::Plane:
+    case LayoutKind::PlaneCut:
+      return 1;
+    case LayoutKind::PoincareDisk:
+      return 2;
+    case LayoutKind::Sphere:
+      return 3;
+    default:
+      return 0;
+  }
+}
+
 }  // namespace
 
 void write_result_ply(const std::string& path, const MeshUniformization& run, bool ascii) {
@@ -50,6 +66,8 @@ void write_result_ply(const std::string& path, const MeshUniformization& run, bo
   const bool has_layout = !run.position.empty();
   const bool has_texture = !run.texture.vertex.empty();
   const bool has_wedges = !run.texture.wedge.empty();
+  const bool any_layout = std::any_of(run.face_layout.begin(), run.face_layout.end(),
+                                      [](LayoutKind k) { return k != LayoutKind::None; });
   out << "ply\nformat " << (ascii ? "ascii" : "binary_little_endian") << " 1.0\n";
   out << "comment ricci-flow result: unified discrete surface Ricci flow\n";
   out << "element vertex " << positions.size() << "\n";
@@ -67,9 +85,12 @@ void write_result_ply(const std::string& path, const MeshUniformization& run, bo
   out << "element face " << run.faces.size() << "\n";
   out << "property list uchar int vertex_indices\n";
   if (subdivided) out << "property int ricci_input_face\n";
+  if (any_layout) out << "property uchar ricci_layout\n";
   if (has_wedges) {
     out << "property list uchar float texcoord\n";
     out << "property list uchar double texcoord_double\n";
+    out << "property int ricci_chart\n";
+    out << "property list uchar double layout_corners\n";
   }
   out << "end_header\n";
   PlyOut ply(out, ascii);
@@ -97,6 +118,7 @@ void write_result_ply(const std::string& path, const MeshUniformization& run, bo
     ply.put(std::uint8_t{3});
     for (int v : run.faces[f]) ply.put(static_cast<std::int32_t>(v));
     if (subdivided) ply.put(static_cast<std::int32_t>(run.input_face[f]));
+    if (any_layout) ply.put(layout_model(run.face_layout[f]));
     if (has_wedges) {
       ply.put(std::uint8_t{6});
       for (const Eigen::Vector2d& uv : run.texture.wedge[f]) {
@@ -107,6 +129,14 @@ void write_result_ply(const std::string& path, const MeshUniformization& run, bo
       for (const Eigen::Vector2d& uv : run.texture.wedge[f]) {
         ply.put(uv.x());
         ply.put(uv.y());
+      }
+      ply.put(static_cast<std::int32_t>(run.face_chart[f]));
+      ply.put(std::uint8_t{6});
+      const std::uint8_t model = layout_model(run.face_layout[f]);
+      const double none = std::numeric_limits<double>::quiet_NaN();
+      for (const Eigen::Vector3d& p : run.corners[f]) {
+        ply.put(model == 1 || model == 2 ? p.x() : none);
+        ply.put(model == 1 || model == 2 ? p.y() : none);
       }
     }
     ply.end_row();

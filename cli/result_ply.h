@@ -8,13 +8,17 @@
 // repaired faces, component after component), and when a component is cut open (torus in E2, H2
 // in the Poincare disk), or planar charts share the file with a sphere, texcoord for every face,
 // 6 floats (u v per corner, in [0, 1]; 0 for the sphere's faces), which MeshLab reads as wedge
-// texture coordinates, and texcoord_double, the same in double precision (thin faces can turn
-// over when rounded to float).
-// When the flow flipped edges and the input's faces would turn over, the mesh is the common
-// subdivision (common_subdivision.h): the vertices above, then the new ones (each on an input
-// edge), with vertex properties ricci_input_face (int, -1 for the repaired mesh's vertices) and
-// ricci_bary_0..2 (double, the barycentric coordinates in that input face), and the face property
-// ricci_input_face (int, the input face the face lies in).
+// texture coordinates, texcoord_double, the same in double precision (thin faces can turn over
+// when rounded to float), ricci_chart (int: the Poincare disk chart the face is drawn in, 0 for a
+// layout in one piece, -1 for a face without one) and layout_corners (6 doubles: x y per corner in
+// the layout's model before any normalization: the plane in the metric's units, the Poincare
+// disk in the face's chart; NaN for faces on the sphere or without a layout). Whenever a component
+// has a layout, the face property ricci_layout (uchar) says whose: 0 none, 1 the plane, 2 the
+// Poincare disk, 3 the unit sphere. When the flow flipped edges and the input's faces would turn
+// over, the mesh is the common subdivision (common_subdivision.h): the vertices above, then the new
+// ones (each on an input edge), with vertex properties ricci_input_face (int, -1 for the repaired
+// mesh's vertices) and ricci_bary_0..2 (double, the barycentric coordinates in that input face),
+// and the face property ricci_input_face (int, the input face the face lies in).
 #pragma once
 
 #include <string>

@@ -100,14 +100,14 @@ cli::Options parse(const std::string& caller, std::vector<std::string> flags) {
 // Positions per delivered face corner, component after component; None unless every component
 // has a layout.
 nb::object corner_layout(const MeshUniformization& run) {
+  for (LayoutKind kind : run.face_layout) {
+    if (kind == LayoutKind::None) return nb::none();
+  }
   std::vector<double> flat;
   flat.reserve(9 * run.faces.size());
-  for (const Uniformization& c : run.components) {
-    for (const auto& face : c.corners) {
-      for (const auto& p : face) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
-    }
+  for (const auto& face : run.corners) {
+    for (const auto& p : face) flat.insert(flat.end(), {p.x(), p.y(), p.z()});
   }
-  if (flat.size() != 9 * run.faces.size()) return nb::none();
   return numpy(std::move(flat), {run.faces.size(), 3, 3});
 }
 
@@ -143,17 +143,10 @@ nb::dict uniformize_arrays(const Points& v, const Triangles& f, std::vector<std:
   d["target"] = vector(run.target);
   d["position"] = run.position.empty() ? nb::none() : points(run.position);
   d["corner_layout"] = corner_layout(run);
-  std::vector<int> chart;  // per delivered face: its Poincare disk chart (0 where one chart)
+  // Per delivered face its Poincare disk chart, where some component is drawn in several.
   bool charts = false;
-  for (const Uniformization& c : run.components) {
-    charts = charts || !c.face_chart.empty();
-    if (c.face_chart.empty()) {
-      chart.insert(chart.end(), c.corners.size(), 0);
-    } else {
-      chart.insert(chart.end(), c.face_chart.begin(), c.face_chart.end());
-    }
-  }
-  d["face_chart"] = charts && chart.size() == run.faces.size() ? indices(chart) : nb::none();
+  for (const Uniformization& c : run.components) charts = charts || !c.face_chart.empty();
+  d["face_chart"] = charts ? indices(run.face_chart) : nb::none();
   std::vector<std::string> kinds;
   for (const Uniformization& c : run.components) kinds.push_back(to_string(c.layout_kind));
   d["layout_kinds"] = kinds;

@@ -29,9 +29,14 @@ inline std::string slurp(const std::string& path) {
 }
 
 // Per-test file names: ctest runs the tests of this file in parallel processes.
+// Parameterized tests' names have slashes.
 inline std::string temp(const std::string& name) {
   const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  return ::testing::TempDir() + "/ricci_cli_" + test->name() + "_" + name;
+  std::string stem = test->name();
+  for (char& c : stem) {
+    if (c == '/') c = '_';
+  }
+  return ::testing::TempDir() + "/ricci_cli_" + stem + "_" + name;
 }
 
 inline CliRun ricci_flow(const std::string& args) {

@@ -77,6 +77,7 @@ PlyData read_ply(const std::string& path) {
         if (p.count_type.empty()) {
           const double x = read_scalar(in, p.type);
           if (e == "vertex") ply.vertex[p.name].push_back(x);
+          if (e == "face") ply.face[p.name].push_back(x);
           continue;
         }
         const int n = static_cast<int>(read_scalar(in, p.count_type));
@@ -90,6 +91,7 @@ PlyData read_ply(const std::string& path) {
         } else if (e == "face" && p.name == "texcoord_double") {
           ply.face_texcoords_double.push_back(values);
         }
+        if (e == "face" && p.name != "vertex_indices") ply.face_lists[p.name].push_back(values);
       }
       if (e == "face") ply.faces.push_back(face);
     }

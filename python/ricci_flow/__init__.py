@@ -94,7 +94,8 @@ class Result:
         component lies on the sphere; None where a component has no layout.
     face_chart: per face, the Poincare disk chart its corners are in, where a hyperbolic domain
         reaches too far from its centre for one disk in double precision (else None): each chart
-        is a piece of the domain moved near the centre of its own disk.
+        is a piece of the domain moved near the centre of its own disk; 0 for the faces of a
+        component in one piece, -1 for those of a component without a layout.
     layout_kinds: per component: "plane", "plane-cut", "poincare-disk", "sphere" or "none".
     texcoord: the texture atlas in [0, 1]^2, per vertex (n, 2) or per corner (m, 3, 2).
     u, radius, curvature, target: per vertex (NaN where a vertex is in no face; target NaN where

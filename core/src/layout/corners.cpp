@@ -29,6 +29,32 @@ std::vector<std::array<double, 3>> face_angles(const Triangulation& mesh, Geomet
   return angles;
 }
 
+void weld_corner_copies(const std::vector<std::array<int, 3>>& faces,
+                        std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
+  double scale = 0;
+  for (const auto& t : corners) {
+    for (const Eigen::Vector3d& p : t) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  }
+  const double tolerance = 1e-10 * scale;
+  int num_vertices = 0;
+  for (const auto& t : faces) num_vertices = std::max({num_vertices, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<std::vector<Eigen::Vector3d>> copies(static_cast<size_t>(num_vertices));
+  for (size_t f = 0; f < faces.size(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      Eigen::Vector3d& p = corners[f][c];
+      std::vector<Eigen::Vector3d>& seen = copies[static_cast<size_t>(faces[f][c])];
+      const auto same = std::find_if(seen.begin(), seen.end(), [&](const Eigen::Vector3d& q) {
+        return (p - q).cwiseAbs().maxCoeff() <= tolerance;
+      });
+      if (same == seen.end()) {
+        seen.push_back(p);
+      } else {
+        p = *same;
+      }
+    }
+  }
+}
+
 Eigen::Vector3d onto_drawn_side(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
                                 const Eigen::Vector3d& z) {
   const Eigen::Vector3d side = q - p;

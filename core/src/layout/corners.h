@@ -1,5 +1,5 @@
-// What the layout methods share: a face's corner angles and corners, and the Poincare disk's
-// drawn sides (not installed API).
+// What the layout methods share: a face's corner angles and corners, the Poincare disk's geodesic
+// points, one position per copy of a vertex (not installed API).
 #pragma once
 
 #include <array>
@@ -19,6 +19,13 @@ std::vector<std::array<double, 3>> face_angles(const Triangulation& mesh, Geomet
 
 //! Corner of face f that holds vertex v, or -1.
 int corner_of(const Triangulation& mesh, int f, int v);
+
+//! Gives every copy of a vertex one position: corners of one vertex within 1e-10 of the layout's
+//! extent of each other are one copy of it (across a cut the copies lie far apart), set to the
+//! copy's first corner. Corners computed face by face differ in their last bits, and thin faces
+//! turn that into angle errors of 1e-8 at the vertex.
+void weld_corner_copies(const std::vector<std::array<int, 3>>& faces,
+                        std::vector<std::array<Eigen::Vector3d, 3>>& corners);
 
 //! The Poincare disk layout draws a triangle's sides straight in the disk's coordinates: the point
 //! z of the geodesic from p to q goes where it projects onto the segment p-q (the arc is less than

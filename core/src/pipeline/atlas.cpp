@@ -279,6 +279,23 @@ void gather_vertices(MeshUniformization& out) {
   }
 }
 
+// Per delivered face: its component's layout kind, model corners and chart.
+void gather_face_layouts(MeshUniformization& out) {
+  const Eigen::Vector3d none = Eigen::Vector3d::Constant(kNaN);
+  for (size_t k = 0; k < out.components.size(); ++k) {
+    const Uniformization& run = out.components[k];
+    const size_t faces =
+        run.subdivision ? run.subdivision->faces.size() : out.mesh.components[k].face.size();
+    const bool laid = run.corners.size() == faces && run.layout_kind != LayoutKind::None;
+    for (size_t f = 0; f < faces; ++f) {
+      out.face_layout.push_back(laid ? run.layout_kind : LayoutKind::None);
+      out.corners.push_back(laid ? run.corners[f]
+                                 : std::array<Eigen::Vector3d, 3>{none, none, none});
+      out.face_chart.push_back(!laid ? -1 : run.face_chart.empty() ? 0 : run.face_chart[f]);
+    }
+  }
+}
+
 }  // namespace
 
 bool MeshUniformization::converged() const {
@@ -333,6 +350,7 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
     }
   }
   gather_vertices(out);
+  gather_face_layouts(out);
   gather_texture(out);
   return out;
 }

@@ -5,6 +5,7 @@
 #include <complex>
 #include <sstream>
 
+#include "layout/corners.h"
 #include "pipeline/circle_domain.h"
 #include "pipeline/disk_drawing.h"
 #include "ricci/layout/lay_out.h"
@@ -68,12 +69,15 @@ void place_delivered(const CompactMesh& mesh, const UniformizationOptions& o, in
       for (int f = 0; f < mesh.num_faces(); ++f) {
         for (int c = 0; c < 3; ++c) corners[f][c] = run.position[mesh.face_vertex(f, c)];
       }
+    } else {
+      weld_corner_copies(mesh.faces(), corners);
     }
     run.corners = std::move(corners);
     return;
   }
   if (!per_vertex) {
     run.corners = sub->corners;
+    weld_corner_copies(sub->faces, run.corners);
     return;
   }
   run.corners.resize(sub->faces.size());
@@ -148,6 +152,21 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
     deliver_subdivision();
     if (run.subdivision) {
       run.subdivision->disk_splits = detail::split_turned_disk_faces(mesh, *run.subdivision);
+    }
+    // Where splitting the geodesic pieces leaves some turned as drawn (thousands of flips of a
+    // genus-97 part, cura-zav-maxpro.stl), their new vertices go onto the drawn sides instead: a
+    // map, whose copies across the cut no longer glue exactly (said in the report).
+    if (run.subdivision && run.subdivision->num_flips > 0 &&
+        detail::has_drawing_turned_faces(run.subdivision->corners)) {
+      try {
+        CommonSubdivision drawn = common_subdivision(mesh, run.structure, run.result, run.layout,
+                                                     DiskSidePoints::OnDrawnSide);
+        drawn.disk_splits = detail::split_turned_disk_faces(mesh, drawn);
+        drawn.on_drawn_sides = true;
+        run.subdivision = std::move(drawn);
+      } catch (const LayoutError& e) {
+        run.subdivision_failure = e.what();
+      }
     }
   }
   const CommonSubdivision* sub = run.subdivision ? &*run.subdivision : nullptr;

@@ -100,9 +100,7 @@ HalfSubdivision subdivide_half(const CompactMesh& half, const CompactMesh& twice
   const Geometry g = structure.geometry;
   const Triangulation& flowed = result_triangulation(twice, result);
   const Layout frames = face_by_face_layout(flowed, g, result.edge_lengths);
-  return half_subdivision(
-      half, common_subdivision(twice, structure, result, frames, DiskSidePoints::OnGeodesic),
-      frames);
+  return half_subdivision(half, common_subdivision(twice, structure, result, frames), frames);
 }
 
 }  // namespace

@@ -71,43 +71,6 @@ std::pair<std::vector<int>, std::vector<int>> sweep(const std::vector<std::array
   return {order, parent};
 }
 
-// The Poincare disk draws a final face's sides straight in its coordinates, so a thin piece with
-// corners on a side's geodesic arc can come out turned over: each new vertex is moved from the arc
-// onto the straight side of its final face as developed (where the common subdivision puts it in
-// a layout of the final faces), the same place from both faces of the side where the development
-// crossed it.
-void draw_sides_straight(const CommonSubdivision& twice, const std::vector<int>& pieces,
-                         const Layout& frames, const std::vector<DiskIsometry>& motion,
-                         int num_input_vertices, const std::vector<std::array<int, 3>>& faces,
-                         std::vector<std::array<Eigen::Vector3d, 3>>& placed) {
-  const auto klein = [](const std::complex<double>& z) { return 2.0 * z / (1.0 + std::norm(z)); };
-  for (size_t q = 0; q < pieces.size(); ++q) {
-    const auto& frame = frames.corners[twice.final_face[pieces[q]]];
-    std::array<std::complex<double>, 3> corner, corner_klein;
-    for (int i = 0; i < 3; ++i) {
-      corner[i] = motion[q](complex_of(frame[i]));
-      corner_klein[i] = klein(complex_of(frame[i]));
-    }
-    for (int c = 0; c < 3; ++c) {
-      if (faces[q][c] < num_input_vertices) continue;
-      // The side whose geodesic holds the point: straight through it in the Klein model.
-      const std::complex<double> k = klein(complex_of(twice.corners[pieces[q]][c]));
-      int side = 0;
-      double best = INFINITY;
-      for (int i = 0; i < 3; ++i) {
-        const std::complex<double> d = corner_klein[(i + 1) % 3] - corner_klein[i];
-        const double off = std::abs(std::imag(std::conj(d) * (k - corner_klein[i]))) / std::abs(d);
-        if (off < best) best = off, side = i;
-      }
-      const auto point = [](std::complex<double> z) {
-        return Eigen::Vector3d(z.real(), z.imag(), 0);
-      };
-      placed[q][c] =
-          onto_drawn_side(point(corner[side]), point(corner[(side + 1) % 3]), placed[q][c]);
-    }
-  }
-}
-
 }  // namespace
 
 HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice,
@@ -187,7 +150,6 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
   }
   std::vector<std::array<Eigen::Vector3d, 3>> placed(np);
   placed[start] = twice.corners[pieces[start]];
-  std::vector<DiskIsometry> motion(np, DiskIsometry{geometry});  // own frame -> developed
   for (size_t i = 1; i < order.size(); ++i) {
     const int q = order[i], p = parent[q];
     int qc = -1, pa = -1, pb = -1;  // q's corner off the shared side; p's corners on it
@@ -211,15 +173,11 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
     placed[q][qc] = Eigen::Vector3d(z.real(), z.imag(), 0);
     placed[q][qa] = placed[p][pa];
     placed[q][qb] = placed[p][pb];
-    motion[q] = move;
   }
 
   // Plane: per vertex the mean of its corners, whose spread is the closure error. Poincare disk:
   // the surface is cut open where the development did not cross, so positions are per corner
   // (vertex_layout: the first corner's).
-  if (geometry != Geometry::Euclidean) {
-    draw_sides_straight(twice, pieces, frames, motion, sub.num_input_vertices, sub.faces, placed);
-  }
   std::vector<Eigen::Vector3d> sum(nv, Eigen::Vector3d::Zero());
   std::vector<int> count(nv, 0);
   for (int p = 0; p < np; ++p) {

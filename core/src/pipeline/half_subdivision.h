@@ -24,9 +24,8 @@ struct HalfSubdivision {
 //! half's vertices first, then the new ones in the double's order), developed across their shared
 //! sides: in the plane from the first piece, glued into one position per vertex; in the Poincare
 //! disk from a central piece, with positions per corner (cut open where the development did not
-//! cross), new vertices on the straight sides of their final faces as developed. `twice` must be
-//! built on `frames` (face_by_face_layout) with its new vertices on the geodesics
-//! (DiskSidePoints::OnGeodesic).
+//! cross), new vertices on the geodesic sides of their final faces. `twice` must be built on
+//! `frames` (face_by_face_layout).
 //! \throws LayoutError when the pieces do not form one surface.
 HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice,
                                  const Layout& frames);

@@ -140,6 +140,11 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
     }
   };
   if (run.doubled) {
+    // Thin faces near the Poincare disk's rim that turn over only as drawn (straight) are split.
+    if (run.layout_kind == LayoutKind::PoincareDisk && !o.keep_input_triangulation &&
+        detail::has_drawing_turned_faces(run.subdivision->corners)) {
+      run.subdivision->disk_splits = detail::split_turned_disk_faces(mesh, *run.subdivision);
+    }
     detail::place_delivered(mesh, o, outer, std::move(run.position), {}, run);
   } else if (run.result.converged) {
     detail::lay_out_result(mesh, o, outer, kChartRadius, run);

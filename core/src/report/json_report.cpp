@@ -99,8 +99,9 @@ std::string layout_json(const Uniformization& run) {
     j << ", \"common_subdivision\": {\"vertices\": " << sub.positions.size()
       << ", \"new_vertices\": " << sub.positions.size() - sub.num_input_vertices
       << ", \"faces\": " << sub.faces.size() << ", \"flips_followed\": " << sub.num_flips
-      << ", \"disk_splits\": " << sub.disk_splits << ", \"seconds\": " << number(sub.seconds)
-      << "}";
+      << ", \"disk_splits\": " << sub.disk_splits
+      << ", \"on_drawn_sides\": " << (sub.on_drawn_sides ? "true" : "false")
+      << ", \"seconds\": " << number(sub.seconds) << "}";
   } else {
     j << ", \"common_subdivision\": null";
   }

@@ -156,6 +156,12 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
            "surface alike), as thin faces near the rim turn over when drawn straight: ",
            sub.positions.size(), " vertices, ", sub.faces.size(), " faces");
     }
+    if (sub.on_drawn_sides) {
+      line(
+          "Warning: new vertices placed on their faces' sides as drawn, not on the geodesics "
+          "(split geodesic pieces near a chart's rim still turned over as drawn): a map, whose "
+          "two sides of the cut do not glue exactly under the deck transformations");
+    }
   } else if (run.input_faces_turned_over > 0 && !run.subdivision_failure.empty()) {
     line("No common subdivision: ", run.subdivision_failure);
   }

@@ -80,11 +80,13 @@ struct Layout {
 };
 
 //! H2: a domain whose corners all lie within this hyperbolic distance of the disk's centre is
-//! drawn in one chart (1 - |z| > 3e-8 there, which leaves thin faces a few digits in double).
-inline constexpr double kOneChartRadius = 18;
-//! H2: the radius of each chart when the domain is drawn in several (1 - |z| > 1.2e-5), unless
+//! drawn in one chart (1 - |z| > 1.2e-5 there). Near the rim the disk's coordinates keep few
+//! digits of a thin face: at distance 12 the corner angles of CGAL's elephant-with-holes were off
+//! by up to 6e-6 in their sums, within distance 6 by 1e-10.
+inline constexpr double kOneChartRadius = 12;
+//! H2: the radius of each chart when the domain is drawn in several (1 - |z| > 2.5e-3), unless
 //! the caller asks for smaller charts.
-inline constexpr double kChartRadius = 12;
+inline constexpr double kChartRadius = 6;
 
 //! Per vertex: the position of the vertex in the first face (in face order) that holds it.
 std::vector<Eigen::Vector3d> vertex_positions(const Triangulation& mesh, const Layout& layout);

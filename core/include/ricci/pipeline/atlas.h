@@ -35,6 +35,13 @@ struct MeshUniformization {
   //! after component, and the input face each lies in.
   std::vector<std::array<int, 3>> faces;
   std::vector<int> input_face;
+  //! Per delivered face: its component's layout kind, its corners in that layout's model before
+  //! any normalization (the plane in the metric's units, the unit disk for the disk target; the
+  //! Poincare disk, in the face's chart; the unit sphere), NaN where the component has no
+  //! layout; and its chart (Layout::chart, 0 for a layout in one piece, -1 without a layout).
+  std::vector<LayoutKind> face_layout;
+  std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  std::vector<int> face_chart;
   //! Per vertex when every component is laid out in the plane with one position per vertex, else
   //! per face corner (faces of sphere components at 0); the charts packed into [0, 1]^2. Empty
   //! when no component has a planar layout.

@@ -7,7 +7,11 @@
 // face, so the result is the user's surface exactly (new vertices lie on input edges, at their
 // 3D position), and in one face of T', so each piece's layout is a straight piece of a triangle
 // of the final metric: in the plane, the Poincare disk or on the sphere. Pieces are convex in
-// both, and fan-triangulated.
+// both, and fan-triangulated. A new vertex is the same point of the surface in 3D and in the
+// layout: the point of the flow's discrete conformal map (input_overlay.h), on the geodesic side of
+// its final face (in the Poincare disk an arc: its copies on the two sides of a cut are images of
+// each other under the deck transformation, and the pieces are hyperbolic triangles; drawn with
+// straight sides, thin ones near the rim can turn over, which disk_drawing.h mends).
 //
 // Vertices: the input's first, unchanged and in order; then one per crossing of an input edge with
 // an edge of T', input edge after input edge, in the order along each. The Poincare disk's
@@ -54,13 +58,16 @@ struct CommonSubdivision {
   //! Sides split on their geodesics so that faces near the Poincare disk's rim keep their
   //! orientation drawn straight (each adds one vertex).
   int disk_splits = 0;
+  //! H2: new vertices on their final faces' sides as drawn (DiskSidePoints::OnDrawnSide).
+  bool on_drawn_sides = false;
   double seconds = 0;  //!< time to build it
 };
 
-//! Where a new vertex goes in the Poincare disk: onto the side of its final face as the layout
-//! draws it, straight in the disk's coordinates (so pieces stay inside their drawn face), or onto
-//! the geodesic itself (the point of the metric, for a caller that develops the pieces again).
-enum class DiskSidePoints { OnDrawnSide, OnGeodesic };
+//! Where a new vertex goes in the Poincare disk: onto the geodesic side of its final face (the
+//! point of the metric: copies across a cut glue), or onto that side as drawn, straight in the
+//! disk's coordinates (pieces then stay inside their drawn face, where splitting the geodesic
+//! pieces cannot keep every thin one near a chart's rim from turning over as drawn).
+enum class DiskSidePoints { OnGeodesic, OnDrawnSide };
 
 //! Builds the common subdivision of a converged flow with flips. `initial` is the conformal
 //! structure the flow started from, `layout` the layout of result_triangulation(mesh, result).
@@ -68,6 +75,6 @@ enum class DiskSidePoints { OnDrawnSide, OnGeodesic };
 //!   (names the flip or face).
 CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStructure& initial,
                                      const FlowResult& result, const Layout& layout,
-                                     DiskSidePoints disk_points = DiskSidePoints::OnDrawnSide);
+                                     DiskSidePoints disk_points = DiskSidePoints::OnGeodesic);
 
 }  // namespace ricci
