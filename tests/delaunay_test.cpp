@@ -220,7 +220,9 @@ TEST(Delaunay, FlipTwiceRestoresTheTriangulation) {
   }
 }
 
-TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInput) {
+// With flips, the Euclidean Yamabe flow's class is that of the input metric's intrinsic Delaunay
+// triangulation (Gillespie, Springborn, Crane): the result is Ptolemy-equivalent to it.
+TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInputsDelaunayTriangulation) {
   for (const char* name : {"elk.off", "lion-head.off"}) {
     const CompactMesh mesh = test::cgal_mesh(name);
     SchemeOptions options;
@@ -231,10 +233,14 @@ TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInput) {
                                             TargetCurvature::free_boundary_or_zero(mesh), always);
     ASSERT_TRUE(r.converged);
     ASSERT_GT(r.num_flips, 100) << name;
-    // Replay the flips on the input's lambda-lengths (u = 0: lambda = input length) with
-    // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
+    // Replay the flips on the input's lambda-lengths (u = 0: lambda = input length): first the
+    // isometric ones that make the input metric intrinsically Delaunay (the new diagonal of the
+    // unfolded quadrilateral, by the law of cosines), then Ptolemy's: lambda_kl lambda_ab =
+    // lambda_ka lambda_lb + lambda_al lambda_bk.
     IntrinsicTriangulation t(mesh);
     std::vector<double> lambda = mesh.input_lengths();
+    bool ptolemy_seen = false;
+    int isometric = 0;
     for (const EdgeFlip& flip : r.flip_sequence) {
       const int e = flip.edge;
       const int h = t.edge_halfedge(e), tw = t.twin(h);
@@ -243,9 +249,22 @@ TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInput) {
                    bk = lambda[t.face_edge(f, (c + 1) % 3)];
       const double al = lambda[t.face_edge(g, (d + 1) % 3)],
                    lb = lambda[t.face_edge(g, (d + 2) % 3)];
-      lambda[e] = (ka * lb + al * bk) / lambda[e];
+      const double ab = lambda[e];
+      if (flip.isometric) {
+        ASSERT_FALSE(ptolemy_seen) << "an isometric flip after the flow's";
+        ++isometric;
+        auto angle = [](double x, double y, double z) {
+          return std::acos((x * x + y * y - z * z) / (2 * x * y));
+        };
+        const double at_a = angle(ka, ab, bk) + angle(al, ab, lb);
+        lambda[e] = std::sqrt(ka * ka + al * al - 2 * ka * al * std::cos(at_a));
+      } else {
+        ptolemy_seen = true;
+        lambda[e] = (ka * lb + al * bk) / ab;
+      }
       ASSERT_TRUE(t.flip(e));
     }
+    EXPECT_GT(isometric, 0) << name << " is not Delaunay as given";
     const Triangulation& final_t = result_triangulation(mesh, r);
     for (int e = 0; e < t.num_edges(); ++e) {
       ASSERT_EQ(t.edge_vertices(e), final_t.edge_vertices(e));

@@ -1,7 +1,9 @@
 #include "flow/delaunay.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "flow/hessian.h"
 
@@ -97,6 +99,62 @@ EdgeFlip flip_record(const Triangulation& mesh, const ConformalStructure& struct
 }
 
 }  // namespace
+
+FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure) {
+  FlipReport report;
+  const auto length = [&](int e) { return lambda(structure, e); };
+  // The quadrilateral k, a, l, b of interior edge e = a-b, and its sides k-a, a-l, l-b, b-k.
+  struct Quad {
+    int k, a, l, b;
+    std::array<int, 4> sides;
+  };
+  const auto quad = [&](int e) {
+    const int h = mesh.edge_halfedge(e), t = mesh.twin(h);
+    const int f = h / 3, c = h % 3, g = t / 3, d = t % 3;
+    return Quad{mesh.face_vertex(f, c),
+                mesh.face_vertex(f, (c + 1) % 3),
+                mesh.face_vertex(g, d),
+                mesh.face_vertex(f, (c + 2) % 3),
+                {mesh.face_edge(f, (c + 2) % 3), mesh.face_edge(g, (d + 1) % 3),
+                 mesh.face_edge(g, (d + 2) % 3), mesh.face_edge(f, (c + 1) % 3)}};
+  };
+  // Angle between sides x and y of the triangle with third side z.
+  const auto angle = [](double x, double y, double z) {
+    return std::acos(std::clamp((x * x + y * y - z * z) / (2 * x * y), -1.0, 1.0));
+  };
+  std::vector<int> stack;
+  std::vector<char> queued(mesh.num_edges(), 0);
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (!mesh.is_boundary_edge(e)) stack.push_back(e), queued[e] = 1;
+  }
+  const int max_flips = 10 * mesh.num_edges();
+  while (!stack.empty() && report.flips < max_flips) {
+    const int e = stack.back();
+    stack.pop_back();
+    queued[e] = 0;
+    const Quad q = quad(e);
+    const double ka = length(q.sides[0]), al = length(q.sides[1]), lb = length(q.sides[2]),
+                 bk = length(q.sides[3]), ab = length(e);
+    // Delaunay: the angles at k and l opposite a-b sum to at most pi.
+    if (angle(ka, bk, ab) + angle(al, lb, ab) <= kPi + 1e-12 || q.k == q.l) continue;
+    const double at_a = angle(ka, ab, bk) + angle(al, ab, lb);
+    const double kl = third_side(Geometry::Euclidean, ka, al, at_a);
+    EdgeFlip record;
+    record.edge = e;
+    record.isometric = true;
+    for (int i = 0; i < 4; ++i) record.lambda[i] = length(q.sides[i]);
+    record.lambda[4] = ab;
+    record.chord = record.lambda;
+    mesh.flip(e);
+    structure.eta[e] = kl * kl / 2;
+    report.sequence.push_back(record);
+    ++report.flips;
+    for (int side : q.sides) {
+      if (!mesh.is_boundary_edge(side) && !queued[side]) stack.push_back(side), queued[side] = 1;
+    }
+  }
+  return report;
+}
 
 FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
                          const Eigen::VectorXd& u, MetricState& state, int max_flips) {

@@ -56,6 +56,11 @@ struct FlipReport {
                     //!< both opposite vertices one, eta <= 0 or an invalid triangle after)
 };
 
+//! Euclidean Yamabe at u0 = 0 (lambda = sqrt(2 eta) is the input's length): flips the input's own
+//! metric to its intrinsic Delaunay triangulation, each flip isometric (the new diagonal the
+//! unfolded quadrilateral's), recorded with EdgeFlip::isometric.
+FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure);
+
 //! Flips non-Delaunay edges until none is left (or max_flips is reached), updating the flipped
 //! edges' eta in `structure` and the lengths and angles in `state`. A state with invalid
 //! triangles is flipped by is_ptolemy_delaunay() when all_ptolemy(structure), and left as it is

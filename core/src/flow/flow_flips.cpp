@@ -29,6 +29,19 @@ void detail::FlowState::use_free_vertices(const TargetCurvature& target) {
 void detail::FlowState::keep_delaunay() {
   if (!flipping) return;
   const auto t = Clock::now();
+  if (options.delaunay_class && canonical_class && !input_made_delaunay && flip_sequence.empty() &&
+      structure.geometry == Geometry::Euclidean && is_yamabe(structure) && structure.u0.isZero()) {
+    input_made_delaunay = true;
+    const FlipReport isometric = make_input_delaunay(triangulation, structure);
+    if (!isometric.sequence.empty()) {
+      result.delaunay_class = true;
+      result.num_flips += isometric.flips;
+      flip_sequence = isometric.sequence;
+      metric = evaluate_metric(triangulation, structure, u);
+      ++result.connectivity_changes;
+      steps.set_pattern(triangulation, free_index, false);
+    }
+  }
   const FlipReport flips =
       make_delaunay(triangulation, structure, u, metric, 10 * mesh.num_edges());
   result.num_flips += flips.flips;

@@ -97,7 +97,35 @@ void RicciFlowSolver::restart() {
   s.flipping = s.flips_from_start;
   s.blocked_walk.reset();
   s.flip_sequence.clear();
+  s.input_made_delaunay = false;
+  s.canonical_class = true;
   s.pattern_current = false;
+}
+
+// A solve that flipped the input to its intrinsic Delaunay triangulation and then stalled at the
+// boundary, where no flip helps, is made again in the input's own class: the classes differ, and
+// the input's can hold where the other's boundary triangles degenerate (OpenFOAM's propeller tip
+// with u = 0 on its boundary).
+FlowResult detail::FlowState::run_in_a_class(const Eigen::VectorXd* start) {
+  const IntrinsicTriangulation before = triangulation;
+  const ConformalStructure structure_before = structure;
+  const Eigen::VectorXd u_before = u;
+  const std::vector<EdgeFlip> flips_before = flip_sequence;
+  const bool flipping_before = flipping;
+  FlowResult r = run(start);
+  if (r.converged || !r.delaunay_class || !r.stalled_at_boundary) return r;
+  const std::string why =
+      "in the class of the input's intrinsic Delaunay triangulation, " + r.failure;
+  triangulation = before;
+  structure = structure_before;
+  u = u_before;
+  flip_sequence = flips_before;
+  flipping = flipping_before;
+  canonical_class = false;
+  pattern_current = false;
+  FlowResult again = run(start);
+  again.input_class_because = why;
+  return again;
 }
 
 FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::VectorXd* start) {
@@ -105,7 +133,7 @@ FlowResult RicciFlowSolver::solve(const TargetCurvature& target, const Eigen::Ve
   check_target(s.mesh, s.structure.geometry, target);
   s.circles.reset();
   s.goal = target;
-  return s.run(start);
+  return s.run_in_a_class(start);
 }
 
 FlowResult RicciFlowSolver::solve_circle_domain(const TargetCurvature& target, int outer_loop) {
@@ -121,7 +149,7 @@ FlowResult RicciFlowSolver::solve_circle_domain(const TargetCurvature& target, i
   check_target(s.mesh, s.structure.geometry, target);
   s.circles.emplace(s.mesh, outer_loop);
   s.goal = target;
-  FlowResult r = s.run(nullptr);
+  FlowResult r = s.run_in_a_class(nullptr);
   s.circles.reset();
   return r;
 }

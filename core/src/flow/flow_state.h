@@ -64,6 +64,15 @@ struct FlowState {
   Eigen::VectorXd newton_start;
   static constexpr int kStartOverByIteration = 3;
   std::vector<EdgeFlip> flip_sequence;
+  // Euclidean Yamabe: when flips begin on the input's triangulation, it is first flipped to the
+  // input metric's intrinsic Delaunay triangulation (make_input_delaunay), whose lambda-lengths
+  // give the canonical discrete conformal class (Gillespie, Springborn, Crane 2021: the class of
+  // the metric, not of its triangulation; the input's own class where it is Delaunay already).
+  // The non-Delaunay elk.off torus: its flat torus's modulus is 3.656i with the input's class,
+  // 3.812i with this one and with CEPS.
+  bool input_made_delaunay = false;
+  // False after a solve in the canonical class stalled at the boundary (and until restart()).
+  bool canonical_class = true;
   std::vector<int> free_index;  // of the pattern the step solver holds
   bool pattern_current = false;
   detail::StepSolver steps;
@@ -103,6 +112,7 @@ struct FlowState {
   std::string step_failure;           // why step_direction() failed, when H was factorized
   bool blocked_by_triangles = false;  // the last line search met triangles that degenerate
   FlowResult run(const Eigen::VectorXd* start);
+  FlowResult run_in_a_class(const Eigen::VectorXd* start);
 };
 
 }  // namespace ricci::detail

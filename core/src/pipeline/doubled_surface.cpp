@@ -112,6 +112,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   const ConformalStructure structure = prepare_flow(twice, run.geometry, o.scheme, twice_target);
   FlowOptions flow = o.flow;
   flow.edge_flips = EdgeFlips::Always;  // the half's flow has shown that flips are needed
+  flow.delaunay_class = false;
   RicciFlowSolver solver(twice, structure, flow);
 
   Uniformization on_double;  // its totals are the double's flows only

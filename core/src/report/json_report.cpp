@@ -182,7 +182,10 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
     << ", \"residual_history\": " << array(result.residual_history)
     << ", \"step_history\": " << array(result.step_history)
     << ", \"edge_flips\": " << result.num_flips
-    << ", \"connectivity_changes\": " << result.connectivity_changes << "},\n";
+    << ", \"connectivity_changes\": " << result.connectivity_changes
+    << ", \"delaunay_class\": " << (result.delaunay_class ? "true" : "false")
+    << ", \"input_class_because\": "
+    << (result.input_class_because.empty() ? "null" : quoted(result.input_class_because)) << "},\n";
   j << "  \"seconds\": {\"read\": " << number(context.read_seconds)
     << ", \"setup\": " << number(t.setup) << ", \"assembly\": " << number(t.assembly)
     << ", \"analysis\": " << number(t.analysis)

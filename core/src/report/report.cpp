@@ -122,6 +122,14 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     line("Edge flips were needed from iteration ", t.flips_from_iteration,
          " on: on the input's triangulation, ", t.without_flips);
   }
+  if (run.result.delaunay_class) {
+    line(
+        "Discrete conformal class: the input metric's intrinsic Delaunay triangulation's (the "
+        "input flipped to it isometrically before the flow's flips)");
+  } else if (!run.result.input_class_because.empty()) {
+    line("Discrete conformal class: the input triangulation's, as ",
+         run.result.input_class_because);
+  }
   if (run.doubled) {
     line(
         "Flowed on the surface doubled along its boundary, where boundary edges flip too: on "

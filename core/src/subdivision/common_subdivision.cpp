@@ -65,7 +65,8 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
   const auto begin = std::chrono::steady_clock::now();
   const Geometry g = layout.geometry;
   bool projective = true;
-  for (const EdgeFlip& f : result.flip_sequence) projective = projective && f.ptolemy;
+  for (const EdgeFlip& f : result.flip_sequence)
+    projective = projective && (f.ptolemy || f.isometric);
   InputOverlay overlay(mesh, projective);
   for (const EdgeFlip& f : result.flip_sequence) overlay.flip(f);
   const Triangulation& T = overlay.triangulation();

@@ -157,8 +157,12 @@ void InputOverlay::flip(const EdgeFlip& record) {
   enum { K = 0, A = 1, L = 2, B = 3 };
 
   // The planar picture.
-  const bool circle = projective_ || record.ptolemy;
-  const std::array<double, 5>& len = projective_ ? record.lambda : record.chord;
+  // An isometric flip of the input's metric (before the flow, EdgeFlip::isometric): the unfolded
+  // quadrilateral of its Euclidean lengths, where straight is straight; its parameters are then
+  // the Euclidean ones, which the lambda-lengths of the flips after it share.
+  const bool circle = !record.isometric && (projective_ || record.ptolemy);
+  const std::array<double, 5>& len =
+      projective_ && !record.isometric ? record.lambda : record.chord;
   const double ka = len[0], al = len[1], lb = len[2], bk = len[3], ab = len[4];
   if (circle) {
     // k, a, b at fixed points of the unit circle; the scales s_v with chord = s_u s_v lambda fit

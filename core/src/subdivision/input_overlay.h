@@ -6,7 +6,8 @@
 //
 // A crossing has a parameter on each of its two edges: t on the current edge, s on the input
 // edge, both barycentric coordinates of the edge's second vertex. Two conventions:
-//   projective (every flip kept the discrete conformal class: Yamabe, Ptolemy flips): t and s are
+//   projective (every flip kept the discrete conformal class: Yamabe, Ptolemy flips, after any
+//     isometric flips of the input's metric, EdgeFlip::isometric, drawn unfolded): t and s are
 //     barycentric coordinates in the triangles of the lambda-lengths (u = 0). With the conformal
 //     factor u, a triangle's points move by the projective map that keeps its circumcircle, which
 //     in barycentric coordinates is b_v -> b_v e^(-u_v), normalized (Springborn, Schroeder,
