@@ -142,6 +142,8 @@ def corner_angle(model, p, q, r):
         return np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
                                  a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]))
     if model == SPHERE:
+        # In extended precision too: q - (p . q) p cancels for small triangles.
+        p, q, r = (x.astype(np.longdouble) for x in (p, q, r))
         tq = q - np.einsum("ij,ij->i", p, q)[:, None] * p
         tr = r - np.einsum("ij,ij->i", p, r)[:, None] * p
         return np.abs(np.arctan2(np.einsum("ij,ij->i", np.cross(tq, tr), p),
