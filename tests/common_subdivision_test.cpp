@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <string>
 #include <vector>
@@ -218,6 +219,41 @@ INSTANTIATE_TEST_SUITE_P(
       }
       return name;
     });
+
+// A flat mesh that is not Delaunay: the Euclidean Yamabe flow with flips first flips it to its
+// intrinsic Delaunay triangulation isometrically (the canonical class), and the free boundary's
+// metric is then the input's own (u = 0). Its common subdivision must be the identity: every piece
+// congruent to its image, in 3D and in the layout.
+TEST(CommonSubdivision, IsometricFlipsOfAFlatMeshDeliverTheIdentity) {
+  const CompactMesh grid = test::square_grid(14);
+  std::vector<Eigen::Vector3d> p = grid.positions();
+  std::srand(3);
+  for (Eigen::Vector3d& x : p) {
+    const bool inside = x.x() > 0 && x.x() < 1 && x.y() > 0 && x.y() < 1;
+    if (inside) x += Eigen::Vector3d(std::rand() % 61 - 30, std::rand() % 61 - 30, 0) / 1400.0;
+    x.x() *= 4;  // long thin triangles: many edges not Delaunay
+  }
+  const CompactMesh mesh(p, grid.faces());
+  UniformizationOptions o;
+  o.preset = TargetPreset::FreeBoundary;
+  o.flow.edge_flips = EdgeFlips::Always;
+  const Uniformization run = uniformize(mesh, o);
+  ASSERT_TRUE(run.converged()) << run.result.failure;
+  EXPECT_TRUE(run.result.delaunay_class);
+  ASSERT_GT(run.result.flip_sequence.size(), 50u);
+  for (const EdgeFlip& f : run.result.flip_sequence) ASSERT_TRUE(f.isometric);
+  EXPECT_LE(run.result.u.cwiseAbs().maxCoeff(), 1e-12);
+  const CommonSubdivision s = common_subdivision(mesh, run.structure, run.result, run.layout);
+  ASSERT_GT(s.positions.size(), p.size()) << "the flips cross the input's edges";
+  expect_input_surface(mesh, s);
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = s.positions[s.faces[f][k]] - s.positions[s.faces[f][(k + 1) % 3]];
+      const Vec3 b = s.corners[f][k] - s.corners[f][(k + 1) % 3];
+      ASSERT_NEAR(a.norm(), b.norm(), 1e-12) << "piece " << f;
+    }
+  }
+}
 
 // A hyperbolic triangle is drawn with straight sides, but its sides are arcs bowing toward the
 // disk's centre: near the rim a thin face positive in the metric turns over as drawn. Netgen's
