@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <optional>
 #include <sstream>
 
 #include "layout/corners.h"
@@ -150,12 +151,25 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
   if (run.layout_kind == LayoutKind::PoincareDisk && !o.keep_input_triangulation &&
       detail::has_drawing_turned_faces(run.subdivision ? run.subdivision->corners : corners)) {
     deliver_subdivision();
+    std::optional<CommonSubdivision> on_geodesics;
     if (run.subdivision) {
+      if (run.subdivision->num_flips > 0) on_geodesics = *run.subdivision;
       run.subdivision->disk_splits = detail::split_turned_disk_faces(mesh, *run.subdivision);
     }
-    // Where splitting the geodesic pieces leaves some turned as drawn (thousands of flips of a
-    // genus-97 part, cura-zav-maxpro.stl), their new vertices go onto the drawn sides instead: a
-    // map, whose copies across the cut no longer glue exactly (said in the report).
+    // Where splitting the geodesic pieces leaves some turned as drawn (openscad-tardis.stl: one
+    // of 14,804), the new vertices on the sides of their final faces go onto the sides as drawn,
+    // and the splits run again; where that still leaves some (cura-zav-maxpro.stl: genus 97,
+    // 80k flips), every new vertex does. A map, whose copies across the cut glue exactly only
+    // where no vertex moved (said in the report).
+    if (on_geodesics && detail::has_drawing_turned_faces(run.subdivision->corners)) {
+      CommonSubdivision sub = std::move(*on_geodesics);
+      sub.drawn_side_corners = detail::draw_sides_straight(
+          sub, run.layout,
+          detail::final_faces_turned_as_drawn(*run.subdivision,
+                                              static_cast<int>(run.layout.corners.size())));
+      sub.disk_splits = detail::split_turned_disk_faces(mesh, sub);
+      run.subdivision = std::move(sub);
+    }
     if (run.subdivision && run.subdivision->num_flips > 0 &&
         detail::has_drawing_turned_faces(run.subdivision->corners)) {
       try {

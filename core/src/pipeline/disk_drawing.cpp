@@ -244,6 +244,46 @@ bool has_drawing_turned_faces(const std::vector<std::array<Eigen::Vector3d, 3>>&
   return false;
 }
 
+std::vector<char> final_faces_turned_as_drawn(const CommonSubdivision& sub, int num_final_faces) {
+  std::vector<char> turned(static_cast<size_t>(num_final_faces), 0);
+  for (size_t f = 0; f < sub.faces.size(); ++f) {
+    if (turned_only_as_drawn(sub.corners[f])) turned[static_cast<size_t>(sub.final_face[f])] = 1;
+  }
+  return turned;
+}
+
+int draw_sides_straight(CommonSubdivision& sub, const Layout& layout,
+                        const std::vector<char>& final_faces) {
+  const int n = sub.num_input_vertices;
+  std::vector<char> moved(sub.positions.size(), 0);
+  for (size_t f = 0; f < sub.faces.size(); ++f) {
+    if (!final_faces[static_cast<size_t>(sub.final_face[f])]) continue;
+    for (int v : sub.faces[f]) moved[static_cast<size_t>(v)] = v >= n;
+  }
+  const auto to_klein = [](const Eigen::Vector3d& z) {
+    return Eigen::Vector2d(z.head<2>() * 2 / (1 + z.squaredNorm()));
+  };
+  int count = 0;
+  for (size_t f = 0; f < sub.faces.size(); ++f) {
+    const auto& frame = layout.corners[static_cast<size_t>(sub.final_face[f])];
+    for (int c = 0; c < 3; ++c) {
+      if (!moved[static_cast<size_t>(sub.faces[f][c])]) continue;
+      // The side whose geodesic holds the point: straight through it in the Klein model.
+      const Eigen::Vector2d k = to_klein(sub.corners[f][c]);
+      int side = 0;
+      double best = INFINITY;
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Vector2d a = to_klein(frame[i]), d = to_klein(frame[(i + 1) % 3]) - a;
+        const double off = std::abs(d.x() * (k - a).y() - d.y() * (k - a).x()) / d.norm();
+        if (off < best) best = off, side = i;
+      }
+      sub.corners[f][c] = onto_drawn_side(frame[side], frame[(side + 1) % 3], sub.corners[f][c]);
+      ++count;
+    }
+  }
+  return count;
+}
+
 int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int max_rounds) {
   const auto to_mend = [&] {
     int n = 0;

@@ -44,4 +44,15 @@ bool has_drawing_turned_faces(const std::vector<std::array<Eigen::Vector3d, 3>>&
 //! too are left as they are. Returns the number of sides split.
 int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int max_rounds = 60);
 
+//! Per face of the flow's final triangulation: whether a face of the subdivision in it is turned
+//! over as drawn but positive in the Klein model.
+std::vector<char> final_faces_turned_as_drawn(const CommonSubdivision& sub, int num_final_faces);
+
+//! A subdivision with its new vertices on the geodesics (before any split): the new vertices on
+//! the sides of the marked final faces go onto those sides as drawn, straight in the disk's
+//! coordinates, at every corner of theirs (the neighbour across an uncut side draws it alike;
+//! across a cut the two copies then no longer glue exactly). Returns the corners moved.
+int draw_sides_straight(CommonSubdivision& sub, const Layout& layout,
+                        const std::vector<char>& final_faces);
+
 }  // namespace ricci::detail

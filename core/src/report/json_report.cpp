@@ -101,6 +101,7 @@ std::string layout_json(const Uniformization& run) {
       << ", \"faces\": " << sub.faces.size() << ", \"flips_followed\": " << sub.num_flips
       << ", \"disk_splits\": " << sub.disk_splits
       << ", \"on_drawn_sides\": " << (sub.on_drawn_sides ? "true" : "false")
+      << ", \"drawn_side_corners\": " << sub.drawn_side_corners
       << ", \"seconds\": " << number(sub.seconds) << "}";
   } else {
     j << ", \"common_subdivision\": null";

@@ -164,6 +164,12 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
            "surface alike), as thin faces near the rim turn over when drawn straight: ",
            sub.positions.size(), " vertices, ", sub.faces.size(), " faces");
     }
+    if (!sub.on_drawn_sides && sub.drawn_side_corners > 0) {
+      line("Warning: ", sub.drawn_side_corners,
+           " corners of new vertices placed on their faces' sides as drawn, not on the geodesics "
+           "(split geodesic pieces near the rim still turned over as drawn): the two sides of the "
+           "cut glue exactly under the deck transformations only where none of them lies");
+    }
     if (sub.on_drawn_sides) {
       line(
           "Warning: new vertices placed on their faces' sides as drawn, not on the geodesics "

@@ -58,8 +58,11 @@ struct CommonSubdivision {
   //! Sides split on their geodesics so that faces near the Poincare disk's rim keep their
   //! orientation drawn straight (each adds one vertex).
   int disk_splits = 0;
-  //! H2: new vertices on their final faces' sides as drawn (DiskSidePoints::OnDrawnSide).
+  //! H2: new vertices on their final faces' sides as drawn (DiskSidePoints::OnDrawnSide), all of
+  //! them, or at drawn_side_corners corners, those of the final faces whose pieces turned over
+  //! as drawn on the geodesics.
   bool on_drawn_sides = false;
+  int drawn_side_corners = 0;
   double seconds = 0;  //!< time to build it
 };
 
