@@ -145,7 +145,10 @@ FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure&
     for (int i = 0; i < 4; ++i) record.lambda[i] = length(q.sides[i]);
     record.lambda[4] = ab;
     record.chord = record.lambda;
-    mesh.flip(e);
+    if (!mesh.flip(e)) {
+      ++report.blocked;
+      continue;
+    }
     structure.eta[e] = kl * kl / 2;
     report.sequence.push_back(record);
     ++report.flips;
