@@ -12,7 +12,6 @@ run's JSON report beside its PLY.
 """
 import argparse
 import os
-import struct
 import subprocess
 import sys
 import time
@@ -20,67 +19,17 @@ import time
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SIZES = {"char": 1, "uchar": 1, "int8": 1, "uint8": 1, "short": 2, "ushort": 2, "int16": 2,
-         "uint16": 2, "int": 4, "uint": 4, "int32": 4, "uint32": 4, "float": 4, "float32": 4,
-         "double": 8, "float64": 8}
-CODES = {"char": "b", "uchar": "B", "int8": "b", "uint8": "B", "short": "h", "ushort": "H",
-         "int16": "h", "uint16": "H", "int": "i", "uint": "I", "int32": "i", "uint32": "I",
-         "float": "f", "float32": "f", "double": "d", "float64": "d"}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import measure_layouts  # noqa: E402  (the one PLY reader of the scripts)
 
 
 def read_ply(path):
-    """Vertex properties (dict of arrays), faces (list of index lists), face texcoords or None."""
-    data = open(path, "rb").read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode().split("\n")
-    fmt = "ascii"
-    elements = []
-    for line in header:
-        w = line.split()
-        if not w:
-            continue
-        if w[0] == "format":
-            fmt = w[1]
-        elif w[0] == "element":
-            elements.append((w[1], int(w[2]), []))
-        elif w[0] == "property":
-            elements[-1][2].append(tuple(w[1:]))
-    body = data[end:]
-    vertex, faces, texcoords, texcoords_double = {}, [], [], []
-    if fmt == "ascii":
-        tokens = body.split()
-        pos = 0
-        def take(t):
-            nonlocal pos
-            pos += 1
-            return float(tokens[pos - 1])
-    else:
-        order = "<" if fmt == "binary_little_endian" else ">"
-        pos = 0
-        def take(t):
-            nonlocal pos
-            v = struct.unpack_from(order + CODES[t], body, pos)[0]
-            pos += SIZES[t]
-            return v
-    for name, count, props in elements:
-        for _ in range(count):
-            for p in props:
-                if p[0] == "list":
-                    n = int(take(p[1]))
-                    values = [take(p[2]) for _ in range(n)]
-                    if name == "face" and p[3] == "vertex_indices":
-                        faces.append([int(x) for x in values])
-                    elif name == "face" and p[3] == "texcoord":
-                        texcoords.append(values)
-                    elif name == "face" and p[3] == "texcoord_double":
-                        texcoords_double.append(values)
-                elif name == "vertex":
-                    vertex.setdefault(p[1], []).append(take(p[0]))
-                else:
-                    take(p[0])
-    # The double-precision wedge coordinates where the file has them (float ones can turn thin
-    # faces over by rounding alone).
-    return {k: np.array(v) for k, v in vertex.items()}, faces, texcoords_double or texcoords or None
+    """Vertex properties (dict of arrays), faces (list of index lists), face texcoords or None:
+    the double-precision wedge coordinates where the file has them (float ones can turn thin
+    faces over by rounding alone)."""
+    vertex, face = measure_layouts.read_ply(path)
+    faces = [[int(x) for x in t] for t in face.get("vertex_indices", [])]
+    return vertex, faces, face.get("texcoord_double") or face.get("texcoord") or None
 
 
 def signed_areas_2d(a, b, c):
