@@ -43,7 +43,7 @@ std::string shortest(double x) {
 void set_target(Options& o, const std::string& spec) {
   o.target = spec;
   o.target_file.clear();
-  for (const char* name : {"auto", "disk", "free-boundary", "zero"}) {
+  for (const char* name : {"auto", "disk", "free-boundary", "zero", "atlas"}) {
     if (spec == name) {
       o.request.preset = target_preset_from_string(spec);
       return;
@@ -116,11 +116,54 @@ const std::vector<Flag>& flags() {
        "  disk: boundary loops on circles, the outer one the unit circle\n"
        "  free-boundary: u = 0 on the boundary, flat inside\n"
        "  zero: Kbar = 0 at every vertex\n"
+       "  atlas: a texture atlas of every topology: cones placed until the area distortion is "
+       "within --distortion, the flat metric with u held at them (and on the boundary), seams "
+       "through them on the mesh's edges, charts packed into [0, 1]^2\n"
        "  cones:FILE: lines \"VERTEX ANGLE_DEGREES\": cone angles inside, corner angles on the "
        "boundary (rectangles, polygons); flat and straight elsewhere\n"
        "  FILE: Kbar per line, one line per vertex; 'nan' holds that vertex's u fixed",
        [](const O& o) { return o.target; },
        [](O& o, const std::string&, const std::string& v) { set_target(o, v); }},
+      {{"--distortion"},
+       "D",
+       "atlas: the area distortion to reach, sqrt(sum A (u - mean u)^2) on the surface scaled "
+       "to area 1",
+       [](const O& o) { return shortest(o.request.cone_placement.distortion_bound); },
+       [](O& o, const std::string& f, const std::string& v) {
+         o.request.cone_placement.distortion_bound = parse_double(f, v);
+       }},
+      {{"--max-cones"},
+       "N",
+       "atlas: the most cones placed",
+       [](const O&) { return std::to_string(kDefaultConeBudget); },
+       [](O& o, const std::string& f, const std::string& v) {
+         o.request.cone_placement.max_cones = parse_int(f, v);
+       }},
+      {{"--cone-angles"},
+       "A",
+       "atlas: free (as the flat metric wants them) or quarter (rounded to multiples of 90 "
+       "degrees: charts that meet by quarter turns)",
+       [](const O& o) { return o.request.cone_placement.quarter_angles ? "quarter" : "free"; },
+       [](O& o, const std::string& f, const std::string& v) {
+         if (v != "free" && v != "quarter") {
+           throw InvalidArgumentError(f + " expects free or quarter, got '" + v + "'");
+         }
+         o.request.cone_placement.quarter_angles = v == "quarter";
+       }},
+      {{"--texture-size"},
+       "N",
+       "atlas: texels per side of the texture the charts are packed for",
+       [](const O& o) { return std::to_string(o.request.packing.texture_size); },
+       [](O& o, const std::string& f, const std::string& v) {
+         o.request.packing.texture_size = parse_int(f, v);
+       }},
+      {{"--padding"},
+       "N",
+       "atlas: texels between two charts",
+       [](const O& o) { return std::to_string(o.request.packing.padding); },
+       [](O& o, const std::string& f, const std::string& v) {
+         o.request.packing.padding = parse_int(f, v);
+       }},
       {{"--center"},
        "VERTEX",
        "disk target: the vertex mapped to the centre of the disk",

@@ -21,17 +21,20 @@ std::string to_string(TargetPreset p) {
       return "zero";
     case TargetPreset::Values:
       return "values";
+    case TargetPreset::Atlas:
+      return "atlas";
   }
   return "?";
 }
 
 TargetPreset target_preset_from_string(const std::string& name) {
-  for (TargetPreset p : {TargetPreset::Automatic, TargetPreset::UnitDisk,
-                         TargetPreset::FreeBoundary, TargetPreset::Zero, TargetPreset::Values}) {
+  for (TargetPreset p :
+       {TargetPreset::Automatic, TargetPreset::UnitDisk, TargetPreset::FreeBoundary,
+        TargetPreset::Zero, TargetPreset::Values, TargetPreset::Atlas}) {
     if (to_string(p) == name) return p;
   }
   throw InvalidArgumentError("unknown target '" + name +
-                             "'; choose auto, disk, free-boundary, zero or values");
+                             "'; choose auto, disk, free-boundary, zero, values or atlas");
 }
 
 Geometry preset_geometry(const Triangulation& mesh, TargetPreset preset) {
@@ -43,7 +46,7 @@ Geometry preset_geometry(const Triangulation& mesh, TargetPreset preset) {
       if (chi < 0) return Geometry::Hyperbolic;
       return mesh.is_closed() && chi > 0 ? Geometry::Spherical : Geometry::Euclidean;
     }
-    default:  // UnitDisk, FreeBoundary; Values are decided by geometry_for_target
+    default:  // UnitDisk, FreeBoundary, Atlas; Values are decided by geometry_for_target
       return Geometry::Euclidean;
   }
 }

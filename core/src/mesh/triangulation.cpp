@@ -14,6 +14,13 @@ using detail::first_indices;
 using detail::order_by_vertex_pair;
 using detail::UnionFind;
 
+Triangulation Triangulation::from_faces(int num_vertices, std::vector<std::array<int, 3>> faces) {
+  Triangulation t;
+  t.faces_ = std::move(faces);
+  t.build_connectivity(num_vertices);
+  return t;
+}
+
 void Triangulation::build_connectivity(int num_vertices) {
   connect(num_vertices, nullptr, num_vertices);
 }

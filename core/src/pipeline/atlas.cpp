@@ -74,7 +74,8 @@ UniformizationOptions component_options(const UniformizationOptions& o, const Re
     const int local = component_vertex(cone.vertex, where, m.num_input_vertices, k, "cone");
     if (local >= 0) c.cones.push_back({local, cone.angle});
   }
-  if (!o.cones.empty() && c.cones.empty()) {  // no cone here: flat, and straight on the boundary
+  if (!o.cones.empty() && c.cones.empty() && o.preset != TargetPreset::Atlas) {
+    // no cone here: flat, and straight on the boundary
     c.preset = TargetPreset::Values;
     c.values = Eigen::VectorXd::Zero(static_cast<long>(component.vertex.size()));
   }

@@ -72,6 +72,8 @@ std::string to_string(LayoutKind k) {
       return "poincare-disk";
     case LayoutKind::Sphere:
       return "sphere";
+    case LayoutKind::Atlas:
+      return "atlas";
   }
   return "?";
 }
@@ -79,6 +81,7 @@ std::string to_string(LayoutKind k) {
 std::vector<std::array<Eigen::Vector2d, 3>> drawn_corners(const Uniformization& run) {
   std::vector<std::array<Eigen::Vector2d, 3>> drawn;
   if (run.layout_kind == LayoutKind::None || run.layout_kind == LayoutKind::Sphere) return drawn;
+  if (run.layout_kind == LayoutKind::Atlas) return run.atlas.texture;
   const int charts = run.face_chart.empty() ? 1 : run.layout.num_charts();
   const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(charts))));
   for (size_t f = 0; f < run.corners.size(); ++f) {
@@ -97,6 +100,8 @@ TextureCoordinates texture_coordinates(const Uniformization& run) {
     std::vector<Eigen::Vector2d> planar;
     for (const auto& p : run.position) planar.emplace_back(p.x(), p.y());
     t.vertex = normalized_texture_coordinates(planar);
+  } else if (run.layout_kind == LayoutKind::Atlas) {
+    t.wedge = run.atlas.texture;
   } else if (run.layout_kind == LayoutKind::PlaneCut ||
              run.layout_kind == LayoutKind::PoincareDisk) {
     std::vector<Eigen::Vector2d> flat;
@@ -117,6 +122,7 @@ TextureCoordinates texture_coordinates(const Uniformization& run) {
 }
 
 LayoutKind planned_layout(const Triangulation& mesh, TargetPreset preset, Geometry geometry) {
+  if (preset == TargetPreset::Atlas) return LayoutKind::Atlas;
   switch (geometry) {
     case Geometry::Euclidean:
       if (mesh.is_disk() || preset == TargetPreset::UnitDisk) return LayoutKind::Plane;

@@ -10,6 +10,7 @@
 #include "pipeline/delivered_layout.h"
 #include "pipeline/disk_drawing.h"
 #include "pipeline/doubled_surface.h"
+#include "pipeline/texture_atlas.h"
 #include "ricci/flow/ricci_flow.h"
 #include "ricci/mesh/errors.h"
 
@@ -33,6 +34,12 @@ void check_request(const CompactMesh& mesh, TargetPreset preset, Geometry geomet
           "auto) geometry instead of " +
           to_string(geometry));
     }
+  }
+  if (preset == TargetPreset::Atlas &&
+      (geometry != Geometry::Euclidean || o.scheme.scheme != Scheme::Yamabe)) {
+    throw InvalidTargetError(
+        "the atlas target is a flat cone metric of the Yamabe flow; choose euclidean (or auto) "
+        "geometry and the yamabe scheme");
   }
   if (preset == TargetPreset::FreeBoundary && mesh.is_closed()) {
     throw InvalidTargetError("the free-boundary target needs a boundary, but the mesh is a " +
@@ -64,7 +71,7 @@ void check_request(const CompactMesh& mesh, TargetPreset preset, Geometry geomet
 
 // Cones as the Values preset's per-vertex curvature.
 UniformizationOptions with_cone_values(const CompactMesh& mesh, UniformizationOptions o) {
-  if (o.cones.empty()) return o;
+  if (o.cones.empty() || o.preset == TargetPreset::Atlas) return o;
   o.preset = TargetPreset::Values;
   o.values = cone_target(mesh, o.cones).values();
   o.cones.clear();
@@ -73,8 +80,12 @@ UniformizationOptions with_cone_values(const CompactMesh& mesh, UniformizationOp
 
 // The preset's target before any flow (the disk preset's is refitted by the flows).
 TargetCurvature initial_target(const CompactMesh& mesh, TargetPreset preset,
-                               const UniformizationOptions& o, int outer_loop) {
+                               const UniformizationOptions& o, int outer_loop,
+                               const ConePlacement& placement) {
   switch (preset) {
+    case TargetPreset::Atlas:
+      return detail::atlas_target(mesh, placement,
+                                  o.cone_placement.quarter_angles || !o.cones.empty());
     case TargetPreset::UnitDisk:
       return circle_boundary_target(mesh, mesh.input_lengths(), outer_loop);
     case TargetPreset::FreeBoundary:
@@ -123,7 +134,9 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
       by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
     } else {
       const std::optional<Eigen::VectorXd> start =
-          flow_start(mesh, run.structure, target, o.flow, o.vertex_order);
+          run.preset == TargetPreset::Atlas
+              ? std::optional<Eigen::VectorXd>(run.atlas.placement.u)
+              : flow_start(mesh, run.structure, target, o.flow, o.vertex_order);
       run.result = solver.solve(target, start ? &*start : nullptr);
       run.totals.add(run.result);
     }
@@ -146,6 +159,8 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
       run.subdivision->disk_splits = detail::split_turned_disk_faces(mesh, *run.subdivision);
     }
     detail::place_delivered(mesh, o, outer, std::move(run.position), {}, run);
+  } else if (run.result.converged && run.preset == TargetPreset::Atlas) {
+    detail::lay_out_atlas(mesh, o, run);
   } else if (run.result.converged) {
     detail::lay_out_result(mesh, o, outer, kChartRadius, run);
   }
@@ -161,6 +176,9 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
     measure();
   }
   if (run.result.converged) run.layout_failure = detail::layout_failure(run);
+  if (run.result.converged && run.layout_failure.empty()) {
+    run.layout_failure = detail::atlas_failure(run);
+  }
   return by_one_solve;
 }
 
@@ -174,7 +192,15 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
   run.tolerance = o.flow.tolerance;
   const int outer =
       run.preset == TargetPreset::UnitDisk ? outer_boundary_loop(mesh, mesh.input_lengths()) : -1;
-  const TargetCurvature target = initial_target(mesh, run.preset, o, outer);
+  if (run.preset == TargetPreset::Atlas) {
+    if (o.cones.empty()) {
+      run.atlas.placement = place_cones(mesh, o.cone_placement);
+    } else {  // the user's cones, with their angles
+      run.atlas.placement.cones = o.cones;
+      run.atlas.placement.u = Eigen::VectorXd::Zero(mesh.num_vertices());
+    }
+  }
+  const TargetCurvature target = initial_target(mesh, run.preset, o, outer, run.atlas.placement);
   run.structure = prepare_flow(mesh, run.geometry, o.scheme, target);
   const bool one_solve = run.preset == TargetPreset::UnitDisk &&
                          run.geometry == Geometry::Euclidean && is_yamabe(run.structure);

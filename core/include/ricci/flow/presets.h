@@ -18,15 +18,17 @@ enum class TargetPreset {
   FreeBoundary,  //!< u = 0 on the boundary, Kbar = 0 inside
   Zero,          //!< Kbar = 0 everywhere (closed surfaces; geodesic boundaries in H2)
   Values,        //!< Kbar per vertex given by the caller (cones, files, vertex quality)
+  Atlas,         //!< a texture atlas: cones placed for bounded area distortion (cone_placement.h),
+                 //!< u held at them and on the boundary, flat elsewhere (E2)
 };
 
-//! "auto", "disk", "free-boundary", "zero", "values".
+//! "auto", "disk", "free-boundary", "zero", "values", "atlas".
 std::string to_string(TargetPreset p);
 //! Inverse of to_string. \throws InvalidArgumentError naming the choices.
 TargetPreset target_preset_from_string(const std::string& name);
 
 //! The geometry of a preset on the mesh's topology, the one rule every choice goes through:
-//! UnitDisk and FreeBoundary are flat (E2). Zero: on a closed surface the sign of the Euler
+//! UnitDisk, FreeBoundary and Atlas are flat (E2). Zero: on a closed surface the sign of the Euler
 //! characteristic (Gauss-Bonnet, 2 pi chi = kappa A): S2 for genus 0, E2 for genus 1, H2 for
 //! genus >= 2; with boundary (geodesic boundary) H2 when chi < 0, else E2. Automatic: that of
 //! automatic_preset. Values: Gauss-Bonnet decides (geometry_for_target).

@@ -57,6 +57,10 @@ class Triangulation {
   //! The two vertices opposite interior edge e (in its first and second face).
   std::array<int, 2> opposite_vertices(int e) const;
 
+  //! The connectivity of faces over vertices 0..num_vertices-1 (a subdivision's, say), with no
+  //! geometry checked. \throws InvalidMeshError as build_connectivity does.
+  static Triangulation from_faces(int num_vertices, std::vector<std::array<int, 3>> faces);
+
  protected:
   //! Replaces interior edge e, the diagonal of the quadrilateral of its two faces, by the other
   //! diagonal. Returns false (and changes nothing) for a boundary edge or when both opposite

@@ -12,9 +12,11 @@
 
 #include <Eigen/Core>
 
+#include "ricci/flow/cone_placement.h"
 #include "ricci/flow/flow_result.h"
 #include "ricci/flow/presets.h"
 #include "ricci/layout/layout.h"
+#include "ricci/layout/packing.h"
 #include "ricci/linear/vertex_order.h"
 #include "ricci/mesh/compact_mesh.h"
 #include "ricci/pipeline/layout_quality.h"
@@ -28,8 +30,9 @@ enum class LayoutKind {
   PlaneCut,      //!< E2 cut open: wedge positions
   PoincareDisk,  //!< H2 cut open: wedge positions in the unit disk
   Sphere,        //!< one position per vertex on the unit sphere
+  Atlas,         //!< E2 cone metric cut along seams into charts: wedge positions per chart
 };
-//! "none", "plane", "plane-cut", "poincare-disk", "sphere".
+//! "none", "plane", "plane-cut", "poincare-disk", "sphere", "atlas".
 std::string to_string(LayoutKind k);
 
 struct UniformizationOptions {
@@ -56,6 +59,9 @@ struct UniformizationOptions {
   //! After edge flips, lay out the input's own faces by their corners even when some turn over
   //! (reported as an invalid layout) instead of delivering the common subdivision.
   bool keep_input_triangulation = false;
+  //! The atlas preset: how its cones are placed, and its charts packed.
+  ConePlacementOptions cone_placement;
+  PackingOptions packing;
   //! A fill-reducing order of the vertices, found ahead (vertex_order.h; for uniformize_mesh, of
   //! the input's vertices, as read); empty or for another number of vertices: the flow starts its
   //! own (RicciFlowSolver).
@@ -81,6 +87,25 @@ struct FlowTotals {
   void add(const FlowTotals& other);
 };
 
+//! What the atlas preset made: its cones, seams and charts.
+struct AtlasResult {
+  ConePlacement placement;
+  //! D of the flow's u (the exact flat metric), on the surface scaled to area 1.
+  double flow_distortion = 0;
+  //! The cones' angles in the exact metric (2 pi - K there, K from the flow), per placed cone.
+  std::vector<double> cone_angles;
+  int num_charts = 0;
+  double seam_length = 0;  //!< in 3D, over sqrt(3D area)
+  int seam_edges = 0;      //!< delivered edges on a seam
+  //! Faces of a chart whose interiors overlap another face of the same chart.
+  int overlapping_faces = 0;
+  //! Charts split because they overlapped themselves, and the splits.
+  int charts_split = 0, splits = 0;
+  //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
+  std::vector<std::array<Eigen::Vector2d, 3>> texture;
+  double utilization = 0;
+};
+
 struct Uniformization {
   TargetPreset preset = TargetPreset::Automatic;  //!< the one used (never Automatic)
   Geometry geometry = Geometry::Euclidean;
@@ -100,8 +125,8 @@ struct Uniformization {
   //! Every layout: positions per face and corner of the delivered mesh (the input's, or the
   //! common subdivision's).
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
-  //! PoincareDisk laid out in several charts (Layout::chart): per delivered face, the chart its
-  //! corners are in; empty for one chart.
+  //! PoincareDisk laid out in several charts (Layout::chart), and Atlas: per delivered face, the
+  //! chart its corners are in; empty for one chart.
   std::vector<int> face_chart;
   //! The mesh delivered instead of the input's: when the flow flipped edges and the input's faces
   //! drawn by their corners would turn over (common_subdivision.h); when the Poincare disk's
@@ -122,6 +147,7 @@ struct Uniformization {
   //! transformations; |Im(conj(w0) w1)| is the torus's area.
   std::vector<std::complex<double>> periods;
   LayoutQuality quality;  //!< of the delivered mesh's layout
+  AtlasResult atlas;      //!< the atlas preset
   //! Why the layout is not a valid map (faces turned over, boundary off its circles), or "".
   std::string layout_failure;
   //! TargetPreset::Automatic: why the preset used is not the topology's choice, or "". A circle

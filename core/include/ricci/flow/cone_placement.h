@@ -1,0 +1,81 @@
+// Cone singularities for a flat metric of bounded area distortion, placed on the linear model of
+// the Euclidean Yamabe flow (ATLAS.md, "One model under all of them").
+//
+// At u = 0 the flow's curvature is K(u) ~ K0 + H u, with H the Hessian of the input metric's
+// intrinsic Delaunay triangulation (the cotangent Laplacian, positive semi-definite there). A cone
+// set C with u held at 0 there, flat elsewhere and u = 0 on the boundary, gives
+//   u = g + G_C k + c 1,   g = R(-K0),  G_C = R(e_C),
+// where R solves H u = b over the free vertices (one pinned on a closed surface) and k are the
+// cones' curvatures: u_C = 0 and, on a closed surface, sum k = 2 pi chi fix k and c by a dense
+// (|C| + 1) system. H is factored once; each cone tried costs one back-solve (its column of G),
+// whatever the set it is tried in.
+//
+// Placement: greedy (add the vertex of largest |u|, from the curvature extremum on a closed
+// surface of chi != 0; Springborn, Schroeder, Pinkall 2008), then Gauss-Seidel relocation (move a
+// cone to the argmax |u| of the set without it where that lowers D; CEPS), then the weakest cones
+// dropped while the bound holds, until the distortion
+//   D = sqrt(sum_i A_i (u_i - mean u)^2)
+// (A_i the vertex areas of the surface scaled to area 1) is at most the bound and every cone
+// angle at least the floor, or the cone budget is reached.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/flow/presets.h"
+#include "ricci/linear/linear_solver.h"
+#include "ricci/mesh/compact_mesh.h"
+
+namespace ricci {
+
+struct ConePlacementOptions {
+  //! Stop adding cones when D is at most this (the sparse-cone literature's default).
+  double distortion_bound = 0.2;
+  //! The most cones; 0: kDefaultConeBudget.
+  int max_cones = 0;
+  //! The sharpest cone allowed (radians): a cone of angle theta = 2 pi - k needs theta at least
+  //! this. pi / 4 keeps a cone's wedge laid out with corner angles the mesh's own triangles can
+  //! have, and the exact flow's cone (which moves from the linear model's) still positive.
+  double min_cone_angle = kPi / 4;
+  //! Gauss-Seidel relocation sweeps over the cones (0: the greedy's places).
+  int relocation_sweeps = 4;
+  //! Round every cone curvature to a multiple of pi / 2 (keeping their sum), for atlases whose
+  //! charts meet by quarter turns; cones rounded to 0 are dropped.
+  bool quarter_angles = false;
+  LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
+};
+
+//! The default cone budget: far above what a bound of 0.2 takes on real meshes, so that it only
+//! stops a mesh that no number of cones flattens within the bound (a very coarse one).
+inline constexpr int kDefaultConeBudget = 256;
+
+struct ConePlacement {
+  //! The cones, each with the angle 2 pi - k the linear model gives it (or its rounding).
+  std::vector<Cone> cones;
+  //! The linear model's u per vertex: 0 at the cones and on the boundary.
+  Eigen::VectorXd u;
+  //! D of u on the surface scaled to area 1, and of the cone-free model where one exists (a
+  //! surface with boundary, or a torus; NaN otherwise).
+  double distortion = 0;
+  double distortion_without_cones = 0;
+  double max_deviation = 0;  //!< max |u - mean u|
+  bool bound_reached = false;
+  std::string why_not;  //!< when !bound_reached: the budget, or cone angles below the floor
+  int factorizations = 0;
+  int back_solves = 0;
+  int relocations = 0;  //!< cones moved by the sweeps
+  int dropped = 0;      //!< cones dropped at the end
+};
+
+//! Places cones on a mesh (one component) for a flat metric with D at most the bound.
+//! \throws InvalidArgumentError for options out of range; SolverError when the Laplacian cannot be
+//!   factored.
+ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& options = {});
+
+//! D = sqrt(sum_i A_i (u_i - mean u)^2) with A_i a third of the input faces' areas at vertex i, on
+//! the surface scaled to area 1 (u per vertex; the mean A-weighted).
+double area_distortion(const CompactMesh& mesh, const Eigen::VectorXd& u);
+
+}  // namespace ricci

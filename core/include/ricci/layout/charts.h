@@ -1,0 +1,48 @@
+// The charts of a flat metric cut open along seams: every piece of the surface that the seams
+// (and the boundary) leave connected across its edges, developed into the plane face by face.
+// Where the seams pass through every cone, each chart is flat and its layout exact up to
+// round-off; the corners of one vertex in a chart (its wedge) share one position.
+#pragma once
+
+#include <array>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ricci/mesh/triangulation.h"
+
+namespace ricci {
+
+struct Charts {
+  std::vector<std::array<Eigen::Vector2d, 3>> corners;  //!< per face, in its chart's plane
+  std::vector<int> chart;                               //!< per face
+  int num_charts = 0;
+  //! max | |x_head - x_tail| / l - 1 | over the faces' edges.
+  double max_relative_length_error = 0;
+  int flipped_faces = 0;  //!< faces of non-positive signed area
+};
+
+//! Develops each chart from its face deepest inside it (breadth-first across uncut edges, each
+//! face from the edge it shares with a placed one, by the E2 cosine law), then puts every wedge at
+//! the mean of its corners. `lengths` per edge, `cut` per edge (1: seam; boundary edges need no
+//! mark).
+Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& lengths,
+                      const std::vector<char>& cut);
+
+//! Pairs of faces of one chart whose interiors overlap (beyond a relative tolerance of 1e-9 of
+//! the chart's size): the whole chart tested, not only neighbours, on a uniform grid of cells
+//! about the mean face's size. Each pair once, smaller face first; at most max_pairs of them
+//! (0: all).
+std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs = 0);
+
+//! Seams that part faces f and g of one chart (two sheets that overlap): the chart's faces, in
+//! groups that no seam may split (`group` per face, e.g. the input face a piece lies in; empty:
+//! each face alone), are shared out between the two by nearest group (Dijkstra across uncut
+//! edges, a step the distance of the groups' centroids in `centroid`), and the edges between the
+//! shares marked in `cut`. Returns the number of edges marked.
+int separate_sheets(const Triangulation& mesh, const Charts& charts, int f, int g,
+                    const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
+                    std::vector<char>& cut);
+
+}  // namespace ricci

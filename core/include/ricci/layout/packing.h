@@ -1,0 +1,32 @@
+// Charts packed into the unit square at one texel density: each turned to its smallest bounding
+// rectangle, rasterized (conservatively, dilated by the padding) and placed, largest first, where
+// the atlas's extent grows least (bottom-left first among equals), upright or a quarter turn.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace ricci {
+
+struct PackingOptions {
+  int texture_size = 1024;  //!< texels per side of the texture the atlas is for
+  int padding = 4;          //!< texels between two charts
+};
+
+//! Where chart k goes: uv = scale * rotation[k] * p + offset[k].
+struct Packing {
+  double scale = 1;
+  std::vector<Eigen::Matrix2d> rotation;
+  std::vector<Eigen::Vector2d> offset;
+  double utilization = 0;  //!< the charts' area in the unit square
+};
+
+//! Packs the charts (each a list of triangles, all in one length unit) into [0, 1]^2, keeping
+//! their relative sizes. \throws InvalidArgumentError for a texture size below 16 or a negative
+//!   padding.
+Packing pack_charts(const std::vector<std::vector<std::array<Eigen::Vector2d, 3>>>& charts,
+                    const PackingOptions& options = {});
+
+}  // namespace ricci

@@ -1,0 +1,43 @@
+// The seams of an atlas: a cut graph on chosen edges (the user's, where the mesh delivered is a
+// subdivision of theirs) that passes through every cone of a flat cone metric and opens the
+// surface into a disk, so the metric lays out in the plane.
+//
+//   homology     2g short loops (Erickson and Whittlesey's greedy): a tree of shortest paths
+//                from a central vertex, the dual tree of the longest loops across the other
+//                edges (boundary loops capped), and the 2g edges left, each with its two tree
+//                paths to the root;
+//   connections  the cones, the boundary loops and those loops joined by a Steiner tree of
+//                shortest paths (Mehlhorn's 2-approximation: nearest-terminal regions, the
+//                cheapest bridges between them in Kruskal's order);
+//   wide cones   a cone of angle above 2 pi laid out on one branch would overlap itself around
+//                its vertex: it gets as many branches as asked (each a shortest path to the cut);
+//   pruning      branches that end at no cone glued back.
+#pragma once
+
+#include <vector>
+
+#include "ricci/layout/cut_graph.h"
+#include "ricci/mesh/triangulation.h"
+
+namespace ricci {
+
+//! A cut through the cones (`cones`, each with at least `branches[i]` cut edges at it; empty:
+//! one each) on the edges marked in `allowed` (per edge; empty: every edge), with `lengths` per
+//! edge the weights of shortest paths (3D lengths: seams short on the surface the user sees).
+//! Cones are nodes of the cut's paths, so every path's two sides are related by one isometry.
+//! \pre the allowed edges connect every vertex; cones are interior vertices.
+CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>& lengths,
+                           const std::vector<int>& cones, const std::vector<int>& branches = {},
+                           const std::vector<char>& allowed = {});
+
+//! Joins the pieces of the cut-and-boundary graph (`cut` per edge) into one by shortest paths on
+//! the allowed edges (the same Steiner tree): a cut that contains a cut graph to a disk and is
+//! connected opens the surface into disks only.
+void connect_cut(const Triangulation& mesh, const std::vector<double>& lengths,
+                 std::vector<char>& cut, const std::vector<char>& allowed = {});
+
+//! The total length of the cut's edges in `lengths`.
+double cut_length(const Triangulation& mesh, const CutGraph& cut,
+                  const std::vector<double>& lengths);
+
+}  // namespace ricci

@@ -1,0 +1,306 @@
+#include "ricci/layout/charts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <unordered_map>
+
+#include "mesh/mesh_checks.h"
+
+namespace ricci {
+
+namespace {
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+double signed_area(const std::array<Eigen::Vector2d, 3>& t) {
+  return 0.5 * cross(t[1] - t[0], t[2] - t[0]);
+}
+
+// The corner of face f at vertex v.
+int corner_at(const Triangulation& mesh, int f, int v) {
+  for (int c = 0; c < 3; ++c) {
+    if (mesh.face_vertex(f, c) == v) return c;
+  }
+  return -1;
+}
+
+// The third corner of a triangle with corners p (opposite side b) and q (opposite side a),
+// counter-clockwise: p, q, r with |q - r| = a, |r - p| = b.
+Eigen::Vector2d third_corner(const Eigen::Vector2d& p, const Eigen::Vector2d& q, double a,
+                             double b) {
+  const Eigen::Vector2d d = q - p;
+  const double c = d.norm();
+  const double x = (b * b + c * c - a * a) / (2 * c);
+  const double y = std::sqrt(std::max(0.0, b * b - x * x));
+  const Eigen::Vector2d along = d / c, left(-along.y(), along.x());
+  return p + x * along + y * left;
+}
+
+// Faces by chart: connected across edges that are neither cut nor boundary.
+std::vector<int> chart_of_faces(const Triangulation& mesh, const std::vector<char>& cut,
+                                int& num_charts) {
+  std::vector<int> chart(mesh.num_faces(), -1);
+  num_charts = 0;
+  for (int s = 0; s < mesh.num_faces(); ++s) {
+    if (chart[s] >= 0) continue;
+    std::queue<int> queue;
+    queue.push(s);
+    chart[s] = num_charts;
+    while (!queue.empty()) {
+      const int f = queue.front();
+      queue.pop();
+      for (int c = 0; c < 3; ++c) {
+        const int t = mesh.twin(3 * f + c);
+        if (t < 0 || cut[mesh.face_edge(f, c)] || chart[t / 3] >= 0) continue;
+        chart[t / 3] = num_charts;
+        queue.push(t / 3);
+      }
+    }
+    ++num_charts;
+  }
+  return chart;
+}
+
+// Per chart, its face farthest (in faces) from the chart's border: the seed of its development.
+std::vector<int> deepest_faces(const Triangulation& mesh, const std::vector<char>& cut,
+                               const std::vector<int>& chart, int num_charts) {
+  const int nf = mesh.num_faces();
+  std::vector<int> depth(nf, -1);
+  std::queue<int> queue;
+  for (int f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int t = mesh.twin(3 * f + c);
+      if (t < 0 || cut[mesh.face_edge(f, c)]) {
+        depth[f] = 0;
+        queue.push(f);
+        break;
+      }
+    }
+  }
+  while (!queue.empty()) {
+    const int f = queue.front();
+    queue.pop();
+    for (int c = 0; c < 3; ++c) {
+      const int t = mesh.twin(3 * f + c);
+      if (t < 0 || cut[mesh.face_edge(f, c)] || depth[t / 3] >= 0) continue;
+      depth[t / 3] = depth[f] + 1;
+      queue.push(t / 3);
+    }
+  }
+  std::vector<int> seed(num_charts, -1);
+  for (int f = 0; f < nf; ++f) {
+    int& s = seed[chart[f]];
+    if (s < 0 || depth[f] > depth[s]) s = f;
+  }
+  return seed;
+}
+
+}  // namespace
+
+Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& lengths,
+                      const std::vector<char>& cut) {
+  const int nf = mesh.num_faces();
+  Charts charts;
+  charts.chart = chart_of_faces(mesh, cut, charts.num_charts);
+  charts.corners.assign(nf, {});
+  const std::vector<int> seeds = deepest_faces(mesh, cut, charts.chart, charts.num_charts);
+  std::vector<char> placed(nf, 0);
+  auto& p = charts.corners;
+  const auto side = [&](int f, int c) { return lengths[mesh.face_edge(f, c)]; };
+  for (int seed : seeds) {
+    p[seed][0] = Eigen::Vector2d::Zero();
+    p[seed][1] = Eigen::Vector2d(side(seed, 2), 0);
+    p[seed][2] = third_corner(p[seed][0], p[seed][1], side(seed, 0), side(seed, 1));
+    placed[seed] = 1;
+    std::queue<int> queue;
+    queue.push(seed);
+    while (!queue.empty()) {
+      const int f = queue.front();
+      queue.pop();
+      for (int c = 0; c < 3; ++c) {
+        const int t = mesh.twin(3 * f + c);
+        if (t < 0 || cut[mesh.face_edge(f, c)] || placed[t / 3]) continue;
+        // Halfedge 3f + c runs from corner c+1 to c+2; its twin in g from d+1 to d+2 the other way.
+        const int g = t / 3, d = t % 3;
+        const Eigen::Vector2d& from = p[f][(c + 2) % 3];  // g's corner d+1
+        const Eigen::Vector2d& to = p[f][(c + 1) % 3];    // g's corner d+2
+        p[g][(d + 1) % 3] = from;
+        p[g][(d + 2) % 3] = to;
+        p[g][d] = third_corner(from, to, side(g, (d + 1) % 3), side(g, (d + 2) % 3));
+        placed[g] = 1;
+        queue.push(g);
+      }
+    }
+  }
+  // Each wedge (corners of a vertex joined across uncut edges) at the mean of its corners.
+  detail::UnionFind wedges(3 * nf);
+  for (int h = 0; h < 3 * nf; ++h) {
+    const int t = mesh.twin(h);
+    if (t < h || cut[mesh.face_edge(h / 3, h % 3)]) continue;
+    for (int v : {mesh.halfedge_tail(h), mesh.halfedge_head(h)}) {
+      wedges.unite(3 * (h / 3) + corner_at(mesh, h / 3, v),
+                   3 * (t / 3) + corner_at(mesh, t / 3, v));
+    }
+  }
+  std::vector<Eigen::Vector2d> sum(3 * nf, Eigen::Vector2d::Zero());
+  std::vector<int> count(3 * nf, 0);
+  for (int k = 0; k < 3 * nf; ++k) {
+    sum[wedges.find(k)] += p[k / 3][k % 3];
+    ++count[wedges.find(k)];
+  }
+  for (int k = 0; k < 3 * nf; ++k) {
+    const int w = wedges.find(k);
+    p[k / 3][k % 3] = sum[w] / count[w];
+  }
+  for (int h = 0; h < 3 * nf; ++h) {
+    const double l = lengths[mesh.face_edge(h / 3, h % 3)];
+    const double drawn = (p[h / 3][(h % 3 + 1) % 3] - p[h / 3][(h % 3 + 2) % 3]).norm();
+    charts.max_relative_length_error =
+        std::max(charts.max_relative_length_error, std::abs(drawn / l - 1));
+  }
+  for (int f = 0; f < nf; ++f) charts.flipped_faces += !(signed_area(p[f]) > 0);
+  return charts;
+}
+
+namespace {
+
+// The interiors of two counter-clockwise triangles overlap: no edge direction of either separates
+// them by more than `tolerance`.
+bool interiors_overlap(const std::array<Eigen::Vector2d, 3>& a,
+                       const std::array<Eigen::Vector2d, 3>& b, double tolerance) {
+  for (const auto* t : {&a, &b}) {
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector2d e = (*t)[(i + 1) % 3] - (*t)[i];
+      const double length = e.norm();
+      if (!(length > 0)) continue;
+      const Eigen::Vector2d n(e.y() / length, -e.x() / length);  // outward for a ccw triangle
+      const double edge = n.dot((*t)[i]);
+      const auto& other = t == &a ? b : a;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& q : other) nearest = std::min(nearest, n.dot(q));
+      if (nearest >= edge - tolerance) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs) {
+  std::vector<std::pair<int, int>> pairs;
+  const int nf = static_cast<int>(charts.corners.size());
+  std::vector<std::vector<int>> by_chart(charts.num_charts);
+  for (int f = 0; f < nf; ++f) by_chart[charts.chart[f]].push_back(f);
+  for (const std::vector<int>& faces : by_chart) {
+    if (faces.size() < 2) continue;
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    double area = 0;
+    for (int f : faces) {
+      for (const auto& q : charts.corners[f]) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+      area += std::abs(signed_area(charts.corners[f]));
+    }
+    const double size = (hi - lo).maxCoeff();
+    if (!(size > 0)) continue;
+    const double tolerance = 1e-9 * size;
+    const double cell =
+        std::max(std::sqrt(area / static_cast<double>(faces.size())) * 2, size / 4096);
+    const long columns = static_cast<long>((hi.x() - lo.x()) / cell) + 1;
+    std::unordered_map<long, std::vector<int>> grid;
+    const auto cell_of = [&](double x, double y) {
+      return std::pair{static_cast<long>((x - lo.x()) / cell),
+                       static_cast<long>((y - lo.y()) / cell)};
+    };
+    for (int f : faces) {
+      Eigen::Vector2d a = charts.corners[f][0], b = a;
+      for (const auto& q : charts.corners[f]) a = a.cwiseMin(q), b = b.cwiseMax(q);
+      const auto [x0, y0] = cell_of(a.x(), a.y());
+      const auto [x1, y1] = cell_of(b.x(), b.y());
+      for (long y = y0; y <= y1; ++y) {
+        for (long x = x0; x <= x1; ++x) grid[y * columns + x].push_back(f);
+      }
+    }
+    std::vector<std::pair<int, int>> found;
+    for (const auto& [key, in_cell] : grid) {
+      for (size_t i = 0; i < in_cell.size(); ++i) {
+        for (size_t j = i + 1; j < in_cell.size(); ++j) {
+          const int f = std::min(in_cell[i], in_cell[j]), g = std::max(in_cell[i], in_cell[j]);
+          if (interiors_overlap(charts.corners[f], charts.corners[g], tolerance)) {
+            found.emplace_back(f, g);
+          }
+        }
+      }
+    }
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
+    pairs.insert(pairs.end(), found.begin(), found.end());
+    if (max_pairs > 0 && pairs.size() >= max_pairs) {
+      pairs.resize(max_pairs);
+      break;
+    }
+  }
+  return pairs;
+}
+
+}  // namespace ricci
+
+namespace ricci {
+
+int separate_sheets(const Triangulation& mesh, const Charts& charts, int f, int g,
+                    const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
+                    std::vector<char>& cut) {
+  const int nf = mesh.num_faces();
+  const auto group_of = [&](int face) { return group.empty() ? face : group[face]; };
+  const int chart = charts.chart[f];
+  // Nearest of the two seeds' groups, over the chart's groups (ties to the first reached).
+  const int num_groups = group.empty() ? nf : *std::max_element(group.begin(), group.end()) + 1;
+  std::vector<std::vector<int>> faces_of(num_groups);
+  for (int h = 0; h < nf; ++h) {
+    if (charts.chart[h] == chart) faces_of[group_of(h)].push_back(h);
+  }
+  std::vector<double> distance(num_groups, std::numeric_limits<double>::infinity());
+  std::vector<int> share(num_groups, -1);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  const int seeds[2] = {group_of(f), group_of(g)};
+  for (int s = 0; s < 2; ++s) {
+    distance[seeds[s]] = 0, share[seeds[s]] = s;
+    queue.push({0, seeds[s]});
+  }
+  while (!queue.empty()) {
+    const auto [d, a] = queue.top();
+    queue.pop();
+    if (d > distance[a]) continue;
+    for (int h : faces_of[a]) {
+      for (int c = 0; c < 3; ++c) {
+        const int t = mesh.twin(3 * h + c);
+        if (t < 0 || cut[mesh.face_edge(h, c)]) continue;
+        const int b = group_of(t / 3);
+        if (b == a || charts.chart[t / 3] != chart) continue;
+        const double via = d + (centroid[a] - centroid[b]).norm();
+        if (via < distance[b]) {
+          distance[b] = via, share[b] = share[a];
+          queue.push({via, b});
+        }
+      }
+    }
+  }
+  int marked = 0;
+  for (int h = 0; h < nf; ++h) {
+    if (charts.chart[h] != chart) continue;
+    for (int c = 0; c < 3; ++c) {
+      const int t = mesh.twin(3 * h + c), e = mesh.face_edge(h, c);
+      if (t < 0 || cut[e]) continue;
+      const int a = share[group_of(h)], b = share[group_of(t / 3)];
+      if (a >= 0 && b >= 0 && a != b) cut[e] = 1, ++marked;
+    }
+  }
+  return marked;
+}
+
+}  // namespace ricci

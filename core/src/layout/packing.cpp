@@ -1,0 +1,304 @@
+#include "ricci/layout/packing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+
+#include "ricci/mesh/errors.h"
+
+namespace ricci {
+
+namespace {
+
+using Triangle = std::array<Eigen::Vector2d, 3>;
+using Triangles = std::vector<Triangle>;
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// Andrew's monotone chain, counter-clockwise.
+std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (p.size() < 3) return p;
+  std::vector<Eigen::Vector2d> h(2 * p.size());
+  size_t k = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 1] - h[k - 2], p[i] - h[k - 2]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(h[k - 1] - h[k - 2], p[i - 1] - h[k - 2]) <= 0) --k;
+    h[k++] = p[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+// The rotation that puts the chart's smallest bounding rectangle upright and wider than tall
+// (the rectangle has a side on a hull edge).
+Eigen::Matrix2d upright(const Triangles& chart) {
+  std::vector<Eigen::Vector2d> points;
+  for (const Triangle& t : chart) points.insert(points.end(), t.begin(), t.end());
+  const std::vector<Eigen::Vector2d> hull = convex_hull(points);
+  Eigen::Matrix2d best = Eigen::Matrix2d::Identity();
+  double smallest = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d e = hull[(i + 1) % hull.size()] - hull[i];
+    if (!(e.norm() > 0)) continue;
+    const Eigen::Vector2d d = e.normalized();
+    Eigen::Matrix2d r;
+    r << d.x(), d.y(), -d.y(), d.x();  // turns d onto the x axis
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
+    for (const auto& q : hull) lo = lo.cwiseMin(r * q), hi = hi.cwiseMax(r * q);
+    const Eigen::Vector2d size = hi - lo;
+    if (size.prod() < smallest) {
+      smallest = size.prod();
+      best = r;
+      if (size.y() > size.x()) best = Eigen::Matrix2d{{0, 1}, {-1, 0}} * r;
+    }
+  }
+  return best;
+}
+
+// A bit raster, row by row.
+class Mask {
+ public:
+  Mask(int width, int height)
+      : width_(width),
+        height_(height),
+        words_((width + 63) / 64 + 1),
+        bits_(static_cast<size_t>(words_) * height, 0) {}
+  int width() const { return width_; }
+  int height() const { return height_; }
+  bool get(int x, int y) const { return (row(y)[x / 64] >> (x % 64)) & 1; }
+  void set(int x, int y) { row(y)[x / 64] |= std::uint64_t{1} << (x % 64); }
+  // 64 bits of row y from column x on.
+  std::uint64_t window(int y, int x) const {
+    const std::uint64_t* r = row(y);
+    const int w = x / 64, s = x % 64;
+    const std::uint64_t low = r[w] >> s;
+    return s == 0 || w + 1 >= words_ ? low : low | (r[w + 1] << (64 - s));
+  }
+  int words() const { return words_; }
+  const std::uint64_t* row(int y) const { return bits_.data() + static_cast<size_t>(y) * words_; }
+  std::uint64_t* row(int y) { return bits_.data() + static_cast<size_t>(y) * words_; }
+  // Grown to at least width x height, the bits kept.
+  void grow(int width, int height) {
+    Mask bigger(std::max(width, width_), std::max(height, height_));
+    for (int y = 0; y < height_; ++y) {
+      std::copy(row(y), row(y) + words_, bigger.row(y));
+    }
+    *this = std::move(bigger);
+  }
+
+ private:
+  int width_, height_, words_;
+  std::vector<std::uint64_t> bits_;
+};
+
+// A chart turned by `rotation`, rasterized on cells of `cell` from its lower-left corner, every
+// cell that a triangle meets set, then dilated by `pad` cells.
+struct Raster {
+  Eigen::Matrix2d rotation;
+  Eigen::Vector2d lo;  // of the turned chart
+  Mask mask{1, 1};
+};
+
+bool triangle_meets_box(const Triangle& t, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+  Eigen::Vector2d a = t[0], b = t[0];
+  for (const auto& q : t) a = a.cwiseMin(q), b = b.cwiseMax(q);
+  if (a.x() > hi.x() || b.x() < lo.x() || a.y() > hi.y() || b.y() < lo.y()) return false;
+  const double orientation = cross(t[1] - t[0], t[2] - t[0]) >= 0 ? 1 : -1;
+  const std::array<Eigen::Vector2d, 4> box{lo, Eigen::Vector2d(hi.x(), lo.y()), hi,
+                                           Eigen::Vector2d(lo.x(), hi.y())};
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector2d e = t[(i + 1) % 3] - t[i];
+    bool all_outside = true;
+    for (const auto& q : box) all_outside = all_outside && orientation * cross(e, q - t[i]) < 0;
+    if (all_outside) return false;
+  }
+  return true;
+}
+
+Raster rasterize(const Triangles& chart, const Eigen::Matrix2d& rotation, double cell, int pad) {
+  Raster r;
+  r.rotation = rotation;
+  Triangles turned;
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
+  for (const Triangle& t : chart) {
+    Triangle u{rotation * t[0], rotation * t[1], rotation * t[2]};
+    for (const auto& q : u) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    turned.push_back(u);
+  }
+  r.lo = lo;
+  const int width = static_cast<int>(std::ceil((hi.x() - lo.x()) / cell)) + 1 + 2 * pad;
+  const int height = static_cast<int>(std::ceil((hi.y() - lo.y()) / cell)) + 1 + 2 * pad;
+  Mask core(width, height);
+  for (const Triangle& t : turned) {
+    Eigen::Vector2d a = t[0], b = t[0];
+    for (const auto& q : t) a = a.cwiseMin(q), b = b.cwiseMax(q);
+    const int x0 = static_cast<int>((a.x() - lo.x()) / cell),
+              x1 = static_cast<int>((b.x() - lo.x()) / cell);
+    const int y0 = static_cast<int>((a.y() - lo.y()) / cell),
+              y1 = static_cast<int>((b.y() - lo.y()) / cell);
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const Eigen::Vector2d c0 = lo + cell * Eigen::Vector2d(x, y);
+        if (triangle_meets_box(t, c0, c0 + Eigen::Vector2d::Constant(cell)))
+          core.set(x + pad, y + pad);
+      }
+    }
+  }
+  r.mask = Mask(width, height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (!core.get(x, y)) continue;
+      for (int dy = -pad; dy <= pad; ++dy) {
+        for (int dx = -pad; dx <= pad; ++dx) {
+          const int u = x + dx, v = y + dy;
+          if (u >= 0 && v >= 0 && u < width && v < height) r.mask.set(u, v);
+        }
+      }
+    }
+  }
+  return r;
+}
+
+bool fits(const Mask& atlas, const Mask& chart, int x, int y) {
+  if (x + chart.width() > atlas.width() || y + chart.height() > atlas.height()) return false;
+  for (int r = 0; r < chart.height(); ++r) {
+    const std::uint64_t* bits = chart.row(r);
+    for (int w = 0; w * 64 < chart.width(); ++w) {
+      if (bits[w] & atlas.window(y + r, x + 64 * w)) return false;
+    }
+  }
+  return true;
+}
+
+void place(Mask& atlas, const Mask& chart, int x, int y) {
+  for (int r = 0; r < chart.height(); ++r) {
+    for (int c = 0; c < chart.width(); ++c) {
+      if (chart.get(c, r)) atlas.set(x + c, y + r);
+    }
+  }
+}
+
+double area_of(const Triangles& chart) {
+  double a = 0;
+  for (const Triangle& t : chart) a += 0.5 * std::abs(cross(t[1] - t[0], t[2] - t[0]));
+  return a;
+}
+
+// One packing at a cell size and padding (in cells); returns the extent in cells.
+struct Placed {
+  std::vector<const Raster*> raster;
+  std::vector<Eigen::Vector2i> at;
+  Eigen::Vector2i extent = Eigen::Vector2i::Zero();
+};
+
+Placed pack_rasters(const std::vector<std::array<Raster, 2>>& rasters,
+                    const std::vector<size_t>& order, long cells) {
+  Placed p;
+  p.raster.assign(rasters.size(), nullptr);
+  p.at.assign(rasters.size(), Eigen::Vector2i::Zero());
+  int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(cells) / 0.7)));
+  for (const auto& both : rasters) {
+    side = std::max(side, std::min(both[0].mask.width(), both[0].mask.height()));
+  }
+  Mask atlas(side, side);
+  for (size_t k : order) {
+    while (true) {
+      long best = std::numeric_limits<long>::max();
+      for (int turn = 0; turn < 2; ++turn) {
+        const Mask& m = rasters[k][turn].mask;
+        for (int y = 0; y + m.height() <= atlas.height(); ++y) {
+          for (int x = 0; x + m.width() <= atlas.width(); ++x) {
+            const int ex = std::max(p.extent.x(), x + m.width());
+            const int ey = std::max(p.extent.y(), y + m.height());
+            // Least growth of the square's side, then of the used area, then bottom-left.
+            const long score =
+                (static_cast<long>(std::max(ex, ey)) << 40) + (static_cast<long>(ex) * ey << 8) + y;
+            if (score >= best || !fits(atlas, m, x, y)) continue;
+            best = score;
+            p.raster[k] = &rasters[k][turn];
+            p.at[k] = Eigen::Vector2i(x, y);
+          }
+        }
+      }
+      if (best < std::numeric_limits<long>::max()) break;
+      atlas.grow(atlas.width() + atlas.width() / 4 + 1, atlas.height() + atlas.height() / 4 + 1);
+    }
+    const Mask& m = p.raster[k]->mask;
+    place(atlas, m, p.at[k].x(), p.at[k].y());
+    p.extent = p.extent.cwiseMax(p.at[k] + Eigen::Vector2i(m.width(), m.height()));
+  }
+  return p;
+}
+
+}  // namespace
+
+Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& o) {
+  if (o.texture_size < 16 || o.padding < 0) {
+    throw InvalidArgumentError(
+        "packing: the texture size must be at least 16 texels and the "
+        "padding non-negative");
+  }
+  Packing packing;
+  const size_t n = charts.size();
+  packing.rotation.assign(n, Eigen::Matrix2d::Identity());
+  packing.offset.assign(n, Eigen::Vector2d::Zero());
+  double total = 0;
+  std::vector<double> area(n);
+  for (size_t k = 0; k < n; ++k) total += area[k] = area_of(charts[k]);
+  if (!(total > 0)) return packing;
+  std::vector<size_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return area[a] > area[b]; });
+  std::vector<Eigen::Matrix2d> up(n);
+  for (size_t k = 0; k < n; ++k) up[k] = upright(charts[k]);
+  const Eigen::Matrix2d quarter{{0, -1}, {1, 0}};
+  // About 20k cells of chart area; the padding in cells from the extent it gives, again when the
+  // extent came out larger.
+  const double cell = std::sqrt(total / 20000);
+  double extent = std::sqrt(total / 0.6);
+  Placed placed;
+  int pad = 0;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    const int needed =
+        static_cast<int>(std::ceil(0.5 * o.padding * extent / o.texture_size / cell));
+    if (attempt > 0 && needed <= pad) break;
+    pad = needed;
+    std::vector<std::array<Raster, 2>> rasters(n);
+    for (size_t k = 0; k < n; ++k) {
+      if (charts[k].empty()) continue;
+      rasters[k] = {rasterize(charts[k], up[k], cell, pad),
+                    rasterize(charts[k], quarter * up[k], cell, pad)};
+    }
+    std::vector<size_t> nonempty;
+    long cells = 0;
+    for (size_t k : order) {
+      if (charts[k].empty()) continue;
+      nonempty.push_back(k);
+      cells += static_cast<long>(rasters[k][0].mask.width()) * rasters[k][0].mask.height();
+    }
+    placed = pack_rasters(rasters, nonempty, cells);
+    extent = cell * placed.extent.maxCoeff();
+    for (size_t k : nonempty) {
+      const Raster& r = *placed.raster[k];
+      packing.rotation[k] = r.rotation;
+      packing.offset[k] =
+          (placed.at[k].cast<double>() + Eigen::Vector2d::Constant(pad)) * cell - r.lo;
+    }
+  }
+  packing.scale = 1 / extent;
+  for (auto& b : packing.offset) b *= packing.scale;
+  packing.utilization = total * packing.scale * packing.scale;
+  return packing;
+}
+
+}  // namespace ricci

@@ -1,0 +1,274 @@
+#include "ricci/layout/seams.h"
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <queue>
+#include <utility>
+
+#include "layout/cut_graph.h"
+#include "mesh/mesh_checks.h"
+
+namespace ricci {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// Shortest paths over the allowed edges from a set of sources.
+struct ShortestPaths {
+  std::vector<double> distance;
+  std::vector<int> via;     // per vertex: the edge it was reached by (-1 at a source)
+  std::vector<int> source;  // per vertex: the source its path starts from
+};
+
+class EdgeGraph {
+ public:
+  EdgeGraph(const Triangulation& mesh, const std::vector<double>& lengths,
+            const std::vector<char>& allowed)
+      : mesh_(mesh), lengths_(lengths), adjacent_(mesh.num_vertices()) {
+    for (int e = 0; e < mesh.num_edges(); ++e) {
+      if (!allowed.empty() && !allowed[e]) continue;
+      const auto [a, b] = mesh.edge_vertices(e);
+      adjacent_[a].push_back(e), adjacent_[b].push_back(e);
+    }
+  }
+
+  int other(int e, int v) const {
+    const auto [a, b] = mesh_.edge_vertices(e);
+    return a == v ? b : a;
+  }
+  const std::vector<int>& edges_at(int v) const { return adjacent_[v]; }
+  double length(int e) const { return lengths_[e]; }
+
+  // Dijkstra from `sources`, not across edges where `blocked` is set (may be empty).
+  ShortestPaths from(const std::vector<int>& sources, const std::vector<char>& blocked = {}) const {
+    const int nv = mesh_.num_vertices();
+    ShortestPaths p{std::vector<double>(nv, kInfinity), std::vector<int>(nv, -1),
+                    std::vector<int>(nv, -1)};
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    for (int s : sources) {
+      p.distance[s] = 0, p.source[s] = s;
+      queue.push({0, s});
+    }
+    while (!queue.empty()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > p.distance[v]) continue;
+      for (int e : adjacent_[v]) {
+        if (!blocked.empty() && blocked[e]) continue;
+        const int w = other(e, v);
+        const double via = d + lengths_[e];
+        if (via < p.distance[w]) {
+          p.distance[w] = via, p.via[w] = e, p.source[w] = p.source[v];
+          queue.push({via, w});
+        }
+      }
+    }
+    return p;
+  }
+
+  // Marks the tree path from v back to its source.
+  void mark_path(const ShortestPaths& p, int v, std::vector<char>& cut) const {
+    while (p.via[v] >= 0) {
+      cut[p.via[v]] = 1;
+      v = other(p.via[v], v);
+    }
+  }
+
+ private:
+  const Triangulation& mesh_;
+  const std::vector<double>& lengths_;
+  std::vector<std::vector<int>> adjacent_;
+};
+
+// A vertex central in the metric: least max distance to the two ends of a double sweep.
+int central_vertex(const EdgeGraph& graph, int num_vertices) {
+  const auto farthest = [](const std::vector<double>& d) {
+    int best = 0;
+    for (int v = 0; v < static_cast<int>(d.size()); ++v) {
+      if (d[v] < kInfinity && d[v] > d[best]) best = v;
+    }
+    return best;
+  };
+  const int a = farthest(graph.from({0}).distance);
+  const std::vector<double> from_a = graph.from({a}).distance;
+  const std::vector<double> from_b = graph.from({farthest(from_a)}).distance;
+  int root = 0;
+  for (int v = 0; v < num_vertices; ++v) {
+    if (std::max(from_a[v], from_b[v]) < std::max(from_a[root], from_b[root])) root = v;
+  }
+  return root;
+}
+
+// The 2g loops of the greedy homology basis (boundary loops capped), marked in `cut`; boundary
+// edges on them are left out (the boundary is open already).
+void mark_homology_loops(const Triangulation& mesh, const EdgeGraph& graph,
+                         const std::vector<double>& lengths, const std::vector<char>& allowed,
+                         std::vector<char>& cut) {
+  if (mesh.genus() == 0) return;
+  const ShortestPaths tree = graph.from({central_vertex(graph, mesh.num_vertices())});
+  std::vector<char> in_tree(mesh.num_edges(), 0);
+  for (int e : tree.via) {
+    if (e >= 0) in_tree[e] = 1;
+  }
+  // Dual nodes: the faces, then one cap per boundary loop.
+  const int nf = mesh.num_faces();
+  std::vector<int> cap_of_vertex(mesh.num_vertices(), -1);
+  for (int l = 0; l < mesh.num_boundary_loops(); ++l) {
+    for (int v : mesh.boundary_loops()[l]) cap_of_vertex[v] = nf + l;
+  }
+  const auto dual_ends = [&](int e) {
+    const auto faces = mesh.edge_faces(e);
+    return std::pair{faces[0], faces[1] >= 0 ? faces[1] : cap_of_vertex[mesh.edge_vertices(e)[0]]};
+  };
+  // The dual tree takes the edges not allowed first (no seam may run there), then the others by
+  // decreasing loop length, so the edges left close the shortest loops.
+  std::vector<int> order;
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (!in_tree[e]) order.push_back(e);
+  }
+  const auto loop_length = [&](int e) {
+    if (!allowed.empty() && !allowed[e]) return kInfinity;
+    const auto [a, b] = mesh.edge_vertices(e);
+    return tree.distance[a] + tree.distance[b] + lengths[e];
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return loop_length(a) > loop_length(b); });
+  detail::UnionFind dual(nf + mesh.num_boundary_loops());
+  for (int e : order) {
+    const auto [f, g] = dual_ends(e);
+    if (dual.find(f) != dual.find(g)) {
+      dual.unite(f, g);
+      continue;
+    }
+    const auto [a, b] = mesh.edge_vertices(e);
+    cut[e] = 1;
+    graph.mark_path(tree, a, cut);
+    graph.mark_path(tree, b, cut);
+  }
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (mesh.is_boundary_edge(e)) cut[e] = 0;
+  }
+}
+
+// The cut so far, the boundary loops and the cones joined by a Steiner tree of shortest paths.
+void join_terminals(const Triangulation& mesh, const EdgeGraph& graph,
+                    const std::vector<int>& cones, std::vector<char>& cut) {
+  const int nv = mesh.num_vertices();
+  // Terminal groups: connected pieces of the cut and boundary, and each cone.
+  detail::UnionFind pieces(nv);
+  std::vector<char> terminal(nv, 0);
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (!cut[e] && !mesh.is_boundary_edge(e)) continue;
+    const auto [a, b] = mesh.edge_vertices(e);
+    pieces.unite(a, b);
+    terminal[a] = terminal[b] = 1;
+  }
+  for (int c : cones) terminal[c] = 1;
+  std::vector<int> sources;
+  for (int v = 0; v < nv; ++v) {
+    if (terminal[v]) sources.push_back(v);
+  }
+  if (sources.empty()) return;
+  const ShortestPaths regions = graph.from(sources);
+  struct Bridge {
+    double cost;
+    int edge;
+  };
+  std::vector<Bridge> bridges;
+  for (int v = 0; v < nv; ++v) {
+    for (int e : graph.edges_at(v)) {
+      const int w = graph.other(e, v);
+      if (w < v || regions.source[v] < 0 || regions.source[w] < 0) continue;
+      if (pieces.find(regions.source[v]) == pieces.find(regions.source[w])) continue;
+      bridges.push_back({regions.distance[v] + graph.length(e) + regions.distance[w], e});
+    }
+  }
+  std::stable_sort(bridges.begin(), bridges.end(),
+                   [](const Bridge& a, const Bridge& b) { return a.cost < b.cost; });
+  for (const Bridge& b : bridges) {
+    const auto [v, w] = mesh.edge_vertices(b.edge);
+    const int sv = pieces.find(regions.source[v]), sw = pieces.find(regions.source[w]);
+    if (sv == sw) continue;
+    pieces.unite(sv, sw);
+    cut[b.edge] = !mesh.is_boundary_edge(b.edge);
+    graph.mark_path(regions, v, cut);
+    graph.mark_path(regions, w, cut);
+  }
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (mesh.is_boundary_edge(e)) cut[e] = 0;
+  }
+}
+
+// Cut and boundary edges at each vertex.
+std::vector<int> cut_degree(const Triangulation& mesh, const std::vector<char>& cut) {
+  std::vector<int> degree(mesh.num_vertices(), 0);
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (!cut[e] && !mesh.is_boundary_edge(e)) continue;
+    for (int v : mesh.edge_vertices(e)) ++degree[v];
+  }
+  return degree;
+}
+
+// Cone c gets another branch: the shortest path, off the cut, to a vertex of the cut or the
+// boundary that is not c nor a cut neighbour of c.
+void add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, std::vector<char>& cut) {
+  const std::vector<int> degree = cut_degree(mesh, cut);
+  std::vector<char> near(mesh.num_vertices(), 0);
+  near[c] = 1;
+  for (int e : graph.edges_at(c)) {
+    if (cut[e]) near[graph.other(e, c)] = 1;
+  }
+  const ShortestPaths p = graph.from({c}, cut);
+  int end = -1;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (degree[v] == 0 || near[v] || !(p.distance[v] < kInfinity)) continue;
+    if (end < 0 || p.distance[v] < p.distance[end]) end = v;
+  }
+  if (end >= 0) graph.mark_path(p, end, cut);
+}
+
+}  // namespace
+
+CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>& lengths,
+                           const std::vector<int>& cones, const std::vector<int>& branches,
+                           const std::vector<char>& allowed) {
+  CutGraph g;
+  g.num_generators = 2 * mesh.genus() + std::max(0, mesh.num_boundary_loops() - 1);
+  g.cut.assign(mesh.num_edges(), 0);
+  if (mesh.num_faces() == 0) return g;
+  const EdgeGraph graph(mesh, lengths, allowed);
+  mark_homology_loops(mesh, graph, lengths, allowed, g.cut);
+  join_terminals(mesh, graph, cones, g.cut);
+  std::vector<char> is_cone(mesh.num_vertices(), 0);
+  for (int c : cones) is_cone[c] = 1;
+  detail::prune_cut(mesh, g.cut, is_cone);
+  for (size_t i = 0; i < cones.size() && i < branches.size(); ++i) {
+    for (int more = branches[i] - cut_degree(mesh, g.cut)[cones[i]]; more > 0; --more) {
+      add_branch(mesh, graph, cones[i], g.cut);
+    }
+  }
+  const std::vector<int> degree = detail::prune_cut(mesh, g.cut, is_cone);
+  g.paths = detail::split_cut_into_paths(mesh, g.cut, degree, is_cone);
+  return g;
+}
+
+void connect_cut(const Triangulation& mesh, const std::vector<double>& lengths,
+                 std::vector<char>& cut, const std::vector<char>& allowed) {
+  if (mesh.num_faces() == 0) return;
+  join_terminals(mesh, EdgeGraph(mesh, lengths, allowed), {}, cut);
+}
+
+double cut_length(const Triangulation& mesh, const CutGraph& cut,
+                  const std::vector<double>& lengths) {
+  double total = 0;
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (cut.cut[e]) total += lengths[e];
+  }
+  return total;
+}
+
+}  // namespace ricci

@@ -1,0 +1,203 @@
+#include "pipeline/texture_atlas.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "ricci/layout/charts.h"
+#include "ricci/layout/packing.h"
+#include "ricci/layout/seams.h"
+#include "ricci/mesh/errors.h"
+#include "ricci/subdivision/common_subdivision.h"
+
+namespace ricci::detail {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Rounds of splits of overlapping charts (each splits every overlapping chart once).
+constexpr int kMaxSplitRounds = 64;
+
+// Every face of the flowed triangulation drawn alone by its side lengths: all the common
+// subdivision needs of a layout is each face's corners.
+Layout faces_drawn_alone(const Triangulation& flowed, const std::vector<double>& lengths) {
+  Layout layout;
+  layout.geometry = Geometry::Euclidean;
+  layout.corners.resize(flowed.num_faces());
+  for (int f = 0; f < flowed.num_faces(); ++f) {
+    const double a = lengths[flowed.face_edge(f, 0)], b = lengths[flowed.face_edge(f, 1)],
+                 c = lengths[flowed.face_edge(f, 2)];
+    const double x = (b * b + c * c - a * a) / (2 * c);
+    layout.corners[f] = {Eigen::Vector3d::Zero(), Eigen::Vector3d(c, 0, 0),
+                         Eigen::Vector3d(x, std::sqrt(std::max(0.0, b * b - x * x)), 0)};
+  }
+  return layout;
+}
+
+// Per edge of the delivered triangulation: 1 where it lies on an edge of the user's mesh (both
+// ends on the closure of one input edge).
+std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
+                                 const CommonSubdivision& sub) {
+  std::vector<std::vector<int>> input_edges(delivered.num_vertices());
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    for (int v : mesh.edge_vertices(e)) input_edges[v].push_back(e);
+  }
+  for (int v = mesh.num_vertices(); v < delivered.num_vertices(); ++v) {
+    const int e = sub.vertex_input_edge[v - mesh.num_vertices()];
+    if (e >= 0) input_edges[v].push_back(e);
+  }
+  for (auto& list : input_edges) std::sort(list.begin(), list.end());
+  std::vector<char> allowed(delivered.num_edges(), 0);
+  for (int e = 0; e < delivered.num_edges(); ++e) {
+    const auto [a, b] = delivered.edge_vertices(e);
+    const auto& x = input_edges[a];
+    const auto& y = input_edges[b];
+    size_t i = 0, j = 0;
+    while (i < x.size() && j < y.size() && !allowed[e]) {
+      if (x[i] == y[j]) {
+        allowed[e] = 1;
+      } else if (x[i] < y[j]) {
+        ++i;
+      } else {
+        ++j;
+      }
+    }
+  }
+  return allowed;
+}
+
+// Branches a cone of angle theta needs so that no wedge of it reaches a full turn.
+int branches_for(double theta) {
+  return std::max(1, static_cast<int>(std::floor(theta / (2 * kPi))) + 1);
+}
+
+}  // namespace
+
+TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& placement,
+                             bool quarter_angles) {
+  Eigen::VectorXd values = Eigen::VectorXd::Zero(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (mesh.is_boundary_vertex(v)) values[v] = kNaN;
+  }
+  for (const Cone& c : placement.cones)
+    values[c.vertex] = quarter_angles ? 2 * kPi - c.angle : kNaN;
+  return TargetCurvature::from_values(mesh, values);
+}
+
+void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run) {
+  run.layout_kind = LayoutKind::Atlas;
+  run.subdivision.reset();
+  run.subdivision_failure.clear();
+  run.face_chart.clear();
+  run.corners.clear();
+  const Triangulation& flowed = result_triangulation(mesh, run.result);
+  const std::vector<double>& lengths = run.result.edge_lengths;
+  AtlasResult& atlas = run.atlas;
+  atlas.flow_distortion = area_distortion(mesh, run.result.u);
+  atlas.cone_angles.clear();
+  std::vector<int> cones, branches;
+  for (const Cone& c : atlas.placement.cones) {
+    const double theta =
+        (mesh.is_boundary_vertex(c.vertex) ? kPi : 2 * kPi) - run.result.curvature[c.vertex];
+    atlas.cone_angles.push_back(theta);
+    cones.push_back(c.vertex);
+    branches.push_back(branches_for(theta));
+  }
+
+  // === The delivered mesh, its edges' 3D and flat lengths, and which lie on the user's edges
+  std::optional<CommonSubdivision> sub;
+  if (!run.result.flip_sequence.empty()) {
+    try {
+      sub = common_subdivision(mesh, run.structure, run.result, faces_drawn_alone(flowed, lengths));
+    } catch (const LayoutError& e) {
+      run.subdivision_failure = e.what();
+      return;
+    }
+  }
+  const std::vector<std::array<int, 3>>& faces = sub ? sub->faces : mesh.faces();
+  const std::vector<Eigen::Vector3d>& positions = sub ? sub->positions : mesh.positions();
+  const Triangulation delivered =
+      Triangulation::from_faces(static_cast<int>(positions.size()), faces);
+  std::vector<double> length3d(delivered.num_edges()), flat(delivered.num_edges());
+  for (int e = 0; e < delivered.num_edges(); ++e) {
+    const auto [a, b] = delivered.edge_vertices(e);
+    length3d[e] = (positions[a] - positions[b]).norm();
+  }
+  for (int f = 0; f < delivered.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      flat[delivered.face_edge(f, c)] =
+          sub ? (sub->corners[f][(c + 1) % 3] - sub->corners[f][(c + 2) % 3]).norm()
+              : lengths[mesh.face_edge(f, c)];
+    }
+  }
+  const std::vector<char> allowed =
+      sub ? on_input_edges(mesh, delivered, *sub) : std::vector<char>{};
+
+  // === Seams and charts; charts whose faces overlap split between the sheets, until none does
+  std::vector<char> seam = cut_through_cones(delivered, length3d, cones, branches, allowed).cut;
+  Charts charts = lay_out_charts(delivered, flat, seam);
+  std::vector<std::pair<int, int>> overlaps = overlapping_faces(charts);
+  const std::vector<int> group = sub ? sub->input_face : std::vector<int>{};
+  std::vector<Eigen::Vector3d> centroid(sub ? mesh.num_faces() : delivered.num_faces(),
+                                        Eigen::Vector3d::Zero());
+  for (int f = 0; f < static_cast<int>(centroid.size()); ++f) {
+    for (int v : mesh.faces()[f]) centroid[f] += mesh.positions()[v] / 3;
+  }
+  atlas.splits = 0;
+  for (int round = 0; round < kMaxSplitRounds && !overlaps.empty(); ++round) {
+    std::vector<char> split(charts.num_charts, 0);
+    for (const auto& [f, g] : overlaps) {
+      if (split[charts.chart[f]]) continue;
+      split[charts.chart[f]] = 1;
+      if (separate_sheets(delivered, charts, f, g, group, centroid, seam) > 0) ++atlas.splits;
+    }
+    connect_cut(delivered, length3d, seam, allowed);
+    charts = lay_out_charts(delivered, flat, seam);
+    overlaps = overlapping_faces(charts);
+  }
+  std::vector<char> overlapping(delivered.num_faces(), 0);
+  for (const auto& [f, g] : overlaps) overlapping[f] = overlapping[g] = 1;
+
+  atlas.num_charts = charts.num_charts;
+  double seam_length = 0;
+  for (int e = 0; e < delivered.num_edges(); ++e) seam_length += seam[e] ? length3d[e] : 0;
+  atlas.seam_length = seam_length / std::sqrt(mesh.input_area());
+  atlas.seam_edges = static_cast<int>(std::count(seam.begin(), seam.end(), 1));
+  atlas.overlapping_faces = static_cast<int>(std::count(overlapping.begin(), overlapping.end(), 1));
+  run.corners.resize(delivered.num_faces());
+  for (int f = 0; f < delivered.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      run.corners[f][c] = Eigen::Vector3d(charts.corners[f][c].x(), charts.corners[f][c].y(), 0);
+    }
+  }
+  run.face_chart = charts.chart;
+  std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> by_chart(charts.num_charts);
+  for (int f = 0; f < delivered.num_faces(); ++f)
+    by_chart[charts.chart[f]].push_back(charts.corners[f]);
+  const Packing packing = pack_charts(by_chart, o.packing);
+  atlas.utilization = packing.utilization;
+  atlas.texture.resize(delivered.num_faces());
+  for (int f = 0; f < delivered.num_faces(); ++f) {
+    const int k = charts.chart[f];
+    for (int c = 0; c < 3; ++c) {
+      atlas.texture[f][c] =
+          packing.scale * packing.rotation[k] * charts.corners[f][c] + packing.offset[k];
+    }
+  }
+  run.layout = Layout();
+  run.layout.geometry = Geometry::Euclidean;
+  run.layout.corners = run.corners;
+  run.layout.max_relative_length_error = charts.max_relative_length_error;
+  run.layout.num_flipped_faces = charts.flipped_faces;
+  if (sub) run.subdivision = std::move(sub);
+}
+
+std::string atlas_failure(const Uniformization& run) {
+  if (run.layout_kind != LayoutKind::Atlas || run.atlas.overlapping_faces == 0) return "";
+  std::ostringstream s;
+  s << run.atlas.overlapping_faces << " faces of the atlas overlap other faces of their chart";
+  return s.str();
+}
+
+}  // namespace ricci::detail

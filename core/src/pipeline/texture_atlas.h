@@ -1,0 +1,35 @@
+// The atlas preset (TargetPreset::Atlas) of one component: cones placed on the linear model
+// (cone_placement.h), the exact flat metric with u held at them by the flow, and its layout on the
+// user's surface:
+//
+//   delivered mesh   the input's faces, or where the flow flipped edges the common subdivision
+//                    (its pieces are pieces of the flat metric's triangles, so each is drawn by its
+//                    own side lengths: the discrete conformal map)
+//   seams            cut_through_cones (seams.h) on the delivered edges that lie on the user's
+//                    edges, weighted by their 3D length; cones of angle above 2 pi get a branch per
+//                    full turn
+//   charts           lay_out_charts (charts.h); a chart whose faces overlap is split along a short
+//                    path between the overlapping sheets and laid out again (the metric is flat:
+//                    no new flow)
+// Not installed API.
+#pragma once
+
+#include "ricci/flow/target.h"
+#include "ricci/mesh/compact_mesh.h"
+#include "ricci/pipeline/uniformization.h"
+
+namespace ricci::detail {
+
+//! The flow's target for placed cones: u held at the cones (or, with quarter angles, their
+//! rounded curvature) and on the boundary, Kbar = 0 at every other vertex.
+TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& placement,
+                             bool quarter_angles);
+
+//! The atlas layout of a converged flow: run.corners (z = 0), run.face_chart, run.subdivision
+//! where the flow flipped edges, run.atlas; run.layout holds the delivered corners.
+void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
+
+//! Why a converged atlas is no valid atlas (faces overlapping), or "".
+std::string atlas_failure(const Uniformization& run);
+
+}  // namespace ricci::detail
