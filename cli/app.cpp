@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -20,6 +21,7 @@
 
 #include "options.h"
 #include "picture.h"
+#include "result_obj.h"
 #include "result_ply.h"
 #include "ricci/io/mesh_io.h"
 #include "ricci/linear/vertex_order.h"
@@ -32,6 +34,14 @@
 namespace {
 
 using namespace ricci;
+
+// An output named *.obj (any case) is written as OBJ, any other as PLY.
+bool is_obj_name(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string ext = path.substr(path.size() - 4);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".obj";
+}
 
 // --target cones:FILE or FILE: the per-vertex target, read once the mesh is known.
 void read_target_file(const cli::Options& o, UniformizationOptions& r) {
@@ -243,7 +253,13 @@ void run(const Options& o) {
         "cut open (the free boundary instead of its circle domain, see the summary)");
   }
   PendingOutputs outputs;
-  outputs.write(o.output, [&](const std::string& to) { write_result_ply(to, run, o.ascii); });
+  outputs.write(o.output, [&](const std::string& to) {
+    if (is_obj_name(o.output)) {
+      write_result_obj(to, run);
+    } else {
+      write_result_ply(to, run, o.ascii);
+    }
+  });
   if (!o.picture.empty()) {
     outputs.write(o.picture, [&](const std::string& to) {
       write_layout_png(to, run.faces, run.texture.vertex, run.u);

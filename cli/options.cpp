@@ -72,7 +72,7 @@ const std::vector<Flag>& flags() {
        "FILE.ply",
        "result: per-vertex ricci_u, ricci_radius, ricci_curvature, ricci_target; layouts: "
        "layout_x/y/z per vertex (plane, sphere) and texture_u/v (plane), or per face corner "
-       "texcoord (cut open)",
+       "texcoord (cut open, atlas); FILE.obj: positions, texture coordinates (vt) and faces",
        nullptr,
        [](O& o, const std::string&, const std::string& v) { o.output = v; }},
       {{"--geometry"},

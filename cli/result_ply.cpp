@@ -46,6 +46,7 @@ std::uint8_t layout_model(LayoutKind kind) {
   switch (kind) {
     case LayoutKind::Plane:
     case LayoutKind::PlaneCut:
+    case LayoutKind::Atlas:
       return 1;
     case LayoutKind::PoincareDisk:
       return 2;

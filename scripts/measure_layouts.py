@@ -2,6 +2,7 @@
 """Measures delivered layouts, whatever tool wrote them, with geometry written here.
 
 Usage: measure_layouts.py FILE [FILE ...] [--tsv OUT] [--disk-texcoords]
+                          [--atlas [--atlas-fit] [--atlas-res N]]
 
 FILE is a PLY that ricci-flow wrote, or an OBJ with a texture coordinate per face corner
 (f v/vt), as Boundary First Flattening and CEPS write them. Per file:
@@ -18,6 +19,31 @@ FILE is a PLY that ricci-flow wrote, or an OBJ with a texture coordinate per fac
 The layout of a ricci-flow PLY: layout_corners per face corner where the file has them (the
 model's coordinates, in each face's chart), else layout_x/y/z per vertex; the model per face from
 ricci_layout (1 plane, 2 Poincare disk, 3 sphere).
+
+--atlas adds columns (after the ones above, same line, same TSV) measuring the texture atlas: the
+texture coordinates per face corner, in [0, 1]^2 (OBJ: vt per corner, polygons fanned; PLY: the
+face property texcoord_double, else texcoord, else layout_corners when every face is in the plane):
+
+* atlas_D: the area distortion's spread: with A_f the 3D and a_f the UV area of face f, each
+  normalized to sum 1 (faces with A_f = 0 or a_f = 0 left out and counted in atlas_uv_degenerate),
+  s_f = log(a_f / A_f) / 2, D = sqrt(sum_f A_f (s_f - s_mean)^2), s_mean = sum_f A_f s_f;
+* atlas_qc_median, atlas_qc_p95, atlas_qc_max: the quasi-conformal ratio of the atlas's faces
+  (as qc_* above, of the atlas rather than of the layout's model);
+* atlas_flipped: faces oriented against the majority of the faces with nonzero UV area;
+* atlas_overlap: on a raster of N x N texels (--atlas-res, 2048) of [0, 1]^2, the share of the
+  covered texels that more than one face covers; a texel is covered by the faces containing its
+  centre, points on a side (or corner) going to exactly one of the faces sharing it (the fill
+  rule of the point moved by (eps, eps^2): exact, no tolerance);
+* atlas_seam: the summed 3D length of the seam edges over sqrt(3D area); a seam edge: an edge of
+  the mesh (vertices welded by exact 3D position) whose faces disagree on the texture coordinates
+  at either of its ends (by more than 1e-6 of the atlas's extent); boundary edges are no seams;
+  atlas_seam_edges: their number;
+* atlas_charts: connected components of the faces across edges that are no seam;
+* atlas_util_square: the UV area over the area of [0, 1]^2; atlas_util_bbox: over the area of the
+  UV bounding box; atlas_outside: the share of corners outside [0, 1]^2 (before --atlas-fit);
+* --atlas-fit: first move and scale each file's texture coordinates uniformly so that their
+  bounding box fits [0, 1]^2 (longer side 1) -- for tools that do not pack into the unit square;
+  changes only atlas_overlap's resolution and atlas_util_square.
 """
 import argparse
 import math
@@ -32,6 +58,8 @@ TYPES = {"char": "b", "uchar": "B", "int8": "b", "uint8": "B", "short": "h", "us
          "float": "f", "float32": "f", "double": "d", "float64": "d"}
 PLANE, DISK, SPHERE = 1, 2, 3
 DISK_TEXCOORDS = False  # --disk-texcoords
+ATLAS_FIT = False  # --atlas-fit
+ATLAS_RES = 2048  # --atlas-res
 
 
 def read_ply(path):
@@ -193,7 +221,7 @@ def angle_sums(faces, corners, model, kbar, num_vertices):
     return worst, int(check.sum()), worst_cut, int(on_cut.sum())
 
 
-def measure_ply(path):
+def measure_ply(path, atlas=False):
     v, f = read_ply(path)
     faces = np.array(f["vertex_indices"], dtype=int)
     surface = np.stack([v["x"], v["y"], v["z"]], axis=1)
@@ -214,7 +242,10 @@ def measure_ply(path):
         corners = np.concatenate([c, np.zeros(c.shape[:2] + (1,))], axis=2)
         model = np.full(len(faces), DISK)
     else:
-        return {"file": path, "faces": len(faces), "models": "none"}
+        row = {"file": path, "faces": len(faces), "models": "none"}
+        if atlas:
+            row.update(atlas_ply(surface, faces, f, None, None))
+        return row
     if model is None:  # files without ricci_layout: the plane where z = 0, else the sphere
         model = np.where(np.all(corners[:, :, 2] == 0, axis=1), PLANE, SPHERE)
     kbar = np.array(v["ricci_target"], dtype=float)
@@ -243,7 +274,20 @@ def measure_ply(path):
     row.update(summary(np.concatenate(qc), flipped))
     row.update({"angle_error": worst, "interior_vertices": checked, "cut_angle_error": worst_cut,
                 "cut_vertices": checked_cut})
+    if atlas:
+        row.update(atlas_ply(surface, faces, f, model, corners))
     return row
+
+
+def atlas_ply(surface, faces, f, model, corners):
+    """The atlas columns of a PLY: its wedge texture coordinates, else its plane layout."""
+    for key in ("texcoord_double", "texcoord"):
+        if key in f and len(f[key]) == len(faces):
+            uv = np.array(f[key], dtype=float).reshape(-1, 3, 2)
+            return measure_atlas(surface, faces, uv)
+    if model is not None and np.all(model == PLANE):
+        return measure_atlas(surface, faces, corners[:, :, :2])
+    return {}
 
 
 def summary(qc, flipped):
@@ -254,17 +298,186 @@ def summary(qc, flipped):
             "qc_max": float(finite.max()) if len(finite) else float("nan")}
 
 
-def measure_obj(path):
+def measure_obj(path, atlas=False):
     v, faces, uv = read_obj(path)
     corners = np.concatenate([uv, np.zeros(uv.shape[:2] + (1,))], axis=2)
     row = {"file": path, "faces": len(faces), "models": "plane"}
     row.update(summary(quasi_conformal(v[faces], corners), int(np.sum(~(orientation(
         PLANE, corners) > 0)))))
+    if atlas:
+        row.update(measure_atlas(v, faces, uv))
+    return row
+
+
+def triangle_areas(t):
+    """Areas of triangles (m, 3, 3), or signed areas of triangles (m, 3, 2)."""
+    a, b = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
+    if t.shape[2] == 2:
+        return (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]) / 2
+    return np.linalg.norm(np.cross(a, b), axis=1) / 2
+
+
+def components(n, pairs):
+    """Labels 0.. of the connected components of n nodes joined by pairs (k, 2)."""
+    try:
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import connected_components
+        g = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+        return connected_components(g, directed=False)[1]
+    except ImportError:  # union-find
+        parent = list(range(n))
+
+        def root(i):
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        for a, b in pairs.tolist():
+            ra, rb = root(a), root(b)
+            if ra != rb:
+                parent[ra] = rb
+        return np.unique([root(i) for i in range(n)], return_inverse=True)[1]
+
+
+def seams(surface, faces, uv, tol):
+    """(seam length, seam edges, charts): edges by welded 3D position; an interior edge is a seam
+    when its two faces' texture coordinates differ (by more than tol) at either end."""
+    weld = np.unique(surface, axis=0, return_inverse=True)[1].reshape(-1)[faces]
+    m = len(faces)
+    a, b = weld.ravel(), weld[:, [1, 2, 0]].ravel()  # half-edge c: corner c -> corner c + 1
+    ua, ub = uv.reshape(-1, 2), uv[:, [1, 2, 0]].reshape(-1, 2)
+    swap = a > b
+    lo, hi = np.where(swap, b, a), np.where(swap, a, b)
+    ulo, uhi = np.where(swap[:, None], ub, ua), np.where(swap[:, None], ua, ub)
+    face = np.repeat(np.arange(m), 3)
+    keep = lo != hi  # faces with a repeated vertex: no edge there
+    lo, hi, ulo, uhi, face = lo[keep], hi[keep], ulo[keep], uhi[keep], face[keep]
+    order = np.lexsort((hi, lo))
+    lo, hi, ulo, uhi, face = lo[order], hi[order], ulo[order], uhi[order], face[order]
+    # Consecutive half-edges of one edge: joined unless their coordinates differ.
+    same = (lo[1:] == lo[:-1]) & (hi[1:] == hi[:-1])
+    agree = same & (np.abs(ulo[1:] - ulo[:-1]).max(axis=1) <= tol) & (
+        np.abs(uhi[1:] - uhi[:-1]).max(axis=1) <= tol)
+    start = np.r_[True, ~same]
+    edge = np.cumsum(start) - 1  # edge id per half-edge
+    sides = np.bincount(edge)
+    # An edge with two or more sides is a seam when any consecutive pair disagrees.
+    cut = np.zeros(len(sides), dtype=bool)
+    np.logical_or.at(cut, edge[1:][same & ~agree], True)
+    seam = cut & (sides >= 2)
+    first = np.flatnonzero(start)
+    length = np.linalg.norm(surface_welded_diff(surface, faces, weld, lo[first], hi[first]), axis=1)
+    pairs = np.stack([face[:-1][agree], face[1:][agree]], axis=1)
+    labels = components(m, pairs)
+    return float(length[seam].sum()), int(seam.sum()), int(labels.max() + 1) if m else 0
+
+
+def surface_welded_diff(surface, faces, weld, lo, hi):
+    """3D vectors between welded vertices lo and hi (a position per welded index)."""
+    pos = np.empty((weld.max() + 1, 3))
+    pos[weld.ravel()] = surface[faces.ravel()]
+    return pos[hi] - pos[lo]
+
+
+def raster_counts(uv, res):
+    """Per texel of res x res over [0, 1]^2 (flattened, row j = v): how many faces contain its
+    centre. Exact edge functions, the same bits on both faces of a side (each side's ends in one
+    order), ties on a side going to the face that the centre moved by (eps, eps^2) falls in."""
+    p = uv * res  # exact: texel centres at i + 1/2
+    area = triangle_areas(p)
+    p = p[area != 0]
+    neg = triangle_areas(p) < 0
+    p[neg] = p[neg][:, [0, 2, 1]]  # counter-clockwise
+    lo = np.clip(np.ceil(p.min(axis=1) - 0.5), 0, res).astype(np.int64)
+    hi = np.clip(np.floor(p.max(axis=1) - 0.5), -1, res - 1).astype(np.int64)
+    size = hi - lo + 1
+    ok = (size > 0).all(axis=1)
+    p, lo, size = p[ok], lo[ok], size[ok]
+    # Buckets of bounding boxes up to powers of two, in chunks of about 4M samples.
+    bw = 2 ** np.ceil(np.log2(size)).astype(np.int64)
+    key = bw[:, 0] * (4 * res) + bw[:, 1]
+    hits = []
+    for k in np.unique(key):
+        sel = np.flatnonzero(key == k)
+        w, h = int(k // (4 * res)), int(k % (4 * res))
+        step = max(1, (1 << 22) // (w * h))
+        for c in range(0, len(sel), step):
+            s = sel[c:c + step]
+            t, o, z = p[s], lo[s], size[s]
+            gx = np.arange(w)[None, None, :]
+            gy = np.arange(h)[None, :, None]
+            valid = (gx < z[:, 0, None, None]) & (gy < z[:, 1, None, None])
+            ix, iy = o[:, 0, None, None] + gx, o[:, 1, None, None] + gy
+            x, y = ix + 0.5, iy + 0.5
+            inside = valid
+            for e in range(3):
+                a, b = t[:, e], t[:, (e + 1) % 3]
+                flip = (a[:, 0] > b[:, 0]) | ((a[:, 0] == b[:, 0]) & (a[:, 1] > b[:, 1]))
+                ca, cb = np.where(flip[:, None], b, a), np.where(flip[:, None], a, b)
+                d = cb - ca
+                ec = (d[:, 0, None, None] * (y - ca[:, 1, None, None])
+                      - d[:, 1, None, None] * (x - ca[:, 0, None, None]))
+                ef = np.where(flip[:, None, None], -ec, ec)
+                dx, dy = (b - a)[:, 0, None, None], (b - a)[:, 1, None, None]
+                tie = (dy < 0) | ((dy == 0) & (dx > 0))
+                inside = inside & ((ef > 0) | ((ef == 0) & tie))
+            hits.append((iy * res + ix)[inside])
+    idx = np.concatenate(hits) if hits else np.zeros(0, dtype=np.int64)
+    return np.bincount(idx, minlength=res * res)
+
+
+def measure_atlas(surface, faces, uv):
+    """The atlas columns of a mesh: positions (n, 3), faces (m, 3), texture coordinates per
+    corner (m, 3, 2)."""
+    uv = np.asarray(uv, dtype=float)
+    finite = np.isfinite(uv).all(axis=(1, 2))
+    if not finite.all():  # faces without texture coordinates: left out of the atlas
+        faces, uv = faces[finite], uv[finite]
+    row = {"atlas_faces": len(faces)}
+    if not len(faces):
+        return row
+    flat = uv.reshape(-1, 2)
+    row["atlas_outside"] = float(np.mean(((flat < 0) | (flat > 1)).any(axis=1)))
+    low, high = flat.min(axis=0), flat.max(axis=0)
+    extent = float((high - low).max())
+    if ATLAS_FIT and extent > 0:
+        uv = (uv - low) / extent
+        low, high, extent = np.zeros(2), (high - low) / extent, 1.0
+    big = surface[faces]
+    area3, area2 = triangle_areas(big), triangle_areas(uv)
+    good = (area3 > 0) & (area2 != 0)
+    row["atlas_uv_degenerate"] = int(np.sum(area2 == 0))
+    big_a, uv_a = area3[good] / area3[good].sum(), np.abs(area2[good]) / np.abs(area2[good]).sum()
+    s = np.log(uv_a / big_a) / 2
+    mean = np.sum(big_a * s)
+    row["atlas_D"] = float(np.sqrt(np.sum(big_a * (s - mean) ** 2)))
+    corners = np.concatenate([uv, np.zeros(uv.shape[:2] + (1,))], axis=2)
+    qc = summary(quasi_conformal(big, corners), 0)
+    row.update({"atlas_qc_median": qc["qc_median"], "atlas_qc_p95": qc["qc_p95"],
+                "atlas_qc_max": qc["qc_max"]})
+    positive, negative = int(np.sum(area2 > 0)), int(np.sum(area2 < 0))
+    row["atlas_flipped"] = min(positive, negative)
+    count = raster_counts(uv, ATLAS_RES)
+    covered = int(np.sum(count >= 1))
+    row["atlas_overlap"] = float(np.sum(count >= 2) / covered) if covered else float("nan")
+    length, edges, charts = seams(surface, faces, uv, 1e-6 * extent)
+    row["atlas_seam"] = length / math.sqrt(area3.sum())
+    row["atlas_seam_edges"] = edges
+    row["atlas_charts"] = charts
+    total = float(np.abs(area2).sum())
+    row["atlas_util_square"] = total
+    box = float(np.prod(high - low))
+    row["atlas_util_bbox"] = total / box if box > 0 else float("nan")
     return row
 
 
 COLUMNS = ("file", "faces", "models", "flipped", "degenerate", "qc_median", "qc_p95", "qc_max",
            "angle_error", "interior_vertices", "cut_angle_error", "cut_vertices")
+ATLAS_COLUMNS = ("atlas_faces", "atlas_D", "atlas_qc_median", "atlas_qc_p95", "atlas_qc_max",
+                 "atlas_flipped", "atlas_uv_degenerate", "atlas_overlap", "atlas_seam",
+                 "atlas_seam_edges", "atlas_charts", "atlas_util_square", "atlas_util_bbox",
+                 "atlas_outside")
 
 
 def main():
@@ -274,22 +487,34 @@ def main():
     parser.add_argument("--disk-texcoords", action="store_true",
                         help="PLYs without layout_corners (written before them): texcoord_double "
                         "as (z + 1) / 2 of one Poincare disk")
+    parser.add_argument("--atlas", action="store_true",
+                        help="add the texture atlas's columns (atlas_*, see the docstring)")
+    parser.add_argument("--atlas-fit", action="store_true",
+                        help="with --atlas: fit each file's texture coordinates into [0, 1]^2 "
+                        "(uniform scale and translation) first")
+    parser.add_argument("--atlas-res", type=int, default=2048,
+                        help="with --atlas: texels per side of the overlap raster (2048)")
     args = parser.parse_args()
-    global DISK_TEXCOORDS
+    global DISK_TEXCOORDS, ATLAS_FIT, ATLAS_RES
     DISK_TEXCOORDS = args.disk_texcoords
+    ATLAS_FIT, ATLAS_RES = args.atlas_fit, args.atlas_res
+    columns = COLUMNS + ATLAS_COLUMNS if args.atlas else COLUMNS
+    if args.atlas:
+        print("# " + "\t".join(columns))
     rows = []
     for path in args.files:
-        row = measure_obj(path) if path.lower().endswith(".obj") else measure_ply(path)
+        measure = measure_obj if path.lower().endswith(".obj") else measure_ply
+        row = measure(path, atlas=True) if args.atlas else measure(path)
         rows.append(row)
         print("\t".join(("%.4g" % row[k]) if isinstance(row.get(k), float) else str(row.get(k, ""))
-                        for k in COLUMNS))
+                        for k in columns))
         sys.stdout.flush()
     if args.tsv:
         with open(args.tsv, "w") as out:
-            out.write("\t".join(COLUMNS) + "\n")
+            out.write("\t".join(columns) + "\n")
             for row in rows:
                 out.write("\t".join(repr(float(row[k])) if isinstance(row.get(k), float)
-                                    else str(row.get(k, "")) for k in COLUMNS) + "\n")
+                                    else str(row.get(k, "")) for k in columns) + "\n")
 
 
 if __name__ == "__main__":

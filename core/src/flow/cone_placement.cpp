@@ -1,6 +1,7 @@
 #include "ricci/flow/cone_placement.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -307,6 +308,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
         "cone placement: the distortion bound and the cone floor must be positive (the floor "
         "below 2 pi), the budget and the sweeps non-negative");
   }
+  const auto started = std::chrono::steady_clock::now();
   const int budget = o.max_cones > 0 ? o.max_cones : kDefaultConeBudget;
   Search search(mesh, o);
   LinearConeModel& model = search.model();
@@ -415,6 +417,8 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   result.max_deviation = (result.u.array() - mean).abs().maxCoeff();
   result.factorizations = 1;
   result.back_solves = model.back_solves() + 1;
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;
 }
 

@@ -124,6 +124,28 @@ std::string layout_json(const Uniformization& run) {
     j << ", \"periods\": [" << complex_pair(run.periods[0]) << ", " << complex_pair(run.periods[1])
       << "]";
   }
+  if (run.layout_kind == LayoutKind::Atlas) {
+    const AtlasResult& a = run.atlas;
+    const ConePlacement& p = a.placement;
+    j << ", \"atlas\": {\"cones\": [";
+    for (size_t k = 0; k < p.cones.size(); ++k) {
+      j << (k ? ", " : "") << "{\"vertex\": " << p.cones[k].vertex
+        << ", \"angle\": " << number(k < a.cone_angles.size() ? a.cone_angles[k] : p.cones[k].angle)
+        << ", \"linear_angle\": " << number(p.cones[k].angle) << "}";
+    }
+    j << "], \"distortion\": " << number(a.flow_distortion)
+      << ", \"linear_distortion\": " << number(p.distortion)
+      << ", \"distortion_without_cones\": " << number(p.distortion_without_cones)
+      << ", \"bound_reached\": " << (p.bound_reached ? "true" : "false")
+      << ", \"max_deviation\": " << number(p.max_deviation)
+      << ", \"placement\": {\"factorizations\": " << p.factorizations
+      << ", \"back_solves\": " << p.back_solves << ", \"relocations\": " << p.relocations
+      << ", \"dropped\": " << p.dropped << ", \"seconds\": " << number(p.seconds) << "}"
+      << ", \"charts\": " << a.num_charts << ", \"splits\": " << a.splits
+      << ", \"seam_length\": " << number(a.seam_length) << ", \"seam_edges\": " << a.seam_edges
+      << ", \"overlapping_faces\": " << a.overlapping_faces
+      << ", \"utilization\": " << number(a.utilization) << "}";
+  }
   // E2: z -> a z + b; H2: z -> (a z + b) / (conj(b) z + conj(a)); a and b as [re, im].
   j << ", \"deck_transformations\": [";
   for (size_t k = 0; k < m.deck.size(); ++k) {

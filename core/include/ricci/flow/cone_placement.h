@@ -67,6 +67,7 @@ struct ConePlacement {
   int back_solves = 0;
   int relocations = 0;  //!< cones moved by the sweeps
   int dropped = 0;      //!< cones dropped at the end
+  double seconds = 0;
 };
 
 //! Places cones on a mesh (one component) for a flat metric with D at most the bound.
