@@ -53,9 +53,12 @@ class LinearConeModel {
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       if (v != pinned && !mesh.is_boundary_vertex(v)) free_index_[v] = n++;
     }
+    g_ = Eigen::VectorXd::Zero(mesh.num_vertices());
+    if (n == 0) return;  // every vertex on the boundary: u = 0 is the only flat metric here
     HessianAssembler assembler(delaunay_, free_index_);
     const SparseMatrix& h = assembler.assemble(state);
     solver_.analyze(h);
+    factored_ = true;
     if (!solver_.factorize(h)) {
       throw SolverError(
           "cone placement: the cotangent Laplacian of the intrinsic Delaunay triangulation is not "
@@ -71,6 +74,7 @@ class LinearConeModel {
   const Eigen::VectorXd& curvature0() const { return k0_; }
   const Eigen::VectorXd& cone_free() const { return g_; }
   int back_solves() const { return back_solves_; }
+  bool factored() const { return factored_; }
 
   // R(e_v): 0 for a vertex without a row (pinned or on the boundary).
   const Eigen::VectorXd& column(int v) {
@@ -161,6 +165,7 @@ class LinearConeModel {
   Eigen::VectorXd k0_, g_;
   std::unordered_map<int, Eigen::VectorXd> columns_;
   int back_solves_ = 0;
+  bool factored_ = false;
 };
 
 // The placement's search: a cone set, its solution and D.
@@ -415,8 +420,8 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   result.distortion = distortion_of(search.area(), result.u);
   const double mean = search.area().dot(result.u);
   result.max_deviation = (result.u.array() - mean).abs().maxCoeff();
-  result.factorizations = 1;
-  result.back_solves = model.back_solves() + 1;
+  result.factorizations = model.factored() ? 1 : 0;
+  result.back_solves = model.back_solves() + (model.factored() ? 1 : 0);
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;

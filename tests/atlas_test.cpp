@@ -1,0 +1,259 @@
+// The texture atlas (--target atlas) as a reader of ricci-flow's PLY finds it, checked with
+// geometry written here: texture coordinates per face corner in [0, 1]^2, no face turned over and
+// no two faces overlapping anywhere in the square (across charts too), the input's vertices where
+// they were, the area distortion of the delivered faces near the bound asked for, and a chart per
+// face.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "cli_run.h"
+#include "ricci/io/mesh_io.h"
+
+namespace ricci::test::cli {
+namespace {
+
+using Point = Eigen::Vector2d;
+using Triangle = std::array<Point, 3>;
+
+double cross(const Point& a, const Point& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+double signed_area(const Triangle& t) {
+  return 0.5 * cross(t[1] - t[0], t[2] - t[0]);
+}
+
+// Segments p-q and r-s cross at a point inside both (touching at an end does not count).
+bool properly_cross(const Point& p, const Point& q, const Point& r, const Point& s, double eps) {
+  const double d1 = cross(q - p, r - p), d2 = cross(q - p, s - p);
+  const double d3 = cross(s - r, p - r), d4 = cross(s - r, q - r);
+  return ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) &&
+         ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps));
+}
+
+// p strictly inside the counter-clockwise triangle t.
+bool strictly_inside(const Point& p, const Triangle& t, double eps) {
+  for (int i = 0; i < 3; ++i) {
+    if (!(cross(t[(i + 1) % 3] - t[i], p - t[i]) > eps)) return false;
+  }
+  return true;
+}
+
+// Two counter-clockwise triangles' interiors overlap: a pair of sides cross, or one's centroid
+// lies inside the other (containment without crossing sides).
+bool overlap(const Triangle& a, const Triangle& b, double eps) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (properly_cross(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3], eps)) return true;
+    }
+  }
+  const Point ca = (a[0] + a[1] + a[2]) / 3, cb = (b[0] + b[1] + b[2]) / 3;
+  return strictly_inside(ca, b, eps) || strictly_inside(cb, a, eps);
+}
+
+// Pairs of faces overlapping in the texture, over a grid of buckets.
+int overlapping_pairs(const std::vector<Triangle>& uv) {
+  const int n = 512;
+  std::map<int, std::vector<int>> bucket;
+  for (size_t f = 0; f < uv.size(); ++f) {
+    Point lo = uv[f][0], hi = uv[f][0];
+    for (const Point& p : uv[f]) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    const int x0 = std::clamp(static_cast<int>(lo.x() * n), 0, n - 1);
+    const int x1 = std::clamp(static_cast<int>(hi.x() * n), 0, n - 1);
+    const int y0 = std::clamp(static_cast<int>(lo.y() * n), 0, n - 1);
+    const int y1 = std::clamp(static_cast<int>(hi.y() * n), 0, n - 1);
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) bucket[y * n + x].push_back(static_cast<int>(f));
+    }
+  }
+  std::vector<std::pair<int, int>> found;
+  for (const auto& [cell, faces] : bucket) {
+    for (size_t i = 0; i < faces.size(); ++i) {
+      for (size_t j = i + 1; j < faces.size(); ++j) {
+        if (overlap(uv[faces[i]], uv[faces[j]], 1e-14)) {
+          found.emplace_back(std::min(faces[i], faces[j]), std::max(faces[i], faces[j]));
+        }
+      }
+    }
+  }
+  std::sort(found.begin(), found.end());
+  return static_cast<int>(std::unique(found.begin(), found.end()) - found.begin());
+}
+
+struct Atlas {
+  PlyData ply;
+  std::vector<Triangle> uv;
+  std::string summary;
+};
+
+Atlas run_atlas(const std::string& mesh, const std::string& options = "") {
+  const std::string out = temp("atlas.ply");
+  const CliRun r = ricci_flow(mesh + " --target atlas -o " + out + " " + options);
+  Atlas a;
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  if (r.exit_code != 0) return a;
+  a.summary = r.out;
+  a.ply = read_ply(out);
+  EXPECT_EQ(a.ply.face_texcoords_double.size(), a.ply.faces.size());
+  for (const std::vector<double>& t : a.ply.face_texcoords_double) {
+    a.uv.push_back({Point(t[0], t[1]), Point(t[2], t[3]), Point(t[4], t[5])});
+  }
+  return a;
+}
+
+// D of the delivered faces: sqrt(sum A (s - mean s)^2), s = log(uv area / 3D area) / 2, both
+// areas normalized to sum 1, A the normalized 3D area.
+double face_distortion(const Atlas& a) {
+  const auto& v = a.ply.vertex;
+  std::vector<double> area3d, area_uv;
+  for (size_t f = 0; f < a.ply.faces.size(); ++f) {
+    Eigen::Vector3d p[3];
+    for (int c = 0; c < 3; ++c) {
+      const int i = a.ply.faces[f][c];
+      p[c] = Eigen::Vector3d(v.at("x")[i], v.at("y")[i], v.at("z")[i]);
+    }
+    area3d.push_back(0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm());
+    area_uv.push_back(signed_area(a.uv[f]));
+  }
+  double total3d = 0, total_uv = 0;
+  for (size_t f = 0; f < area3d.size(); ++f) total3d += area3d[f], total_uv += area_uv[f];
+  double mean = 0;
+  std::vector<double> s(area3d.size());
+  for (size_t f = 0; f < s.size(); ++f) {
+    s[f] = 0.5 * std::log((area_uv[f] / total_uv) / (area3d[f] / total3d));
+    mean += area3d[f] / total3d * s[f];
+  }
+  double d = 0;
+  for (size_t f = 0; f < s.size(); ++f) d += area3d[f] / total3d * (s[f] - mean) * (s[f] - mean);
+  return std::sqrt(d);
+}
+
+void expect_valid_atlas(const Atlas& a, const std::string& input, double bound) {
+  ASSERT_FALSE(a.uv.empty());
+  int outside = 0, turned = 0;
+  for (const Triangle& t : a.uv) {
+    for (const Point& p : t) outside += !(p.minCoeff() >= -1e-12 && p.maxCoeff() <= 1 + 1e-12);
+    turned += !(signed_area(t) > 0);
+  }
+  EXPECT_EQ(outside, 0);
+  EXPECT_EQ(turned, 0);
+  EXPECT_EQ(overlapping_pairs(a.uv), 0);
+  // The user's surface: the input's vertices, in order and in place, come first.
+  const MeshFile file = read_mesh_file(input);
+  ASSERT_GE(a.ply.vertex.at("x").size(), file.positions.size());
+  double moved = 0;
+  for (size_t i = 0; i < file.positions.size(); ++i) {
+    const Eigen::Vector3d p(a.ply.vertex.at("x")[i], a.ply.vertex.at("y")[i],
+                            a.ply.vertex.at("z")[i]);
+    moved = std::max(moved, (p - file.positions[i]).norm());
+  }
+  EXPECT_EQ(moved, 0);
+  // The bound is on the linear model's u per vertex; the faces of the exact metric come close.
+  EXPECT_LE(face_distortion(a), 1.25 * bound);
+  ASSERT_TRUE(a.ply.has_face("ricci_chart"));
+  for (double k : a.ply.face.at("ricci_chart")) EXPECT_GE(k, 0);
+}
+
+TEST(Atlas, ClosedGenusZeroRealMeshWithFlipsIsOneValidAtlas) {
+  // pymeshlab's cow: legs and horns, 1.8k flips (the common subdivision), charts split where
+  // they overlap.
+  const std::string cow = std::string(RICCI_REAL_MESH_DIR) + "/pymeshlab-cow.obj";
+  const Atlas a = run_atlas(cow);
+  expect_valid_atlas(a, cow, 0.2);
+  EXPECT_NE(a.summary.find("Atlas: "), std::string::npos) << a.summary;
+}
+
+TEST(Atlas, TorusAndHigherGenusAreValidAtlases) {
+  for (const std::string name : {"knot1.off", "eight.off"}) {
+    SCOPED_TRACE(name);
+    const Atlas a = run_atlas(cgal(name));
+    expect_valid_atlas(a, cgal(name), 0.2);
+  }
+}
+
+TEST(Atlas, GenusFourFlangeIsAValidAtlas) {
+  // OpenFOAM's flange: one chart overlaps itself by a quarter of its texels at the peers' (BFF,
+  // CEPS).
+  const std::string flange = std::string(RICCI_REAL_MESH_DIR) + "/openfoam-flange.stl";
+  expect_valid_atlas(run_atlas(flange), flange, 0.2);
+}
+
+TEST(Atlas, DiskWithBoundaryKeepsItsBoundaryFree) {
+  const Atlas a = run_atlas(cgal("nefertiti.off"));
+  expect_valid_atlas(a, cgal("nefertiti.off"), 0.2);
+}
+
+TEST(Atlas, ATighterBoundTakesMoreCones) {
+  const std::string cow = std::string(RICCI_REAL_MESH_DIR) + "/pymeshlab-cow.obj";
+  const std::string loose = temp("loose.json"), tight = temp("tight.json");
+  for (const auto& [bound, report] : {std::pair{"0.4", loose}, std::pair{"0.15", tight}}) {
+    const CliRun r = ricci_flow(cow + " --target atlas --distortion " + std::string(bound) +
+                                " -o " + temp("out.ply") + " --report " + report);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  const auto cones = [](const std::string& json) {
+    const size_t at = json.find("\"atlas\": {\"cones\": [");
+    EXPECT_NE(at, std::string::npos);
+    const size_t end = json.find(']', at);
+    return std::count(json.begin() + static_cast<long>(at), json.begin() + static_cast<long>(end),
+                      '{');
+  };
+  EXPECT_LT(cones(slurp(loose)), cones(slurp(tight)));
+}
+
+TEST(Atlas, AConeBudgetBelowTheBoundIsWarnedOf) {
+  const std::string cow = std::string(RICCI_REAL_MESH_DIR) + "/pymeshlab-cow.obj";
+  const Atlas a = run_atlas(cow, "--max-cones 6");
+  ASSERT_FALSE(a.uv.empty());
+  EXPECT_NE(a.summary.find("Warning: the distortion bound was not reached"), std::string::npos)
+      << a.summary;
+  EXPECT_EQ(overlapping_pairs(a.uv), 0);
+}
+
+TEST(Atlas, ObjOutputHasTextureCoordinatesPerCorner) {
+  const std::string out = temp("atlas.obj");
+  const CliRun r = ricci_flow(cgal("knot1.off") + " --target atlas -o " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const MeshFile input = read_mesh_file(cgal("knot1.off"));
+  const std::string obj = slurp(out);
+  std::istringstream lines(obj);
+  std::string line;
+  int v = 0, vt = 0, f = 0;
+  std::map<int, std::vector<int>> texture_vertices;
+  while (std::getline(lines, line)) {
+    if (line.rfind("v ", 0) == 0) ++v;
+    if (line.rfind("vt ", 0) == 0) ++vt;
+    if (line.rfind("f ", 0) == 0) {
+      ++f;
+      int a, ta, b, tb, c, tc;
+      ASSERT_EQ(std::sscanf(line.c_str(), "f %d/%d %d/%d %d/%d", &a, &ta, &b, &tb, &c, &tc), 6);
+      for (const auto& [x, t] : {std::pair{a, ta}, std::pair{b, tb}, std::pair{c, tc}}) {
+        auto& list = texture_vertices[x];
+        if (std::find(list.begin(), list.end(), t) == list.end()) list.push_back(t);
+      }
+    }
+  }
+  int on_seams = 0;
+  for (const auto& [x, list] : texture_vertices) on_seams += list.size() > 1;
+  EXPECT_EQ(v, static_cast<int>(input.positions.size()));
+  EXPECT_EQ(f, static_cast<int>(input.triangles.size()));
+  EXPECT_GT(vt, v);  // a torus's seams give their vertices a texture vertex per side
+  EXPECT_GT(on_seams, 0);
+  EXPECT_EQ(vt - v, [&] {
+    int extra = 0;
+    for (const auto& [x, list] : texture_vertices) extra += static_cast<int>(list.size()) - 1;
+    return extra;
+  }());
+}
+
+}  // namespace
+}  // namespace ricci::test::cli
