@@ -134,6 +134,7 @@ class LinearConeModel {
     s.u = g_;
     for (int j = 0; j < m; ++j) s.u += s.k[j] * column(cones[j]);
     if (closed) s.u.array() += x[m];
+    for (int c : cones) s.u[c] = 0;  // held there: exactly, not to round-off
     s.ok = s.u.allFinite();
     return s;
   }

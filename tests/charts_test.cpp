@@ -1,0 +1,99 @@
+// Charts of a flat metric: developed exactly, one per piece the seams leave; overlaps found
+// anywhere in a chart (and only real ones); the sheets of an overlap parted by separate_sheets.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ricci/layout/charts.h"
+#include "test_meshes.h"
+
+namespace ricci::test {
+namespace {
+
+TEST(Charts, AFlatGridCutAcrossIsTwoExactChartsWithoutOverlap) {
+  const CompactMesh grid = square_grid(8);
+  // Cut along x = 0.5: the interior edges with both ends there.
+  std::vector<char> cut(grid.num_edges(), 0);
+  for (int e = 0; e < grid.num_edges(); ++e) {
+    const auto [a, b] = grid.edge_vertices(e);
+    cut[e] = !grid.is_boundary_edge(e) && std::abs(grid.positions()[a].x() - 0.5) < 1e-12 &&
+             std::abs(grid.positions()[b].x() - 0.5) < 1e-12;
+  }
+  const Charts charts = lay_out_charts(grid, grid.input_lengths(), cut);
+  EXPECT_EQ(charts.num_charts, 2);
+  EXPECT_LT(charts.max_relative_length_error, 1e-14);
+  EXPECT_EQ(charts.flipped_faces, 0);
+  EXPECT_TRUE(overlapping_faces(charts).empty());
+  for (int f = 0; f < grid.num_faces(); ++f) {
+    double x = 0;
+    for (int v : grid.faces()[f]) x += grid.positions()[v].x() / 3;
+    EXPECT_EQ(charts.chart[f], charts.chart[0] == 0 ? (x < 0.5 ? 0 : 1) : (x < 0.5 ? 1 : 0));
+  }
+}
+
+// A flat strip of n x 1 squares whose metric wraps round more than a full turn: its lengths are
+// those of an annular sector of angle `turn` (radii 1 and 2), so its layout overlaps itself once
+// turn > 2 pi.
+struct Strip {
+  CompactMesh mesh;
+  std::vector<double> lengths;
+};
+Strip sector_strip(int n, double turn) {
+  std::vector<Eigen::Vector3d> p;
+  std::vector<std::array<int, 3>> f;
+  for (int i = 0; i <= n; ++i) {
+    // 3D: a straight strip (the connectivity only); the lengths below are the sector's.
+    p.emplace_back(i, 0, 0);
+    p.emplace_back(i, 1, 0);
+  }
+  for (int i = 0; i < n; ++i) {
+    f.push_back({2 * i, 2 * i + 2, 2 * i + 3});
+    f.push_back({2 * i, 2 * i + 3, 2 * i + 1});
+  }
+  Strip s{CompactMesh(p, f), {}};
+  const auto at = [&](int v) {
+    const double r = v % 2 == 0 ? 2 : 1, a = turn * (v / 2) / n;
+    return Eigen::Vector2d(r * std::cos(a), r * std::sin(a));
+  };
+  for (int e = 0; e < s.mesh.num_edges(); ++e) {
+    const auto [a, b] = s.mesh.edge_vertices(e);
+    s.lengths.push_back((at(a) - at(b)).norm());
+  }
+  return s;
+}
+
+TEST(Charts, OverlapsAreFoundAcrossTheWholeChartAndOnlyWhereTheyAre) {
+  const Strip less = sector_strip(60, 1.8 * kPi), more = sector_strip(60, 2.4 * kPi);
+  const std::vector<char> none(less.mesh.num_edges(), 0);
+  EXPECT_TRUE(overlapping_faces(lay_out_charts(less.mesh, less.lengths, none)).empty());
+  const Charts charts = lay_out_charts(more.mesh, more.lengths, none);
+  EXPECT_EQ(charts.flipped_faces, 0);
+  const auto pairs = overlapping_faces(charts);
+  ASSERT_FALSE(pairs.empty());
+  // The sheets that overlap are the strip's two ends, a turn apart: faces about 2 * 60 / 2.4 =
+  // 50 squares apart.
+  for (const auto& [f, g] : pairs) EXPECT_GT(g / 2 - f / 2, 40) << f << " " << g;
+}
+
+TEST(Charts, SeparatingTheSheetsLeavesNoOverlap) {
+  const Strip strip = sector_strip(60, 2.4 * kPi);
+  std::vector<char> cut(strip.mesh.num_edges(), 0);
+  Charts charts = lay_out_charts(strip.mesh, strip.lengths, cut);
+  const auto pairs = overlapping_faces(charts);
+  ASSERT_FALSE(pairs.empty());
+  std::vector<Eigen::Vector3d> centroid;
+  for (const auto& t : strip.mesh.faces()) {
+    centroid.push_back((strip.mesh.positions()[t[0]] + strip.mesh.positions()[t[1]] +
+                        strip.mesh.positions()[t[2]]) /
+                       3);
+  }
+  EXPECT_GT(separate_sheets(strip.mesh, charts, pairs[0].first, pairs[0].second, {}, centroid, cut),
+            0);
+  charts = lay_out_charts(strip.mesh, strip.lengths, cut);
+  EXPECT_EQ(charts.num_charts, 2);
+  EXPECT_NE(charts.chart[pairs[0].first], charts.chart[pairs[0].second]);
+  EXPECT_TRUE(overlapping_faces(charts).empty());
+}
+
+}  // namespace
+}  // namespace ricci::test

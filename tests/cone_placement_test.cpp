@@ -1,0 +1,118 @@
+// Cone placement on the linear model: Gauss-Bonnet, the angle floor and the bound hold; the model
+// is the flow's first order (its error shrinks quadratically with the curvature); budgets and
+// quarter angles do what they say.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ricci/flow/cone_placement.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/mesh/errors.h"
+#include "test_meshes.h"
+
+namespace ricci::test {
+namespace {
+
+double curvature_sum(const ConePlacement& p) {
+  double sum = 0;
+  for (const Cone& c : p.cones) sum += 2 * kPi - c.angle;
+  return sum;
+}
+
+TEST(ConePlacement, ClosedSurfaceConesSatisfyGaussBonnetTheFloorAndTheBound) {
+  for (const CompactMesh& mesh : {ellipsoid(3, 1, 1, 2.5), cgal_mesh("eight.off")}) {
+    SCOPED_TRACE(mesh.topology_name());
+    const ConePlacement p = place_cones(mesh);
+    ASSERT_TRUE(p.bound_reached) << p.why_not;
+    EXPECT_LE(p.distortion, 0.2);
+    EXPECT_NEAR(area_distortion(mesh, p.u), p.distortion, 1e-12);
+    EXPECT_NEAR(curvature_sum(p), 2 * kPi * mesh.euler_characteristic(), 1e-8);
+    for (const Cone& c : p.cones) {
+      EXPECT_GE(c.angle, kPi / 4);
+      EXPECT_FALSE(mesh.is_boundary_vertex(c.vertex));
+      EXPECT_EQ(p.u[c.vertex], 0);
+    }
+    EXPECT_EQ(p.factorizations, 1);
+    EXPECT_GT(p.back_solves, static_cast<int>(p.cones.size()));
+  }
+}
+
+// The bumpy disk with its bump scaled by `height`, as a mesh.
+CompactMesh bump(double height) {
+  const CompactMesh disk = bumpy_disk(20);
+  std::vector<Eigen::Vector3d> p = disk.positions();
+  for (auto& q : p) q.z() *= height;
+  return CompactMesh(p, disk.faces());
+}
+
+TEST(ConePlacement, TheLinearModelIsTheFlowsFirstOrder) {
+  // Without cones (the bound met at once), u = 0 on the boundary: the linear model's u against the
+  // flow's exact one. Their difference is second order in the curvature: halving the bump's
+  // height quarters the difference relative to u, roughly.
+  double previous = 0;
+  for (double height : {0.8, 0.4, 0.2}) {
+    const CompactMesh mesh = bump(height);
+    ConePlacementOptions o;
+    o.distortion_bound = 10;
+    const ConePlacement p = place_cones(mesh, o);
+    ASSERT_TRUE(p.cones.empty());
+    // The model is the linearization in the canonical class (the input's intrinsic Delaunay
+    // triangulation's), where a flow with flips from the start runs.
+    FlowOptions flips;
+    flips.edge_flips = EdgeFlips::Always;
+    const FlowResult flow = compute_ricci_flow(mesh, Geometry::Euclidean, SchemeOptions(),
+                                               TargetCurvature::free_boundary(mesh), flips);
+    const double relative =
+        (flow.u - p.u).lpNorm<Eigen::Infinity>() / flow.u.lpNorm<Eigen::Infinity>();
+    if (previous > 0) {
+      EXPECT_LT(relative, 0.6 * previous) << "height " << height;
+    }
+    previous = relative;
+  }
+  EXPECT_LT(previous, 0.05);
+}
+
+TEST(ConePlacement, AFlatEnoughDiskNeedsNoCones) {
+  const CompactMesh mesh = bump(0.2);
+  const ConePlacement p = place_cones(mesh);
+  EXPECT_TRUE(p.cones.empty());
+  EXPECT_TRUE(p.bound_reached);
+  EXPECT_EQ(p.distortion, p.distortion_without_cones);
+}
+
+TEST(ConePlacement, TheDistortionWithoutConesExistsOnlyWhereAFlatMetricWithoutThemDoes) {
+  EXPECT_TRUE(std::isfinite(place_cones(torus(24, 12)).distortion_without_cones));
+  EXPECT_TRUE(std::isnan(place_cones(ellipsoid(2)).distortion_without_cones));
+}
+
+TEST(ConePlacement, ABudgetStopsThePlacementAndSaysSo) {
+  ConePlacementOptions o;
+  o.max_cones = 3;
+  const ConePlacement p = place_cones(ellipsoid(3, 1, 1, 4), o);
+  EXPECT_LE(p.cones.size(), 3u);
+  EXPECT_FALSE(p.bound_reached);
+  EXPECT_NE(p.why_not.find("budget"), std::string::npos) << p.why_not;
+}
+
+TEST(ConePlacement, QuarterAnglesAreQuarterTurnsSummingToGaussBonnet) {
+  ConePlacementOptions o;
+  o.quarter_angles = true;
+  const CompactMesh mesh = ellipsoid(3, 1, 1, 2.5);
+  const ConePlacement p = place_cones(mesh, o);
+  ASSERT_FALSE(p.cones.empty());
+  for (const Cone& c : p.cones) {
+    const double quarters = c.angle / (kPi / 2);
+    EXPECT_NEAR(quarters, std::round(quarters), 1e-12);
+    EXPECT_GE(c.angle, kPi / 2 - 1e-12);
+  }
+  EXPECT_NEAR(curvature_sum(p), 4 * kPi, 1e-9);
+}
+
+TEST(ConePlacement, OptionsOutOfRangeAreRefused) {
+  ConePlacementOptions o;
+  o.distortion_bound = 0;
+  EXPECT_THROW(place_cones(ellipsoid(1), o), InvalidArgumentError);
+}
+
+}  // namespace
+}  // namespace ricci::test

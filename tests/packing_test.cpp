@@ -1,0 +1,118 @@
+// Packing: every chart inside [0, 1]^2 at one common scale, turned by a rotation only, no two
+// charts closer than the padding, and a fair share of the square used.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <Eigen/Geometry>
+#include "ricci/layout/packing.h"
+
+#include "ricci/mesh/errors.h"
+#include "ricci/mesh/geometry.h"
+
+namespace ricci::test {
+namespace {
+
+using Triangle = std::array<Eigen::Vector2d, 3>;
+using Chart = std::vector<Triangle>;
+
+// A w x h rectangle (two triangles), turned by `angle` and moved.
+Chart rectangle(double w, double h, double angle, Eigen::Vector2d at) {
+  const Eigen::Matrix2d r = Eigen::Rotation2D<double>(angle).toRotationMatrix();
+  const auto p = [&](double x, double y) {
+    return Eigen::Vector2d(r * Eigen::Vector2d(x, y) + at);
+  };
+  return {{p(0, 0), p(w, 0), p(w, h)}, {p(0, 0), p(w, h), p(0, h)}};
+}
+
+// An L of two rectangles.
+Chart ell(double s, Eigen::Vector2d at) {
+  Chart a = rectangle(3 * s, s, 0, at), b = rectangle(s, 2 * s, 0, at + Eigen::Vector2d(0, s));
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                           const Eigen::Vector2d& b) {
+  const Eigen::Vector2d d = b - a;
+  const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * d)).norm();
+}
+
+// Smallest distance between two charts' triangles (corners to sides; they do not overlap then).
+double gap(const Chart& a, const Chart& b) {
+  double g = INFINITY;
+  for (const Chart* x : {&a, &b}) {
+    const Chart& y = x == &a ? b : a;
+    for (const Triangle& s : *x) {
+      for (const Triangle& t : y) {
+        for (const auto& p : s) {
+          for (int i = 0; i < 3; ++i) g = std::min(g, distance_to_segment(p, t[i], t[(i + 1) % 3]));
+        }
+      }
+    }
+  }
+  return g;
+}
+
+TEST(Packing, ChartsLandInTheSquareAtOneScaleApartByThePadding) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> size(0.2, 2), angle(0, 2 * kPi);
+  std::vector<Chart> charts;
+  for (int k = 0; k < 24; ++k) {
+    charts.push_back(k % 3 ? rectangle(size(random), size(random), angle(random), {5.0 * k, 0})
+                           : ell(size(random) / 2, {-5.0 * k, 3}));
+  }
+  PackingOptions o;
+  o.texture_size = 512;
+  o.padding = 4;
+  const Packing p = pack_charts(charts, o);
+  std::vector<Chart> packed;
+  double area = 0;
+  for (size_t k = 0; k < charts.size(); ++k) {
+    // A rotation: orthogonal with determinant +1.
+    EXPECT_LT((p.rotation[k].transpose() * p.rotation[k] - Eigen::Matrix2d::Identity()).norm(),
+              1e-12);
+    EXPECT_NEAR(p.rotation[k].determinant(), 1, 1e-12);
+    Chart c;
+    for (const Triangle& t : charts[k]) {
+      Triangle u;
+      for (int i = 0; i < 3; ++i) {
+        u[i] = p.scale * p.rotation[k] * t[i] + p.offset[k];
+        EXPECT_GE(u[i].minCoeff(), 0);
+        EXPECT_LE(u[i].maxCoeff(), 1);
+      }
+      const Eigen::Vector2d a = u[1] - u[0], b = u[2] - u[0];
+      area += 0.5 * (a.x() * b.y() - a.y() * b.x());
+      c.push_back(u);
+    }
+    packed.push_back(c);
+  }
+  EXPECT_NEAR(area, p.utilization, 1e-12);
+  EXPECT_GT(p.utilization, 0.4);
+  for (size_t a = 0; a < packed.size(); ++a) {
+    for (size_t b = a + 1; b < packed.size(); ++b) {
+      EXPECT_GE(gap(packed[a], packed[b]), o.padding / double(o.texture_size) * (1 - 1e-9))
+          << a << " " << b;
+    }
+  }
+}
+
+TEST(Packing, ALongChartIsTurnedToItsSmallestBox) {
+  // A 10 x 1 strip at 30 degrees: packed alone, its box is upright (its long side on an axis).
+  const Packing p = pack_charts(std::vector<Chart>{rectangle(10, 1, kPi / 6, {0, 0})});
+  const Eigen::Vector2d axis =
+      p.rotation[0] * Eigen::Vector2d(std::cos(kPi / 6), std::sin(kPi / 6));
+  EXPECT_NEAR(std::abs(axis.x()) * std::abs(axis.y()), 0, 1e-12);
+}
+
+TEST(Packing, OptionsOutOfRangeAreRefused) {
+  PackingOptions o;
+  o.texture_size = 8;
+  EXPECT_THROW(pack_charts(std::vector<Chart>{rectangle(1, 1, 0, {0, 0})}, o),
+               InvalidArgumentError);
+}
+
+}  // namespace
+}  // namespace ricci::test
