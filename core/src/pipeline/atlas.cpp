@@ -92,61 +92,6 @@ UniformizationOptions component_options(const UniformizationOptions& o, const Re
 
 // === The atlas
 
-struct Chart {
-  std::vector<std::array<Eigen::Vector2d, 3>> corners;  // per component face
-  Eigen::Vector2d lo, size;                             // bounding box, in scaled units
-  double scale = 1;                                     // layout units -> atlas units
-  Eigen::Vector2d offset = Eigen::Vector2d::Zero();     // where the box goes
-};
-
-// Each chart scaled to its surface's area, then the boxes packed on shelves, tallest first.
-void pack(std::vector<Chart>& charts, const std::vector<double>& surface_area) {
-  double total = 0, widest = 0;
-  for (size_t k = 0; k < charts.size(); ++k) {
-    Chart& c = charts[k];
-    if (c.corners.empty()) continue;
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
-    double area = 0;
-    for (const auto& t : c.corners) {
-      for (const auto& p : t) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-      const Eigen::Vector2d a = t[1] - t[0], b = t[2] - t[0];
-      area += 0.5 * std::abs(a.x() * b.y() - a.y() * b.x());
-    }
-    c.scale = area > 0 ? std::sqrt(surface_area[k] / area) : 1;
-    c.lo = lo;
-    c.size = (hi - lo) * c.scale;
-    total += surface_area[k];
-    widest = std::max(widest, c.size.x());
-  }
-  const double gap = 0.02 * std::sqrt(total);
-  double boxes = 0;
-  for (const Chart& c : charts) {
-    if (!c.corners.empty()) boxes += (c.size.x() + gap) * (c.size.y() + gap);
-  }
-  const double width = std::max(widest + gap, std::sqrt(boxes));
-  std::vector<size_t> order(charts.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(),
-            [&](size_t a, size_t b) { return charts[a].size.y() > charts[b].size.y(); });
-  double x = 0, y = 0, shelf = 0;
-  for (size_t k : order) {
-    Chart& c = charts[k];
-    if (c.corners.empty()) continue;
-    if (x > 0 && x + c.size.x() > width) x = 0, y += shelf + gap, shelf = 0;
-    c.offset = Eigen::Vector2d(x, y);
-    x += c.size.x() + gap;
-    shelf = std::max(shelf, c.size.y());
-  }
-  double extent = 0;
-  for (const Chart& c : charts) {
-    if (!c.corners.empty()) extent = std::max(extent, (c.offset + c.size).maxCoeff());
-  }
-  for (Chart& c : charts) {
-    c.scale /= extent;
-    c.offset /= extent;
-  }
-}
-
 // The delivered vertex of component k's vertex i (i past the component's vertices: a new vertex
 // of its common subdivision).
 int delivered_vertex(const MeshUniformization& out, size_t k, int i) {
@@ -155,11 +100,21 @@ int delivered_vertex(const MeshUniformization& out, size_t k, int i) {
   return out.new_vertex_base[k] + i - static_cast<int>(vertex.size());
 }
 
-Eigen::Vector2d atlas_point(const Chart& c, const Eigen::Vector2d& p) {
-  return c.offset + (p - c.lo) * c.scale;
+using Triangle2 = std::array<Eigen::Vector2d, 3>;
+
+double area_of(const std::vector<Triangle2>& triangles) {
+  double a = 0;
+  for (const Triangle2& t : triangles) {
+    const Eigen::Vector2d u = t[1] - t[0], v = t[2] - t[0];
+    a += 0.5 * std::abs(u.x() * v.y() - u.y() * v.x());
+  }
+  return a;
 }
 
-void gather_texture(MeshUniformization& out) {
+// Several components: every piece packed at once (pack_charts) at one texel density, each
+// component's layout scaled to its surface's area: an atlas component's charts each, any other
+// planar layout as one piece.
+void gather_texture(MeshUniformization& out, const PackingOptions& packing) {
   const size_t n = out.components.size();
   if (n == 1) {  // the component's own normalization, its vertex UVs on the repaired mesh's
     const TextureCoordinates t = texture_coordinates(out.components[0]);
@@ -175,24 +130,50 @@ void gather_texture(MeshUniformization& out) {
     }
     return;
   }
-  std::vector<Chart> charts(n);
-  std::vector<double> area(n);
-  bool any = false, all_per_vertex = true;
+  std::vector<std::vector<Triangle2>> pieces;
+  std::vector<std::vector<int>> piece_of_face(n);  // per component face; -1: not packed
+  std::vector<std::vector<Triangle2>> drawn(n);
+  std::vector<double> scale(n, 1);
+  bool all_per_vertex = true;
   for (size_t k = 0; k < n; ++k) {
-    charts[k].corners = drawn_corners(out.components[k]);
-    area[k] = out.mesh.components[k].mesh.input_area();
-    any = any || !charts[k].corners.empty();
-    all_per_vertex = all_per_vertex && out.components[k].layout_kind == LayoutKind::Plane;
+    const Uniformization& run = out.components[k];
+    all_per_vertex = all_per_vertex && run.layout_kind == LayoutKind::Plane;
+    if (run.layout_kind == LayoutKind::Atlas) {
+      for (const auto& t : run.corners)
+        drawn[k].push_back({t[0].head<2>(), t[1].head<2>(), t[2].head<2>()});
+    } else {
+      drawn[k] = drawn_corners(run);
+    }
+    piece_of_face[k].assign(run.corners.size(), -1);
+    if (drawn[k].empty()) continue;
+    const double area = area_of(drawn[k]);
+    scale[k] = area > 0 ? std::sqrt(out.mesh.components[k].mesh.input_area() / area) : 1;
+    const bool by_chart = run.layout_kind == LayoutKind::Atlas && !run.face_chart.empty();
+    const int base = static_cast<int>(pieces.size());
+    int count = 1;
+    if (by_chart) count = *std::max_element(run.face_chart.begin(), run.face_chart.end()) + 1;
+    pieces.resize(pieces.size() + static_cast<size_t>(count));
+    for (size_t f = 0; f < drawn[k].size(); ++f) {
+      const int piece = base + (by_chart ? run.face_chart[f] : 0);
+      piece_of_face[k][f] = piece;
+      Triangle2 t = drawn[k][f];
+      for (auto& q : t) q *= scale[k];
+      pieces[static_cast<size_t>(piece)].push_back(t);
+    }
   }
-  if (!any) return;
-  pack(charts, area);
+  if (pieces.empty()) return;
+  const Packing p = pack_charts(pieces, packing);
+  const auto to_atlas = [&](int piece, const Eigen::Vector2d& q) {
+    const Eigen::Vector2d uv = p.scale * p.rotation[piece] * q + p.offset[piece];
+    return Eigen::Vector2d(std::clamp(uv.x(), 0.0, 1.0), std::clamp(uv.y(), 0.0, 1.0));
+  };
   if (all_per_vertex) {
     out.texture.vertex.assign(out.positions.size(), Eigen::Vector2d::Zero());
     for (size_t k = 0; k < n; ++k) {
       const auto& position = out.components[k].position;
       for (size_t i = 0; i < position.size(); ++i) {
-        out.texture.vertex[delivered_vertex(out, k, static_cast<int>(i))] =
-            atlas_point(charts[k], position[i].head<2>());
+        out.texture.vertex[delivered_vertex(out, k, static_cast<int>(i))] = to_atlas(
+            piece_of_face[k].empty() ? 0 : piece_of_face[k][0], scale[k] * position[i].head<2>());
       }
     }
     for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
@@ -203,10 +184,10 @@ void gather_texture(MeshUniformization& out) {
   }
   for (size_t k = 0; k < n; ++k) {
     for (size_t f = 0; f < out.components[k].corners.size(); ++f) {
-      std::array<Eigen::Vector2d, 3> uv = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
-                                           Eigen::Vector2d::Zero()};
-      if (!charts[k].corners.empty()) {
-        for (int c = 0; c < 3; ++c) uv[c] = atlas_point(charts[k], charts[k].corners[f][c]);
+      Triangle2 uv = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
+      if (piece_of_face[k][f] >= 0) {
+        for (int c = 0; c < 3; ++c)
+          uv[c] = to_atlas(piece_of_face[k][f], scale[k] * drawn[k][f][c]);
       }
       out.texture.wedge.push_back(uv);
     }
@@ -352,7 +333,7 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
   }
   gather_vertices(out);
   gather_face_layouts(out);
-  gather_texture(out);
+  gather_texture(out, options.packing);
   return out;
 }
 

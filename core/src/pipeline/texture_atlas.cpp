@@ -5,6 +5,8 @@
 #include <limits>
 #include <sstream>
 
+#include <Eigen/Eigenvalues>
+
 #include "ricci/layout/charts.h"
 #include "ricci/layout/packing.h"
 #include "ricci/layout/seams.h"
@@ -18,6 +20,9 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Rounds of splits of overlapping charts (each splits every overlapping chart once).
 constexpr int kMaxSplitRounds = 64;
+// Charts longer than this times their width are halved, at most this many rounds.
+constexpr double kLongAspect = 3;
+constexpr int kMaxHalvings = 4;
 
 // Every face of the flowed triangulation drawn alone by its side lengths: all the common
 // subdivision needs of a layout is each face's corners.
@@ -65,6 +70,46 @@ std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& d
     }
   }
   return allowed;
+}
+
+// Per chart longer than `aspect` times its width (by the second moments of its corners), its
+// faces farthest apart along its long axis.
+std::vector<std::pair<int, int>> long_chart_ends(const Charts& charts, double aspect) {
+  const int nf = static_cast<int>(charts.corners.size());
+  std::vector<Eigen::Vector2d> mean(charts.num_charts, Eigen::Vector2d::Zero());
+  std::vector<Eigen::Matrix2d> moment(charts.num_charts, Eigen::Matrix2d::Zero());
+  std::vector<int> count(charts.num_charts, 0);
+  for (int f = 0; f < nf; ++f) {
+    for (const auto& q : charts.corners[f]) mean[charts.chart[f]] += q, ++count[charts.chart[f]];
+  }
+  for (int k = 0; k < charts.num_charts; ++k) mean[k] /= std::max(count[k], 1);
+  for (int f = 0; f < nf; ++f) {
+    for (const auto& q : charts.corners[f]) {
+      const Eigen::Vector2d d = q - mean[charts.chart[f]];
+      moment[charts.chart[f]] += d * d.transpose();
+    }
+  }
+  std::vector<std::pair<int, int>> ends;
+  std::vector<Eigen::Vector2d> axis(charts.num_charts, Eigen::Vector2d::Zero());
+  for (int k = 0; k < charts.num_charts; ++k) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> e(moment[k]);
+    const Eigen::Vector2d l = e.eigenvalues();  // ascending
+    if (l[1] > aspect * aspect * std::max(l[0], 0.0)) axis[k] = e.eigenvectors().col(1);
+  }
+  std::vector<int> lo(charts.num_charts, -1), hi(charts.num_charts, -1);
+  std::vector<double> lo_at(charts.num_charts, INFINITY), hi_at(charts.num_charts, -INFINITY);
+  for (int f = 0; f < nf; ++f) {
+    const int k = charts.chart[f];
+    if (axis[k].isZero()) continue;
+    const double t =
+        axis[k].dot((charts.corners[f][0] + charts.corners[f][1] + charts.corners[f][2]) / 3);
+    if (t < lo_at[k]) lo_at[k] = t, lo[k] = f;
+    if (t > hi_at[k]) hi_at[k] = t, hi[k] = f;
+  }
+  for (int k = 0; k < charts.num_charts; ++k) {
+    if (lo[k] >= 0 && hi[k] >= 0 && lo[k] != hi[k]) ends.emplace_back(lo[k], hi[k]);
+  }
+  return ends;
 }
 
 // Branches a cone of angle theta needs so that no wedge of it reaches a full turn.
@@ -156,6 +201,22 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     charts = lay_out_charts(delivered, flat, seam);
     overlaps = overlapping_faces(charts);
   }
+  // Long charts (a tube's strip) fill a square poorly: each is halved across its long axis (as
+  // two sheets from its two ends), while that leaves no overlap.
+  for (int round = 0; round < kMaxHalvings && overlaps.empty(); ++round) {
+    std::vector<char> halved = seam;
+    int count = 0;
+    for (const auto& [f, g] : long_chart_ends(charts, kLongAspect)) {
+      count += separate_sheets(delivered, charts, f, g, group, centroid, halved) > 0;
+    }
+    if (count == 0) break;
+    connect_cut(delivered, length3d, halved, allowed);
+    Charts shorter = lay_out_charts(delivered, flat, halved);
+    if (!overlapping_faces(shorter).empty()) break;
+    seam = std::move(halved);
+    charts = std::move(shorter);
+    atlas.halvings += count;
+  }
   std::vector<char> overlapping(delivered.num_faces(), 0);
   for (const auto& [f, g] : overlaps) overlapping[f] = overlapping[g] = 1;
 
@@ -181,8 +242,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   for (int f = 0; f < delivered.num_faces(); ++f) {
     const int k = charts.chart[f];
     for (int c = 0; c < 3; ++c) {
-      atlas.texture[f][c] =
+      const Eigen::Vector2d uv =
           packing.scale * packing.rotation[k] * charts.corners[f][c] + packing.offset[k];
+      atlas.texture[f][c] = uv.cwiseMax(0.0).cwiseMin(1.0);  // rounding past the square's sides
     }
   }
   run.layout = Layout();

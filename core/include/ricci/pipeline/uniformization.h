@@ -101,6 +101,7 @@ struct AtlasResult {
   int overlapping_faces = 0;
   //! Charts split because they overlapped themselves, and the splits.
   int charts_split = 0, splits = 0;
+  int halvings = 0;  //!< long charts halved across their long axis (for the packing)
   //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
   std::vector<std::array<Eigen::Vector2d, 3>> texture;
   double utilization = 0;
