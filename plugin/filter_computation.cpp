@@ -37,6 +37,9 @@ void choose_target(const MeshInput& in, TargetChoice choice, UniformizationOptio
     case TargetChoice::UnitDisk:
       o.preset = TargetPreset::UnitDisk;
       return;
+    case TargetChoice::Atlas:
+      o.preset = TargetPreset::Atlas;
+      return;
     case TargetChoice::VertexQuality:
       if (in.quality.empty()) {
         throw InvalidTargetError(
@@ -101,6 +104,11 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
                       : settings.always_flip ? EdgeFlips::Always
                                              : EdgeFlips::WhenNeeded;
   o.keep_input_triangulation = settings.keep_input_triangulation;
+  o.cone_placement.distortion_bound = settings.atlas_distortion;
+  o.cone_placement.max_cones = settings.atlas_max_cones;
+  o.cone_placement.quarter_angles = settings.atlas_quarter_angles;
+  o.packing.texture_size = settings.atlas_texture_size;
+  o.packing.padding = settings.atlas_padding;
   o.flow.progress = progress;
   FilterComputation c;
   c.run = uniformize_mesh(input.repaired, o);

@@ -128,7 +128,8 @@ void rebuild_repaired(MeshT& m, const FilterComputation& c) {
 
 //! Writes the results: custom attributes ricci_u, ricci_radius, ricci_curvature, ricci_target
 //! (float) and, with a per-vertex layout, ricci_layout (Point3); texture coordinates per vertex
-//! (plane) or per wedge (cut open); vertex quality = u with a color ramp. A mesh the repairs
+//! (plane) or per wedge (cut open, atlas); vertex quality = u with a color ramp; the atlas's cones
+//! as the vertex selection. A mesh the repairs
 //! changed is rebuilt first (rebuild_repaired). The caller enables the optional components first
 //! (quality, color, vertex or wedge texture coordinates) as written_components() and the settings
 //! ask.
@@ -201,6 +202,19 @@ void write_results(MeshT& m, const MeshInput& input, const FilterSettings& setti
   }
   if (settings.write_quality && vcg::tri::HasPerVertexColor(m)) {
     vcg::tri::UpdateColor<MeshT>::PerVertexQualityRamp(m);
+  }
+  if (!run.cones.empty()) {  // the atlas's cones become the vertex selection
+    std::vector<char> cone(run.positions.size(), 0);
+    for (const Cone& k : run.cones) cone[k.vertex] = 1;
+    for (size_t i = 0; i < m.vert.size(); ++i) {
+      const int v = vertex_of_slot[i];
+      if (m.vert[i].IsD() || v < 0) continue;
+      if (cone[v]) {
+        m.vert[i].SetS();
+      } else {
+        m.vert[i].ClearS();
+      }
+    }
   }
 }
 

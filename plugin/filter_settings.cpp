@@ -85,7 +85,8 @@ const std::vector<ParameterSpec>& parameter_specs() {
        Kind::Enum,
        static_cast<double>(d.target),
        {"Auto by topology (uniformization)", "Free boundary", "Zero curvature everywhere",
-        "Per vertex from vertex quality", "Unit disk / circle domain"},
+        "Per vertex from vertex quality", "Unit disk / circle domain",
+        "Texture atlas: UV charts for any mesh, closed ones too"},
        "Target curvature",
        "Auto: round sphere (closed genus 0), flat torus (genus 1), hyperbolic metric (genus >= 2, "
        "geodesic boundary when it has one), unit disk (a disk) or circle domain (genus 0 with "
@@ -183,6 +184,40 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "along the flipped triangulation's edges; its vertices first and unchanged, new vertices on "
        "its edges), whose layout turns no face over. On: keep the mesh's faces; the filter then "
        "fails with the count of turned faces."},
+      {"atlasDistortion",
+       Kind::Float,
+       d.atlas_distortion,
+       {},
+       "Texture atlas: area distortion bound",
+       "Cones are added until D = sqrt(sum A (u - mean u)^2), on the surface scaled to area 1, is "
+       "at most this: 0.2 keeps most texels within a factor 1.5 of the mean density; smaller "
+       "takes more cones and charts."},
+      {"atlasMaxCones",
+       Kind::Int,
+       static_cast<double>(d.atlas_max_cones),
+       {},
+       "Texture atlas: most cones",
+       "The cone budget; the log warns when it stops the placement before the bound."},
+      {"atlasQuarterAngles",
+       Kind::Bool,
+       d.atlas_quarter_angles ? 1.0 : 0.0,
+       {},
+       "Texture atlas: cone angles in quarter turns",
+       "Round every cone angle to a multiple of 90 degrees (charts then meet by quarter turns, "
+       "as seamless textures and quad meshing want)."},
+      {"atlasTextureSize",
+       Kind::Int,
+       static_cast<double>(d.atlas_texture_size),
+       {},
+       "Texture atlas: texture size (texels)",
+       "Texels per side of the texture the charts are packed for; the padding is in these."},
+      {"atlasPadding",
+       Kind::Int,
+       static_cast<double>(d.atlas_padding),
+       {},
+       "Texture atlas: padding (texels)",
+       "Texels between two charts (half of it at the square's sides), against bleeding when the "
+       "texture is filtered."},
       {"layoutLayer",
        Kind::Bool,
        d.add_layout_layer ? 1.0 : 0.0,
@@ -234,6 +269,19 @@ FilterSettings settings_from_values(const ParameterValues& values) {
   s.add_layout_layer = number(values, "layoutLayer") != 0;
   s.strict = number(values, "strictMesh") != 0;
   s.keep_input_triangulation = number(values, "keepInputTriangulation") != 0;
+  s.atlas_distortion = number(values, "atlasDistortion");
+  const double cones = number(values, "atlasMaxCones"), size = number(values, "atlasTextureSize"),
+               padding = number(values, "atlasPadding");
+  if (!(s.atlas_distortion > 0) || !(cones >= 1 && cones <= 1e6) || !(size >= 16 && size <= 1e6) ||
+      !(padding >= 0 && padding <= 1e4)) {
+    throw InvalidArgumentError(
+        "texture atlas parameters out of range: the distortion bound must be positive, the most "
+        "cones 1..1000000, the texture size 16..1000000 texels, the padding 0..10000 texels");
+  }
+  s.atlas_max_cones = static_cast<int>(cones);
+  s.atlas_texture_size = static_cast<int>(size);
+  s.atlas_padding = static_cast<int>(padding);
+  s.atlas_quarter_angles = number(values, "atlasQuarterAngles") != 0;
   return s;
 }
 

@@ -17,7 +17,7 @@ namespace ricci::plugin {
 enum class GeometryChoice { Auto, Euclidean, Hyperbolic, Spherical };
 enum class MixedEpsSource { Selection, QualitySign };
 //! In dialog order; new choices are appended so that saved scripts keep their meaning.
-enum class TargetChoice { Auto, FreeBoundary, Zero, VertexQuality, UnitDisk };
+enum class TargetChoice { Auto, FreeBoundary, Zero, VertexQuality, UnitDisk, Atlas };
 
 //! Everything the filter needs to know, in core terms. The defaults are the core's (its option
 //! structs), and the dialog's defaults are these.
@@ -41,6 +41,12 @@ struct FilterSettings {
   bool strict = false;  //!< refuse a mesh that needs repairs instead of repairing it
   //! lay out the mesh's own faces even where flips turn them over (no common subdivision)
   bool keep_input_triangulation = UniformizationOptions{}.keep_input_triangulation;
+  //! The atlas target's cone placement and packing (cone_placement.h, packing.h).
+  double atlas_distortion = ConePlacementOptions{}.distortion_bound;
+  int atlas_max_cones = kDefaultConeBudget;
+  bool atlas_quarter_angles = ConePlacementOptions{}.quarter_angles;
+  int atlas_texture_size = PackingOptions{}.texture_size;
+  int atlas_padding = PackingOptions{}.padding;
 };
 
 //! One dialog parameter.

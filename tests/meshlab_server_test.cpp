@@ -32,13 +32,14 @@ std::string script(const std::string& name) {
   return std::string(RICCI_SOURCE_DIR) + "/plugin/scripts/" + name;
 }
 
-ServerRun meshlabserver(const std::string& input, const std::string& output,
-                        const std::string& mlx) {
+// `mask`: more of meshlabserver's -m components to write (e.g. "vf", the vertex flags).
+ServerRun meshlabserver(const std::string& input, const std::string& output, const std::string& mlx,
+                        const std::string& mask = "") {
   const std::string log = temp("server.log");
   std::remove(output.c_str());
   const std::string cmd = "xvfb-run -a " + std::string(RICCI_MESHLAB_PREFIX) +
-                          "/bin/meshlabserver -i " + input + " -o " + output + " -m vq vt wt -s " +
-                          mlx + " >" + log + " 2>&1 </dev/null";
+                          "/bin/meshlabserver -i " + input + " -o " + output + " -m vq vt wt " +
+                          mask + " -s " + mlx + " >" + log + " 2>&1 </dev/null";
   const int status = std::system(cmd.c_str());
   ServerRun r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -149,6 +150,30 @@ TEST(MeshlabServer, EachGeometryScriptOnItsTopology) {
       }
     }
   }
+}
+
+TEST(MeshlabServer, AtlasScriptGivesAClosedMeshPackedWedgeTextureCoordinates) {
+  // A closed genus-2 surface, which the other targets lay out in the Poincare disk: the atlas
+  // gives charts in the plane, packed, their faces counter-clockwise, the cones selected.
+  const std::string out = temp("atlas.ply");
+  const ServerRun r = meshlabserver(ricci::test::cgal_mesh_path("eight.off"), out,
+                                    script("ricci_flow_atlas.mlx"), "vf");
+  ASSERT_EQ(r.exit_code, 0) << r.log;
+  EXPECT_NE(r.log.find("Layout (atlas)"), std::string::npos) << r.log;
+  EXPECT_NE(r.log.find("Atlas: "), std::string::npos) << r.log;
+  const ricci::test::PlyData ply = ricci::test::read_ply(out);
+  ASSERT_EQ(ply.face_texcoords.size(), ply.faces.size());
+  for (const auto& t : ply.face_texcoords) {
+    for (double x : t) {
+      EXPECT_GE(x, 0.0);
+      EXPECT_LE(x, 1.0);
+    }
+    EXPECT_GT((t[2] - t[0]) * (t[5] - t[1]) - (t[3] - t[1]) * (t[4] - t[0]), 0);
+  }
+  ASSERT_TRUE(ply.has_vertex("flags"));
+  int selected = 0;
+  for (double f : ply.vertex.at("flags")) selected += (static_cast<int>(f) & 0x20) != 0;
+  EXPECT_GT(selected, 0) << "the cones are selected";
 }
 
 TEST(MeshlabServer, DirtyMeshIsRepairedAndMapped) {

@@ -148,7 +148,8 @@ TEST_P(SampleScript, ListsEveryParameterWithItsTypeAndLabels) {
 
 INSTANTIATE_TEST_SUITE_P(Plugin, SampleScript,
                          ::testing::Values("ricci_flow_auto.mlx", "ricci_flow_euclidean.mlx",
-                                           "ricci_flow_hyperbolic.mlx", "ricci_flow_spherical.mlx"),
+                                           "ricci_flow_hyperbolic.mlx", "ricci_flow_spherical.mlx",
+                                           "ricci_flow_atlas.mlx"),
                          [](const auto& p) {
                            std::string n = p.param;
                            return n.substr(0, n.find('.'));

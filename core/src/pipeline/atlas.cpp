@@ -334,6 +334,14 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
   gather_vertices(out);
   gather_face_layouts(out);
   gather_texture(out, options.packing);
+  for (size_t k = 0; k < out.components.size(); ++k) {
+    const AtlasResult& a = out.components[k].atlas;
+    for (size_t i = 0; i < a.placement.cones.size(); ++i) {
+      const int v = delivered_vertex(out, k, a.placement.cones[i].vertex);
+      out.cones.push_back(
+          {v, i < a.cone_angles.size() ? a.cone_angles[i] : a.placement.cones[i].angle});
+    }
+  }
   return out;
 }
 

@@ -46,6 +46,8 @@ struct MeshUniformization {
   //! per face corner (faces of sphere components at 0); the charts packed into [0, 1]^2. Empty
   //! when no component has a planar layout.
   TextureCoordinates texture;
+  //! The atlas target: its cones, on delivered vertices, with their angles in the exact metric.
+  std::vector<Cone> cones;
   //! Per component: the delivered index of its first new vertex.
   std::vector<int> new_vertex_base;
 
