@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 #include <unordered_map>
@@ -68,6 +69,16 @@ struct FaceCut {
   std::vector<BoundaryPoint> points;
   std::vector<FacePiece> pieces;
 };
+
+// The input face to the left of input edge E walked forward (or backward); -1 beyond the boundary.
+int face_left_of(const Triangulation& input, int E, bool forward) {
+  const auto& ends = input.edge_vertices(E);
+  const int tail = forward ? ends[0] : ends[1];
+  const int h = input.edge_halfedge(E);
+  if (input.halfedge_tail(h) == tail) return h / 3;
+  const int t = input.twin(h);
+  return t < 0 ? -1 : t / 3;
+}
 
 // Cuts face `face` of the overlay's current triangulation by the input's edges.
 FaceCut cut_face(const InputOverlay& overlay, int face) {
@@ -140,15 +151,6 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
     }
     if (to == face && x.next < 0) add_chord(p, corner_of_vertex(input.edge_vertices(E)[1]), E);
   }
-  // The input face to the left of input edge E walked forward (or backward).
-  auto face_left_of = [&](int E, bool forward) {
-    const auto& ends = input.edge_vertices(E);
-    const int tail = forward ? ends[0] : ends[1];
-    const int h = input.edge_halfedge(E);
-    if (input.halfedge_tail(h) == tail) return h / 3;
-    const int t = input.twin(h);
-    return t < 0 ? -1 : t / 3;
-  };
   // The pieces: walk each region keeping it on the left, from every unused boundary arc.
   std::vector<char> arc_used(m, 0);
   for (int start = 0; start < m; ++start) {
@@ -156,7 +158,7 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
     FacePiece piece;
     piece.points = {start};
     auto note_step = [&](int E, bool forward) {
-      const int f = face_left_of(E, forward);
+      const int f = face_left_of(input, E, forward);
       if (f < 0 || (piece.input_face >= 0 && piece.input_face != f)) {
         fail("a piece lies in two input faces");
       }
@@ -528,10 +530,56 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
     return chords;
   };
 
+  // The pieces of face F of Tb between the input's edges (the first overlay's), convex in F's
+  // chart: their corners there, counter-clockwise, and their input faces.
+  struct InputPiece {
+    std::vector<Eigen::Vector2d> corners;
+    int input_face = -1;
+  };
+  auto input_pieces_of = [&](int F, const std::array<Eigen::Vector2d, 3>& z) {
+    const FaceCut cut = cut_face(in_delaunay, F);
+    std::vector<InputPiece> pieces;
+    for (const FacePiece& piece : cut.pieces) {
+      InputPiece out;
+      out.input_face = piece.input_face;
+      for (int p : piece.points) {
+        const BoundaryPoint& b = cut.points[p];
+        if (b.corner >= 0) {
+          out.corners.push_back(z[b.corner]);
+        } else {
+          const double t = in_delaunay.t_from(b.crossing, Tb.face_vertex(F, b.side));
+          out.corners.push_back((1 - t) * z[b.side] + t * z[(b.side + 1) % 3]);
+        }
+      }
+      pieces.push_back(std::move(out));
+    }
+    return pieces;
+  };
+  // The input face holding a cell in face F of Tb: that of the piece of F deepest around the
+  // cell's centroid, not of the corners the cell touches (one may lie within rounding of an
+  // input edge).
+  auto input_face_of = [&](const std::vector<InputPiece>& pieces, const CutPolygon& cell) {
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (const CutPoint& p : cell.points) centroid += p.chart;
+    centroid /= static_cast<double>(cell.points.size());
+    int input_face = -1;
+    double deepest = -std::numeric_limits<double>::infinity();
+    for (const InputPiece& piece : pieces) {
+      double depth = std::numeric_limits<double>::infinity();
+      const size_t n = piece.corners.size();
+      for (size_t i = 0; i < n; ++i) {
+        const Eigen::Vector2d &a = piece.corners[i], d = piece.corners[(i + 1) % n] - a;
+        if (d.squaredNorm() > 0) depth = std::min(depth, cross2(d, centroid - a) / d.norm());
+      }
+      if (depth > deepest) input_face = piece.input_face, deepest = depth;
+    }
+    return input_face;
+  };
+
   // === Cutting the pieces of Tb and Tc
   CommonSubdivision out;
   std::vector<CutPolygon> cells;
-  std::vector<int> cell_face;
+  std::vector<int> cell_face, cell_input_face;
   auto fail = [&](int G, const std::string& what) {
     throw LayoutError("common subdivision: face " + std::to_string(G) +
                       " of the final triangulation: " + what);
@@ -649,6 +697,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
       };
       std::vector<CutPolygon> parts = {poly};
       const std::vector<Chord> chords = chords_in(F, z);
+      const std::vector<InputPiece> input_pieces = input_pieces_of(F, z);
       for (size_t ci = 0; ci < chords.size(); ++ci) {
         const Chord& ch = chords[ci];
         const Eigen::Vector2d a0 = ch.end[0].point.chart, dir = ch.end[1].point.chart - a0;
@@ -705,6 +754,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
         parts = std::move(next);
       }
       for (CutPolygon& pl : parts) {
+        cell_input_face.push_back(input_face_of(input_pieces, pl));
         cells.push_back(std::move(pl));
         cell_face.push_back(G);
       }
@@ -750,27 +800,10 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
   out.vertex_layout.assign(out.positions.size(), Eigen::Vector3d::Constant(std::nan("")));
   std::vector<char> laid(out.positions.size(), 0);
 
-  // === The faces: each cell fan-triangulated, in the input face all its corners touch.
-  auto faces_around = [&](int v) {
-    if (v < nv) return vertex_faces[v];
-    const NewVertex& x = added[v - nv];
-    if (x.input_edge < 0) return std::vector<int>{x.face};
-    const auto& f = mesh.edge_faces(x.input_edge);
-    std::vector<int> list = {f[0]};
-    if (f[1] >= 0) list.push_back(f[1]);
-    return list;
-  };
+  // === The faces: each cell cut into ears, in its input face.
   for (size_t c = 0; c < cells.size(); ++c) {
     const CutPolygon& cell = cells[c];
-    // The input face most corners touch (all, but for a corner within rounding of an input edge).
-    std::map<int, int> touching;
-    for (const CutPoint& p : cell.points) {
-      for (int f : faces_around(p.vertex)) ++touching[f];
-    }
-    int input_face = -1, most = 0;
-    for (const auto& [f, count] : touching) {
-      if (count > most) input_face = f, most = count;
-    }
+    const int input_face = cell_input_face[c];
     if (input_face < 0) fail(cell_face[c], "a piece lies in no input face");
     for (const std::array<size_t, 3>& ear : ears(cell)) {
       std::array<int, 3> tri{};
