@@ -392,6 +392,16 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
       ab_vertex[c] = on_input_edge(ab_crossings[c].input_edge, ab_crossings[c].s);
     return ab_vertex[c];
   };
+  double layout_size = 0;  // the diagonal of the layout's bounding box
+  {
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()),
+                    hi = -lo;
+    for (const auto& corners : layout.corners) {
+      for (const Eigen::Vector3d& p : corners)
+        lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
+    }
+    layout_size = (hi - lo).norm();
+  }
   // A point of Tb's edge eb at parameter s: straight in the input faces between the crossings of
   // the input's edges along it.
   auto on_delaunay_edge = [&](int eb, double s) {
@@ -399,6 +409,15 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
     const int a = Tb.edge_vertices(eb)[0], b = Tb.edge_vertices(eb)[1];
     if (E >= 0) return on_input_edge(E, mesh.edge_vertices(E)[0] == a ? s : 1 - s);
     const std::vector<int> list = in_delaunay.crossings_on(eb);
+    // Where an edge of Tc crosses eb at an input edge's crossing, or nearer to it than float
+    // texture coordinates resolve (1e-6 of the layout's size, the gap measured in the final
+    // metric's length of eb), the two are one vertex, on the input edge: else the sliver
+    // between them turns over in the texture (elk: Tc edges that are input edges flipped back,
+    // a few 1e-6 of eb away from them).
+    const double final_length = length[eb] * std::exp((result.u[a] + result.u[b]) / 2);
+    for (int c : list) {
+      if (std::abs(ab_crossings[c].t - s) * final_length <= 1e-6 * layout_size) return ab_point(c);
+    }
     size_t k = 0;
     while (k < list.size() && ab_crossings[list[k]].t <= s) ++k;
     struct Station {
@@ -593,6 +612,17 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
                      realize(over_delaunay, t, v, w, result.u), DiskSidePoints::OnGeodesic);
     };
     const FaceCut cut = cut_face(over_delaunay, G);
+    // A crossing of Tb's and Tc's edges that on_delaunay_edge made an input edge's crossing is
+    // drawn on G's side, in each piece of G that holds it.
+    for (const BoundaryPoint& b : cut.points) {
+      if (b.crossing < 0) continue;
+      const int v = bc_point(b.crossing);
+      if (v >= nv && added[v - nv].input_edge >= 0) {
+        layout_in.emplace(
+            std::make_pair(v, G),
+            g_layout(b.side, over_delaunay.t_from(b.crossing, Tc.face_vertex(G, b.side))));
+      }
+    }
     for (const FacePiece& piece : cut.pieces) {
       const int F = piece.input_face;
       const std::array<Eigen::Vector2d, 3> z = chart_of(F);
