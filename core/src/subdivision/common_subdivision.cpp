@@ -410,10 +410,10 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
     if (E >= 0) return on_input_edge(E, mesh.edge_vertices(E)[0] == a ? s : 1 - s);
     const std::vector<int> list = in_delaunay.crossings_on(eb);
     // Where an edge of Tc crosses eb at an input edge's crossing, or nearer to it than float
-    // texture coordinates resolve (1e-6 of the layout's size, the gap measured in the final
-    // metric's length of eb), the two are one vertex, on the input edge: else the sliver
-    // between them turns over in the texture (elk: Tc edges that are input edges flipped back,
-    // a few 1e-6 of eb away from them).
+    // texture coordinates resolve (1e-6 of the layout's size, the gap measured in eb's length
+    // l e^((ua + ub) / 2) of the final metric), the two are one vertex, on the input edge: else
+    // the sliver between them turns over in the texture (elk: Tc edges that are input edges
+    // flipped back cross eb 1e-8 of the layout's size from them).
     const double final_length = length[eb] * std::exp((result.u[a] + result.u[b]) / 2);
     for (int c : list) {
       if (std::abs(ab_crossings[c].t - s) * final_length <= 1e-6 * layout_size) return ab_point(c);
