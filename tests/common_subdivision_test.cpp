@@ -255,6 +255,53 @@ TEST(CommonSubdivision, IsometricFlipsOfAFlatMeshDeliverTheIdentity) {
   }
 }
 
+// The quasi-conformal ratio of the affine map from a piece in 3D to its layout triangle in the
+// plane: the ratio of its singular values.
+double quasi_conformal(const std::array<Vec3, 3>& x, const std::array<Vec3, 3>& uv) {
+  const Vec3 e1 = x[1] - x[0], e2 = x[2] - x[0];
+  const Vec3 a = e1.normalized(), b = (e2 - e2.dot(a) * a).normalized();
+  Eigen::Matrix2d from, to;
+  from << e1.dot(a), e2.dot(a), e1.dot(b), e2.dot(b);
+  to << uv[1].x() - uv[0].x(), uv[2].x() - uv[0].x(), uv[1].y() - uv[0].y(), uv[2].y() - uv[0].y();
+  const Eigen::Vector2d sigma =
+      Eigen::JacobiSVD<Eigen::Matrix2d>(to * from.inverse()).singularValues();
+  return sigma[0] / sigma[1];
+}
+
+// Meshcat's slotted disk: the Euclidean Yamabe flow flips it isometrically to its intrinsic
+// Delaunay triangulation, then by Ptolemy flips away from it. The map is projective on the cells
+// of both triangulations only; an input edge drawn straight across an edge of the Delaunay
+// triangulation the Ptolemy flips removed puts its new vertices off their places, and the pieces
+// straddling such an edge come out sheared (p95 of the ratio 22.8 then; CEPS's 3.65).
+TEST(CommonSubdivision, PiecesFollowTheInputsDelaunayTriangulation) {
+  const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/meshcat-slotted-disk.stl");
+  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  ASSERT_EQ(repaired.components.size(), 1u);
+  const CompactMesh& mesh = repaired.components[0].mesh;
+  UniformizationOptions o;
+  o.preset = TargetPreset::FreeBoundary;
+  const Uniformization run = uniformize(mesh, o);
+  ASSERT_TRUE(run.converged()) << run.result.failure;
+  int isometric = 0, ptolemy = 0;
+  for (const EdgeFlip& f : run.result.flip_sequence) (f.isometric ? isometric : ptolemy) += 1;
+  ASSERT_GT(isometric, 50) << "this mesh no longer shows the case";
+  ASSERT_GT(ptolemy, 50) << "this mesh no longer shows the case";
+  ASSERT_TRUE(run.subdivision.has_value()) << run.layout_failure;
+  const CommonSubdivision& s = *run.subdivision;
+  expect_input_surface(mesh, s);
+  std::vector<double> ratio;
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    const std::array<Vec3, 3> x = {s.positions[s.faces[f][0]], s.positions[s.faces[f][1]],
+                                   s.positions[s.faces[f][2]]};
+    const double q = quasi_conformal(x, s.corners[f]);
+    if (std::isfinite(q)) ratio.push_back(q);
+  }
+  ASSERT_GT(ratio.size(), s.faces.size() * 99 / 100);
+  std::sort(ratio.begin(), ratio.end());
+  EXPECT_LE(ratio[ratio.size() / 2], 1.6);
+  EXPECT_LE(ratio[ratio.size() * 95 / 100], 5.0);
+}
+
 // A hyperbolic triangle is drawn with straight sides, but its sides are arcs bowing toward the
 // disk's centre: near the rim a thin face positive in the metric turns over as drawn. Netgen's
 // hinge (genus 5, no flips) has three such faces; they are split until none is turned.

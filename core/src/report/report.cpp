@@ -154,8 +154,9 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
            " of the input's faces would turn over on the flipped triangulation, so the input is "
            "cut along its edges: ",
            sub.positions.size(), " vertices (", sub.positions.size() - mesh.num_vertices(),
-           " new: on input edges, and any rim splits below), ", sub.faces.size(), " faces (",
-           sub.seconds, " s)");
+           " new: on input edges, inside input faces where the input's Delaunay triangulation "
+           "crosses the final one, and any rim splits below), ",
+           sub.faces.size(), " faces (", sub.seconds, " s)");
     }
     if (sub.disk_splits > 0) {
       line("Poincare disk drawing: ", sub.disk_splits,

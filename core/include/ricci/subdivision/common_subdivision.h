@@ -4,17 +4,29 @@
 // The flow's metric lives on the flipped triangulation T' of the input's vertices; the input's
 // edges, followed through every flip (input_overlay.h), cross the edges of T'. Cutting the input
 // mesh along T' (equivalently T' along the input's edges) gives pieces that each lie in one input
-// face, so the result is the user's surface exactly (new vertices lie on input edges, at their
-// 3D position), and in one face of T', so each piece's layout is a straight piece of a triangle
-// of the final metric: in the plane, the Poincare disk or on the sphere. Pieces are convex in
-// both, and fan-triangulated. A new vertex is the same point of the surface in 3D and in the
-// layout: the point of the flow's discrete conformal map (input_overlay.h), on the geodesic side of
-// its final face (in the Poincare disk an arc: its copies on the two sides of a cut are images of
-// each other under the deck transformation, and the pieces are hyperbolic triangles; drawn with
-// straight sides, thin ones near the rim can turn over, which disk_drawing.h mends).
+// face, so the result is the user's surface exactly (new vertices lie on input edges, or through
+// Tb below inside input faces, at their 3D position), and in one face of T', so each piece's layout
+// is a straight piece of a triangle of the final metric: in the plane, the Poincare disk or on the
+// sphere. Pieces are convex in both, and fan-triangulated. A new vertex is the same point of the
+// surface in 3D and in the layout: the point of the flow's discrete conformal map
+// (input_overlay.h), on the geodesic side of its final face (in the Poincare disk an arc: its
+// copies on the two sides of a cut are images of each other under the deck transformation, and the
+// pieces are hyperbolic triangles; drawn with straight sides, thin ones near the rim can turn over,
+// which disk_drawing.h mends).
+//
+// The Euclidean Yamabe flow with flips first flips the input Ta isometrically to its intrinsic
+// Delaunay triangulation Tb, then by Ptolemy flips to the final Tc = T'; the map is projective on
+// the cells of all three only, so its pieces are Ta, Tb and Tc cut by each other: Tb's faces cut
+// by Tc (the Ptolemy flips followed over Tb), each piece cut in its Tb face's Euclidean chart by
+// the input's edges, and triangulated by ears. The new vertices then also include the crossings
+// of Tb's and Tc's edges, inside input faces (vertex_input_edge -1, at their barycentric
+// coordinates there); one nearer to an input edge's crossing on the same edge of Tb than float
+// texture coordinates resolve is that vertex. The other flows (H2, S2, frozen metrics, no
+// isometric flips) follow the input's edges through all flips in one overlay.
 //
 // Vertices: the input's first, unchanged and in order; then one per crossing of an input edge with
-// an edge of T', input edge after input edge, in the order along each. The Poincare disk's
+// an edge of T', input edge after input edge, in the order along each (through Tb: with Tb's
+// edges too, then the crossings of Tb's and Tc's edges inside input faces). The Poincare disk's
 // drawing may split sides further (disk_drawing.h): those vertices come last, each on its side
 // (dividing it as the split divides the geodesic), on an input edge or inside an input face.
 #pragma once
@@ -43,7 +55,7 @@ struct CommonSubdivision {
   std::vector<Eigen::Vector3d> vertex_barycentric;
   //! Per new vertex: the input edge it lies on and its parameter there (0 at the edge's first
   //! vertex, 1 at its second); -1 and NaN for a vertex inside an input face (a side split for the
-  //! Poincare disk's drawing).
+  //! Poincare disk's drawing, or a crossing of Tb's and Tc's edges).
   std::vector<int> vertex_input_edge;
   std::vector<double> vertex_edge_parameter;
   //! The layout per face and corner, in the model of `layout` (before any normalization).
