@@ -147,6 +147,12 @@ nb::dict uniformize_arrays(const Points& v, const Triangles& f, std::vector<std:
   bool charts = false;
   for (const Uniformization& c : run.components) charts = charts || !c.face_chart.empty();
   d["face_chart"] = charts ? indices(run.face_chart) : nb::none();
+  // The atlas target's cones: delivered vertex and angle in the exact metric.
+  std::vector<int> cone_vertices;
+  std::vector<double> cone_angles;
+  for (const Cone& c : run.cones) cone_vertices.push_back(c.vertex), cone_angles.push_back(c.angle);
+  d["cones"] = indices(cone_vertices);
+  d["cone_angles"] = numpy(std::move(cone_angles), {run.cones.size()});
   std::vector<std::string> kinds;
   for (const Uniformization& c : run.components) kinds.push_back(to_string(c.layout_kind));
   d["layout_kinds"] = kinds;

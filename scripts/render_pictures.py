@@ -2,7 +2,7 @@
 """Renders a ricci-flow result (ASCII PLY) as two pictures: the mesh with a checkerboard texture
 taken from its layout, and the layout itself.
 
-A small z-buffer rasterizer in numpy (no graphics stack needed). The checkerboard comes from the
+A result PLY (ASCII or binary), read by measure_layouts.read_ply. A small z-buffer rasterizer in numpy (no graphics stack needed). The checkerboard comes from the
 texture coordinates (per vertex or per face corner) or, for layouts on the unit sphere, from the
 longitude and latitude of the sphere point, interpolated per pixel.
 
@@ -10,11 +10,15 @@ usage: render_pictures.py RESULT.ply MESH.png LAYOUT.png [--view AZIMUTH ELEVATI
 """
 import argparse
 import math
+import os
 import struct
 import sys
 import zlib
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import measure_layouts  # noqa: E402  (the one PLY reader of the scripts)
 
 LIGHT = np.array([0.3, 0.4, 1.0]) / np.linalg.norm([0.3, 0.4, 1.0])
 CHECK_A = np.array([232.0, 126.0, 52.0])
@@ -22,39 +26,14 @@ CHECK_B = np.array([248.0, 244.0, 232.0])
 BACKGROUND = np.array([255, 255, 255], dtype=np.uint8)
 
 
-def read_ascii_ply(path):
-    with open(path, "r", encoding="ascii") as f:
-        lines = f.read().split("\n")
-    if lines[0] != "ply" or not lines[1].startswith("format ascii"):
-        sys.exit(f"{path}: not an ASCII PLY (run ricci-flow with --ascii)")
-    elements, current, i = [], None, 2
-    while lines[i] != "end_header":
-        words = lines[i].split()
-        if words[0] == "element":
-            current = {"name": words[1], "count": int(words[2]), "properties": []}
-            elements.append(current)
-        elif words[0] == "property":
-            current["properties"].append(words[-1])
-        i += 1
-    i += 1
-    data = {}
-    for element in elements:
-        rows = [lines[i + k].split() for k in range(element["count"])]
-        i += element["count"]
-        if element["name"] == "vertex":
-            table = np.array(rows, dtype=float)
-            data["vertex"] = {p: table[:, j] for j, p in enumerate(element["properties"])}
-        elif element["name"] == "face":
-            faces, texcoords = [], []
-            for row in rows:
-                n = int(row[0])
-                faces.append([int(x) for x in row[1 : 1 + n]])
-                if "texcoord" in element["properties"]:
-                    m = int(row[1 + n])
-                    texcoords.append([float(x) for x in row[2 + n : 2 + n + m]])
-            data["faces"] = np.array(faces, dtype=int)
-            data["texcoord"] = np.array(texcoords).reshape(-1, 3, 2) if texcoords else None
-    return data
+def read_result(path):
+    """Vertex properties, triangles and per-corner texture coordinates (or None) of a result PLY,
+    by the scripts' one PLY reader (measure_layouts.read_ply; ASCII or binary)."""
+    vertex, face = measure_layouts.read_ply(path)
+    texcoord = face.get("texcoord_double") or face.get("texcoord")
+    return {"vertex": {k: np.asarray(x, dtype=float) for k, x in vertex.items()},
+            "faces": np.array([[int(i) for i in t] for t in face["vertex_indices"]], dtype=int),
+            "texcoord": None if texcoord is None else np.array(texcoord).reshape(-1, 3, 2)}
 
 
 def write_png(path, image):
@@ -175,7 +154,7 @@ def main():
                         help="the texture is the Poincare disk: frame it and draw its circle")
     args = parser.parse_args()
 
-    ply = read_ascii_ply(args.result)
+    ply = read_result(args.result)
     v, faces = ply["vertex"], ply["faces"]
     x = np.stack([v["x"], v["y"], v["z"]], axis=1)
     sphere = "layout_z" in v and "texture_u" not in v

@@ -18,6 +18,7 @@ import tempfile
 import numpy as np
 
 from . import _ricci_flow
+from . import meshlab  # noqa: F401  (ricci_flow.meshlab.load_plugin() after import ricci_flow)
 from ._ricci_flow import RicciFlowError
 
 __all__ = ["uniformize", "read_mesh", "Result", "Solver", "RicciFlowError"]
@@ -26,7 +27,7 @@ __version__ = "0.1.0"
 _SWITCHES = ("no_flips", "keep_input_triangulation", "strict")
 _VALUES = ("geometry", "scheme", "angle", "target", "center", "axis", "tolerance",
            "max_iterations", "solver", "flips")
-_PLANAR = ("plane", "plane-cut", "poincare-disk")
+_PLANAR = ("plane", "plane-cut", "poincare-disk", "atlas")
 
 
 def _write_numbers(folder, name, rows):
@@ -93,10 +94,17 @@ class Result:
     corner_layout: per face corner, (m, 3, 2) in the plane or the Poincare disk, (m, 3, 3) when a
         component lies on the sphere; None where a component has no layout.
     face_chart: per face, the Poincare disk chart its corners are in, where a hyperbolic domain
-        reaches too far from its centre for one disk in double precision (else None): each chart
-        is a piece of the domain moved near the centre of its own disk; 0 for the faces of a
-        component in one piece, -1 for those of a component without a layout.
-    layout_kinds: per component: "plane", "plane-cut", "poincare-disk", "sphere" or "none".
+        reaches too far from its centre for one disk in double precision, or the atlas chart
+        (target="atlas") (else None): each Poincare chart is a piece of the domain moved near the
+        centre of its own disk; 0 for the faces of a component in one piece, -1 for those of a
+        component without a layout.
+    layout_kinds: per component: "plane", "plane-cut", "poincare-disk", "sphere", "atlas" or
+        "none".
+    cones, cone_angles: target="atlas": the cones' vertices (int) and angles (radians, in the
+        exact flat metric); empty otherwise.
+    atlas: target="atlas": the report's atlas entry (cones, distortion D, charts, seams,
+        utilization, ...), a list with one entry per component when there are several; else
+        None.
     texcoord: the texture atlas in [0, 1]^2, per vertex (n, 2) or per corner (m, 3, 2).
     u, radius, curvature, target: per vertex (NaN where a vertex is in no face; target NaN where
         u was held fixed).
@@ -122,6 +130,7 @@ class Result:
         corners = d["corner_layout"]
         self.corner_layout = None if corners is None else (corners[:, :, :2] if planar else corners)
         self.face_chart = d["face_chart"]
+        self.cones, self.cone_angles = d["cones"], d["cone_angles"]
         per_vertex = all(k in ("plane", "sphere") for k in self.layout_kinds)
         position = d["position"]
         self.layout = None
@@ -130,6 +139,9 @@ class Result:
         parts = self.report.get("components") or [self.report]
         layouts = [p.get("layout") or {} for p in parts]
         self.quality = layouts[0] if len(layouts) == 1 else layouts
+        atlases = [l.get("atlas") for l in layouts]
+        self.atlas = None if all(a is None for a in atlases) else (
+            atlases[0] if len(atlases) == 1 else atlases)
         decks = [l.get("deck_transformations", []) for l in layouts]
         self.deck_transformations = decks[0] if len(decks) == 1 else decks
 

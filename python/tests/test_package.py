@@ -128,6 +128,22 @@ def test_far_reaching_hyperbolic_domains_come_in_charts():
     assert np.all(signed_areas(r.texcoord) > 0)
 
 
+def test_atlas_of_a_closed_genus_two_surface():
+    V, F = mesh("eight.off")
+    r = ricci_flow.uniformize(V, F, target="atlas")
+    assert r.converged and r.layout_kinds == ["atlas"]
+    assert len(r.cones) > 0 and len(r.cones) == len(r.cone_angles)
+    assert np.all(r.cone_angles > 0)
+    # Gauss-Bonnet: the cones carry the whole curvature 2 pi chi of the flat metric.
+    chi = len(V) - len(F) // 2
+    assert abs(np.sum(2 * math.pi - r.cone_angles) - 2 * math.pi * chi) < 1e-8
+    assert len(r.face_chart) == len(r.faces) and r.atlas["charts"] == len(np.unique(r.face_chart))
+    assert r.texcoord.shape == (len(r.faces), 3, 2)
+    assert np.all((r.texcoord >= 0) & (r.texcoord <= 1))
+    assert np.all(signed_areas(r.texcoord) > 0) and np.all(signed_areas(r.corner_layout) > 0)
+    assert r.atlas["overlapping_faces"] == 0 and r.atlas["distortion"] <= 0.2
+
+
 def test_dirty_input_is_repaired_and_reported():
     V, F = mesh("nefertiti.off")
     V2 = np.vstack([V, [[9.0, 9.0, 9.0]]])                  # an unreferenced vertex
@@ -212,14 +228,16 @@ def test_console_script(tmp_path):
 
 def test_pymeshlab_plugin_from_the_wheel():
     pymeshlab = pytest.importorskip("pymeshlab")
-    import ricci_flow.meshlab
-    path = ricci_flow.meshlab.load_plugin()
+    path = ricci_flow.meshlab.load_plugin()  # after `import ricci_flow` alone, as documented
     assert path.startswith(os.path.dirname(ricci_flow.__file__))
     ms = pymeshlab.MeshSet()
     ms.load_new_mesh(os.path.join(MESHES, "nefertiti.off"))
     stats = ms.apply_filter(ricci_flow.meshlab.FILTER, target=4)  # the unit disk
     assert stats["circle_error"] < 1e-9 and stats["flipped_faces"] == 0
     assert ms.current_mesh().has_vertex_tex_coord()
+    ms.load_new_mesh(os.path.join(MESHES, "eight.off"))
+    ms.apply_filter(ricci_flow.meshlab.FILTER, target=5)  # the texture atlas
+    assert ms.current_mesh().has_wedge_tex_coord()
     # The plugin runs with pymeshlab's Qt and MeshLab, and this wheel's sparse Cholesky: none of
     # them comes from the system.
     loaded = {line.split()[-1] for line in open("/proc/self/maps") if ".so" in line}
