@@ -5,8 +5,6 @@
 #include <limits>
 #include <sstream>
 
-#include <Eigen/Eigenvalues>
-
 #include "ricci/layout/charts.h"
 #include "ricci/layout/packing.h"
 #include "ricci/layout/seams.h"
@@ -92,9 +90,14 @@ std::vector<std::pair<int, int>> long_chart_ends(const Charts& charts, double as
   std::vector<std::pair<int, int>> ends;
   std::vector<Eigen::Vector2d> axis(charts.num_charts, Eigen::Vector2d::Zero());
   for (int k = 0; k < charts.num_charts; ++k) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> e(moment[k]);
-    const Eigen::Vector2d l = e.eigenvalues();  // ascending
-    if (l[1] > aspect * aspect * std::max(l[0], 0.0)) axis[k] = e.eigenvectors().col(1);
+    // The symmetric 2 x 2 moment's eigenvalues and its major axis, in closed form.
+    const double a = moment[k](0, 0), b = moment[k](0, 1), c = moment[k](1, 1);
+    const double mid = (a + c) / 2, radius = std::sqrt((a - c) * (a - c) / 4 + b * b);
+    const double major = mid + radius, minor = mid - radius;
+    if (!(major > aspect * aspect * std::max(minor, 0.0))) continue;
+    const Eigen::Vector2d d =
+        a >= c ? Eigen::Vector2d(major - c, b) : Eigen::Vector2d(b, major - a);
+    axis[k] = d.normalized();
   }
   std::vector<int> lo(charts.num_charts, -1), hi(charts.num_charts, -1);
   std::vector<double> lo_at(charts.num_charts, INFINITY), hi_at(charts.num_charts, -INFINITY);

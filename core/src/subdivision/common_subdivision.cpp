@@ -346,7 +346,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
                  xl = (c[1] * c[1] - c[2] * c[2] + c[4] * c[4]) / (2 * c[4]);
     const double yk = std::sqrt(std::max(0.0, c[0] * c[0] - xk * xk)),
                  yl = -std::sqrt(std::max(0.0, c[1] * c[1] - xl * xl));
-    length[f.edge] *= std::hypot(xk - xl, yk - yl) / c[4];
+    length[f.edge] *= std::sqrt((xk - xl) * (xk - xl) + (yk - yl) * (yk - yl)) / c[4];
     in_delaunay.flip(f);
   }
   const Triangulation& Tb = in_delaunay.triangulation();
