@@ -1,0 +1,89 @@
+// Time of the atlas target (--target atlas) on real closed meshes of genus 0, 4 and 22, the whole
+// pipeline (repair, cone placement, flow, subdivision, seams, charts, packing), and the unit that
+// travels between machines: one numeric factorization of the same mesh's Yamabe Hessian at u = 0
+// (one vertex pinned). Run by bench/run.sh in a Release build.
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+#include "flow/hessian.h"
+#include "flow/metric.h"
+#include "ricci/flow/ricci_flow.h"
+#include "ricci/io/mesh_io.h"
+#include "ricci/pipeline/atlas.h"
+
+namespace ricci::bench {
+namespace {
+
+const std::vector<std::string> kMeshes = {"pymeshlab-cow.obj", "openfoam-flange.stl",
+                                          "glmark2-bunny.obj", "occt-tr12j.stl"};
+
+const RepairedMesh& repaired(int k) {
+  static std::vector<RepairedMesh> meshes(kMeshes.size());
+  static std::vector<bool> read(kMeshes.size(), false);
+  if (!read[k]) {
+    const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/" + kMeshes[k]);
+    meshes[k] = repair_mesh(file.positions, file.triangles);
+    read[k] = true;
+  }
+  return meshes[k];
+}
+
+// range(0): the mesh.
+void BM_Atlas(benchmark::State& state) {
+  const RepairedMesh& mesh = repaired(static_cast<int>(state.range(0)));
+  UniformizationOptions options;
+  options.preset = TargetPreset::Atlas;
+  MeshUniformization last;
+  for (auto _ : state) {
+    last = uniformize_mesh(mesh, options);
+    benchmark::DoNotOptimize(last.texture.wedge.data());
+  }
+  if (!last.valid()) state.SkipWithError("no valid atlas");
+  const Uniformization& run = last.components.front();
+  state.SetLabel(kMeshes[state.range(0)]);
+  state.counters["faces"] = mesh.components.front().mesh.num_faces();
+  state.counters["cones"] = static_cast<double>(run.atlas.placement.cones.size());
+  state.counters["placement_back_solves"] = run.atlas.placement.back_solves;
+  state.counters["s_placement"] = run.atlas.placement.seconds;
+  state.counters["flow_factorizations"] = run.totals.numeric_factorizations;
+  state.counters["charts"] = run.atlas.num_charts;
+  state.counters["distortion"] = run.atlas.flow_distortion;
+  state.counters["utilization"] = run.atlas.utilization;
+}
+
+void BM_AtlasMeshHessianFactorization(benchmark::State& state) {
+  const CompactMesh& mesh = repaired(static_cast<int>(state.range(0))).components.front().mesh;
+  const TargetCurvature target = TargetCurvature::zero(mesh);
+  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, SchemeOptions(), target);
+  std::vector<int> free_index(mesh.num_vertices(), -1);
+  for (int v = 1; v < mesh.num_vertices(); ++v) free_index[v] = v - 1;
+  HessianAssembler assembler(mesh, free_index);
+  const SparseMatrix& h = assembler.assemble(evaluate_metric(mesh, s, s.u0));
+  LinearSolver solver(LinearSolverKind::Cholmod);
+  solver.analyze(h);
+  for (auto _ : state) {
+    // The input's Hessian may be indefinite (obtuse faces); a small shift keeps it factorable.
+    benchmark::DoNotOptimize(solver.factorize(h, 1e-8));
+  }
+  state.SetLabel(kMeshes[state.range(0)]);
+  state.counters["unknowns"] = mesh.num_vertices() - 1;
+}
+
+BENCHMARK(BM_Atlas)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
+BENCHMARK(BM_AtlasMeshHessianFactorization)
+    ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
+
+}  // namespace
+}  // namespace ricci::bench
+
+BENCHMARK_MAIN();
