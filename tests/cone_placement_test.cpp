@@ -106,6 +106,12 @@ TEST(ConePlacement, QuarterAnglesAreQuarterTurnsSummingToGaussBonnet) {
     EXPECT_GE(c.angle, kPi / 2 - 1e-12);
   }
   EXPECT_NEAR(curvature_sum(p), 4 * kPi, 1e-9);
+  // Rounding moves D; where it leaves D above the bound, the placement says so.
+  EXPECT_NEAR(area_distortion(mesh, p.u), p.distortion, 1e-12);
+  EXPECT_EQ(p.bound_reached, p.distortion <= 0.2);
+  if (!p.bound_reached) {
+    EXPECT_NE(p.why_not.find("quarter"), std::string::npos);
+  }
 }
 
 TEST(ConePlacement, OptionsOutOfRangeAreRefused) {

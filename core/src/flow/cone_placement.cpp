@@ -419,6 +419,11 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   for (size_t i = 0; i < cones.size(); ++i) result.cones.push_back({cones[i], 2 * kPi - k[i]});
   result.u = u.size() ? u : Eigen::VectorXd::Zero(mesh.num_vertices());
   result.distortion = distortion_of(search.area(), result.u);
+  if (o.quarter_angles && result.bound_reached && result.distortion > o.distortion_bound) {
+    result.bound_reached = false;
+    result.why_not = "rounding the cone angles to quarter turns leaves D at " +
+                     std::to_string(result.distortion);
+  }
   const double mean = search.area().dot(result.u);
   result.max_deviation = (result.u.array() - mean).abs().maxCoeff();
   result.factorizations = model.factored() ? 1 : 0;
