@@ -115,6 +115,12 @@ class LinearConeModel {
       s.k.resize(0);
       return s;
     }
+    if (m == 0) {  // u = 0 on the boundary: the free-boundary model itself
+      s.u = g_;
+      s.k.resize(0);
+      s.ok = true;
+      return s;
+    }
     const int rows = m + (closed ? 1 : 0);
     Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, rows);
     Eigen::VectorXd rhs(rows);
