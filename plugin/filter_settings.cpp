@@ -305,7 +305,12 @@ std::string filter_info() {
          "ricci_target and, for layouts one point per vertex (disk, circle domain, sphere), "
          "ricci_layout; vertex quality = u with a color ramp; vertex texture coordinates for disks "
          "and circle domains, wedge texture coordinates for surfaces cut open (torus in the plane, "
-         "higher genus in the Poincare disk). The log reports the layout's quality. The mesh must "
+         "higher genus in the Poincare disk).<br><br>"
+         "<b>For a texture of any mesh,</b> closed ones too, choose the target <i>Texture "
+         "atlas</i>: cones placed until the area distortion is within the bound, seams through "
+         "them on the mesh's edges, charts without overlap packed into [0,1]^2 as wedge texture "
+         "coordinates; the cones become the vertex selection.<br><br>"
+         "The log reports the layout's quality. The mesh must "
          "be one connected, "
          "manifold, orientable triangle mesh without degenerate faces; otherwise it is left "
          "unchanged and the log says why.";
