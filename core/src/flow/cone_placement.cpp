@@ -206,6 +206,7 @@ class Search {
 
   // The interior vertex, not a cone, of largest |u| (|u - mean| without cones); -1 if none.
   int farthest(const State& s) {
+    if (!s.solution.ok) return -1;
     mark(s.cones);
     const Eigen::VectorXd& u = s.solution.u;
     const double mean = s.cones.empty() ? area_.dot(u) : 0;
@@ -297,11 +298,18 @@ Eigen::VectorXd quarter_rounded(const Eigen::VectorXd& k, bool closed, int chi, 
     std::sort(order.begin(), order.end(), [&](int a, int b) {
       return sign * (k[a] / quarter - q[a]) > sign * (k[b] / quarter - q[b]);
     });
-    for (size_t j = 0; missing != 0 && !order.empty(); j = (j + 1) % order.size()) {
-      const int i = order[j];
-      if (sign > 0 && q[i] >= top) continue;
-      q[i] += sign;
-      missing -= sign;
+    // Rounds over the cones until the sum is met, or a whole round changes none (every cone at
+    // the floor's limit: the sum is then left short, and D says what that costs).
+    bool changed = true;
+    while (missing != 0 && changed) {
+      changed = false;
+      for (size_t j = 0; j < order.size() && missing != 0; ++j) {
+        const int i = order[j];
+        if (sign > 0 && q[i] >= top) continue;
+        q[i] += sign;
+        missing -= sign;
+        changed = true;
+      }
     }
   }
   return q.cast<double>() * quarter;
@@ -352,6 +360,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     std::vector<int> more = state.cones;
     more.push_back(v);
     state = search.evaluate(more);
+    model.keep_only(state.cones);  // the candidates' columns tried and left (n doubles each)
   }
 
   // === Gauss-Seidel: each cone moved to the farthest vertex of the set without it.
@@ -410,7 +419,9 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   }
   Eigen::VectorXd k = state.solution.k;
   Eigen::VectorXd u = state.solution.u;
-  std::vector<int> cones = state.cones;
+  // No flat metric with these cones (a singular system): none are delivered, and the flow says
+  // what the target without them gives.
+  std::vector<int> cones = state.solution.ok ? state.cones : std::vector<int>{};
   if (o.quarter_angles && state.solution.ok) {
     const Eigen::VectorXd rounded = quarter_rounded(k, closed, chi, o.min_cone_angle);
     std::vector<int> kept;

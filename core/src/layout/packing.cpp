@@ -213,7 +213,7 @@ Placed pack_rasters(const std::vector<std::array<Raster, 2>>& rasters,
   Mask atlas(side, side);
   for (size_t k : order) {
     while (true) {
-      long best = std::numeric_limits<long>::max();
+      std::int64_t best = std::numeric_limits<std::int64_t>::max();
       for (int turn = 0; turn < 2; ++turn) {
         const Mask& m = rasters[k][turn].mask;
         for (int y = 0; y + m.height() <= atlas.height(); ++y) {
@@ -230,7 +230,7 @@ Placed pack_rasters(const std::vector<std::array<Raster, 2>>& rasters,
           }
         }
       }
-      if (best < std::numeric_limits<long>::max()) break;
+      if (best < std::numeric_limits<std::int64_t>::max()) break;
       atlas.grow(atlas.width() + atlas.width() / 4 + 1, atlas.height() + atlas.height() / 4 + 1);
     }
     const Mask& m = p.raster[k]->mask;

@@ -42,8 +42,10 @@ class EdgeGraph {
   const std::vector<int>& edges_at(int v) const { return adjacent_[v]; }
   double length(int e) const { return lengths_[e]; }
 
-  // Dijkstra from `sources`, not across edges where `blocked` is set (may be empty).
-  ShortestPaths from(const std::vector<int>& sources, const std::vector<char>& blocked = {}) const {
+  // Dijkstra from `sources`, not across edges where `blocked` is set, and not on from vertices
+  // where `stop` is set (they are reached, not passed; either mask may be empty).
+  ShortestPaths from(const std::vector<int>& sources, const std::vector<char>& blocked = {},
+                     const std::vector<char>& stop = {}) const {
     const int nv = mesh_.num_vertices();
     ShortestPaths p{std::vector<double>(nv, kInfinity), std::vector<int>(nv, -1),
                     std::vector<int>(nv, -1)};
@@ -57,6 +59,7 @@ class EdgeGraph {
       const auto [d, v] = queue.top();
       queue.pop();
       if (d > p.distance[v]) continue;
+      if (!stop.empty() && stop[v] && p.source[v] != v) continue;
       for (int e : adjacent_[v]) {
         if (!blocked.empty() && blocked[e]) continue;
         const int w = other(e, v);
@@ -222,7 +225,10 @@ void add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, std::v
   for (int e : graph.edges_at(c)) {
     if (cut[e]) near[graph.other(e, c)] = 1;
   }
-  const ShortestPaths p = graph.from({c}, cut);
+  std::vector<char> on_cut(mesh.num_vertices(), 0);
+  for (int v = 0; v < mesh.num_vertices(); ++v) on_cut[v] = degree[v] > 0;
+  // The path ends at the first cut vertex it meets: it never runs along the cut or the boundary.
+  const ShortestPaths p = graph.from({c}, cut, on_cut);
   int end = -1;
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     if (degree[v] == 0 || near[v] || !(p.distance[v] < kInfinity)) continue;
@@ -250,6 +256,9 @@ CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>&
     for (int more = branches[i] - cut_degree(mesh, g.cut)[cones[i]]; more > 0; --more) {
       add_branch(mesh, graph, cones[i], g.cut);
     }
+  }
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (mesh.is_boundary_edge(e)) g.cut[e] = 0;
   }
   const std::vector<int> degree = detail::prune_cut(mesh, g.cut, is_cone);
   g.paths = detail::split_cut_into_paths(mesh, g.cut, degree, is_cone);

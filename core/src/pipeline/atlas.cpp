@@ -171,9 +171,10 @@ void gather_texture(MeshUniformization& out, const PackingOptions& packing) {
     out.texture.vertex.assign(out.positions.size(), Eigen::Vector2d::Zero());
     for (size_t k = 0; k < n; ++k) {
       const auto& position = out.components[k].position;
+      if (piece_of_face[k].empty() || piece_of_face[k][0] < 0) continue;  // not laid out
       for (size_t i = 0; i < position.size(); ++i) {
-        out.texture.vertex[delivered_vertex(out, k, static_cast<int>(i))] = to_atlas(
-            piece_of_face[k].empty() ? 0 : piece_of_face[k][0], scale[k] * position[i].head<2>());
+        out.texture.vertex[delivered_vertex(out, k, static_cast<int>(i))] =
+            to_atlas(piece_of_face[k][0], scale[k] * position[i].head<2>());
       }
     }
     for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
@@ -183,9 +184,14 @@ void gather_texture(MeshUniformization& out, const PackingOptions& packing) {
     return;
   }
   for (size_t k = 0; k < n; ++k) {
-    for (size_t f = 0; f < out.components[k].corners.size(); ++f) {
+    // One entry per delivered face, laid out or not, so that later components stay aligned.
+    const Uniformization& run = out.components[k];
+    const size_t faces = run.subdivision
+                             ? run.subdivision->faces.size()
+                             : static_cast<size_t>(out.mesh.components[k].mesh.num_faces());
+    for (size_t f = 0; f < faces; ++f) {
       Triangle2 uv = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
-      if (piece_of_face[k][f] >= 0) {
+      if (f < piece_of_face[k].size() && piece_of_face[k][f] >= 0) {
         for (int c = 0; c < 3; ++c)
           uv[c] = to_atlas(piece_of_face[k][f], scale[k] * drawn[k][f][c]);
       }

@@ -201,6 +201,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     for (int v : mesh.faces()[f]) centroid[f] += mesh.positions()[v] / 3;
   }
   atlas.splits = 0;
+  atlas.halvings = 0;
   for (int round = 0; round < kMaxSplitRounds && !overlaps.empty(); ++round) {
     std::vector<char> split(charts.num_charts, 0);
     for (const auto& [f, g] : overlaps) {
@@ -268,7 +269,12 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
 }
 
 std::string atlas_failure(const Uniformization& run) {
-  if (run.layout_kind != LayoutKind::Atlas || run.atlas.overlapping_faces == 0) return "";
+  if (run.layout_kind != LayoutKind::Atlas) return "";
+  if (run.corners.empty()) {
+    return "the atlas has no layout: the common subdivision could not be built (" +
+           run.subdivision_failure + ")";
+  }
+  if (run.atlas.overlapping_faces == 0) return "";
   std::ostringstream s;
   s << run.atlas.overlapping_faces << " faces of the atlas overlap other faces of their chart";
   return s.str();

@@ -29,7 +29,7 @@ TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& place
 //! where the flow flipped edges, run.atlas; run.layout holds the delivered corners.
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
 
-//! Why a converged atlas is no valid atlas (faces overlapping), or "".
+//! Why a converged atlas is no valid atlas (no layout, faces overlapping), or "".
 std::string atlas_failure(const Uniformization& run);
 
 }  // namespace ricci::detail

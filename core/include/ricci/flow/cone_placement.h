@@ -54,7 +54,8 @@ inline constexpr int kDefaultConeBudget = 256;
 struct ConePlacement {
   //! The cones, each with the angle 2 pi - k the linear model gives it (or its rounding).
   std::vector<Cone> cones;
-  //! The linear model's u per vertex: 0 at the cones and on the boundary.
+  //! The linear model's u per vertex: 0 on the boundary, and at the cones unless their angles were
+  //! rounded (then the mean is 0 on a closed surface).
   Eigen::VectorXd u;
   //! D of u on the surface scaled to area 1, and of the cone-free model where one exists (a
   //! surface with boundary, or a torus; NaN otherwise).
