@@ -7,6 +7,7 @@
 #include <queue>
 #include <unordered_map>
 
+#include "layout/corners.h"
 #include "mesh/mesh_checks.h"
 
 namespace ricci {
@@ -19,14 +20,6 @@ double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 
 double signed_area(const std::array<Eigen::Vector2d, 3>& t) {
   return 0.5 * cross(t[1] - t[0], t[2] - t[0]);
-}
-
-// The corner of face f at vertex v.
-int corner_at(const Triangulation& mesh, int f, int v) {
-  for (int c = 0; c < 3; ++c) {
-    if (mesh.face_vertex(f, c) == v) return c;
-  }
-  return -1;
 }
 
 // The third corner of a triangle with corners p (opposite side b) and q (opposite side a),
@@ -143,8 +136,8 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& leng
     const int t = mesh.twin(h);
     if (t < h || cut[mesh.face_edge(h / 3, h % 3)]) continue;
     for (int v : {mesh.halfedge_tail(h), mesh.halfedge_head(h)}) {
-      wedges.unite(3 * (h / 3) + corner_at(mesh, h / 3, v),
-                   3 * (t / 3) + corner_at(mesh, t / 3, v));
+      wedges.unite(3 * (h / 3) + detail::corner_of(mesh, h / 3, v),
+                   3 * (t / 3) + detail::corner_of(mesh, t / 3, v));
     }
   }
   std::vector<Eigen::Vector2d> sum(3 * nf, Eigen::Vector2d::Zero());

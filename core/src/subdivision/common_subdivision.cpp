@@ -17,6 +17,26 @@ namespace ricci {
 
 namespace {
 
+// The input's vertices as the subdivision's first ones: their positions, u (room for `extra`
+// new vertices' u after them), and each one's first input face with a unit coordinate there.
+void place_input_vertices(const CompactMesh& mesh, const FlowResult& result, int extra,
+                          CommonSubdivision& out) {
+  const int nv = mesh.num_vertices();
+  out.positions = mesh.positions();
+  out.u = Eigen::VectorXd(nv + extra);
+  for (int v = 0; v < nv; ++v) out.u[v] = result.u[v];
+  out.vertex_input_face.assign(nv, -1);
+  out.vertex_barycentric.assign(nv, Eigen::Vector3d::Zero());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = mesh.face_vertex(f, c);
+      if (out.vertex_input_face[v] >= 0) continue;
+      out.vertex_input_face[v] = f;
+      out.vertex_barycentric[v][c] = 1;
+    }
+  }
+}
+
 using detail::Crossing;
 using detail::InputOverlay;
 
@@ -804,19 +824,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
   for (int v = 0; v < nv; ++v) number[v] = v;
   out.num_input_vertices = nv;
   out.num_flips = in_delaunay.num_flips() + over_delaunay.num_flips();
-  out.positions = mesh.positions();
-  out.u = Eigen::VectorXd(nv + static_cast<long>(added.size()));
-  for (int v = 0; v < nv; ++v) out.u[v] = result.u[v];
-  out.vertex_input_face.assign(nv, -1);
-  out.vertex_barycentric.assign(nv, Eigen::Vector3d::Zero());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int v = mesh.face_vertex(f, c);
-      if (out.vertex_input_face[v] >= 0) continue;
-      out.vertex_input_face[v] = f;
-      out.vertex_barycentric[v][c] = 1;
-    }
-  }
+  place_input_vertices(mesh, result, static_cast<int>(added.size()), out);
   for (size_t i = 0; i < order.size(); ++i) {
     const NewVertex& x = added[order[i]];
     number[nv + order[i]] = nv + static_cast<int>(i);
@@ -891,19 +899,7 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
   CommonSubdivision out;
   out.num_input_vertices = nv;
   out.num_flips = overlay.num_flips();
-  out.positions = mesh.positions();
-  out.u = Eigen::VectorXd(nv);
-  for (int v = 0; v < nv; ++v) out.u[v] = result.u[v];
-  out.vertex_input_face.assign(nv, -1);
-  out.vertex_barycentric.assign(nv, Eigen::Vector3d::Zero());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int v = mesh.face_vertex(f, c);
-      if (out.vertex_input_face[v] >= 0) continue;
-      out.vertex_input_face[v] = f;
-      out.vertex_barycentric[v][c] = 1;
-    }
-  }
+  place_input_vertices(mesh, result, 0, out);
 
   // New vertices: input edge after input edge, along each.
   std::vector<int> vertex_of(crossings.size(), -1);
