@@ -5,186 +5,23 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <queue>
-#include <unordered_map>
 
-#include <Eigen/Dense>
-
-#include "flow/delaunay.h"
-#include "flow/hessian.h"
-#include "flow/metric.h"
+#include "flow/linear_cone_model.h"
 #include "ricci/mesh/errors.h"
 
 namespace ricci {
 
 namespace {
 
-// Per vertex: a third of the areas of its input faces, summing to 1.
-Eigen::VectorXd vertex_areas(const CompactMesh& mesh) {
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(mesh.num_vertices());
-  const auto& p = mesh.positions();
-  for (const auto& t : mesh.faces()) {
-    const double a = 0.5 * (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]).norm();
-    for (int v : t) area[v] += a / 3;
-  }
-  return area / area.sum();
-}
-
-double distortion_of(const Eigen::VectorXd& area, const Eigen::VectorXd& u) {
-  const double mean = area.dot(u);
-  return std::sqrt(area.dot((u.array() - mean).square().matrix()));
-}
-
-// The linear model on the input metric's intrinsic Delaunay triangulation: H factored once over
-// the free vertices (the interior ones; on a closed surface all but one, pinned), K0, and R(e_v)
-// per vertex on request.
-class LinearConeModel {
- public:
-  LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind)
-      : mesh_(mesh), delaunay_(mesh), solver_(kind) {
-    ConformalStructure structure = initialize_scheme(mesh, Geometry::Euclidean, SchemeOptions());
-    make_input_delaunay(delaunay_, structure);
-    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(mesh.num_vertices());
-    const MetricState state = evaluate_metric(delaunay_, structure, zero);
-    k0_ = curvature(delaunay_, state);
-    free_index_.assign(mesh.num_vertices(), -1);
-    int n = 0;
-    const int pinned = mesh.is_closed() ? 0 : -1;
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (v != pinned && !mesh.is_boundary_vertex(v)) free_index_[v] = n++;
-    }
-    g_ = Eigen::VectorXd::Zero(mesh.num_vertices());
-    if (n == 0) return;  // every vertex on the boundary: u = 0 is the only flat metric here
-    HessianAssembler assembler(delaunay_, free_index_);
-    const SparseMatrix& h = assembler.assemble(state);
-    solver_.analyze(h);
-    factored_ = true;
-    if (!solver_.factorize(h)) {
-      throw SolverError(
-          "cone placement: the cotangent Laplacian of the intrinsic Delaunay triangulation is not "
-          "positive definite (degenerate input triangles?)");
-    }
-    Eigen::VectorXd b(n);
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (free_index_[v] >= 0) b[free_index_[v]] = -k0_[v];
-    }
-    g_ = scatter(solver_.solve(b));
-  }
-
-  const Eigen::VectorXd& curvature0() const { return k0_; }
-  const Eigen::VectorXd& cone_free() const { return g_; }
-  int back_solves() const { return back_solves_; }
-  bool factored() const { return factored_; }
-
-  // R(e_v): 0 for a vertex without a row (pinned or on the boundary).
-  const Eigen::VectorXd& column(int v) {
-    auto found = columns_.find(v);
-    if (found != columns_.end()) return found->second;
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(solver_rows());
-    if (free_index_[v] >= 0) {
-      b[free_index_[v]] = 1;
-      ++back_solves_;
-      return columns_.emplace(v, scatter(solver_.solve(b))).first->second;
-    }
-    return columns_.emplace(v, Eigen::VectorXd::Zero(mesh_.num_vertices())).first->second;
-  }
-  // Columns of vertices no longer tried are dropped (n doubles each).
-  void keep_only(const std::vector<int>& vertices) {
-    std::unordered_map<int, Eigen::VectorXd> kept;
-    for (int v : vertices) {
-      auto found = columns_.find(v);
-      if (found != columns_.end()) kept.emplace(v, std::move(found->second));
-    }
-    columns_ = std::move(kept);
-  }
-
-  struct Solution {
-    Eigen::VectorXd k;  // per cone
-    Eigen::VectorXd u;  // per vertex
-    bool ok = false;
-  };
-  // u = 0 at the cones: their curvatures k (and on a closed surface the constant c) from u_C = 0
-  // and Gauss-Bonnet.
-  Solution held(const std::vector<int>& cones) {
-    const int m = static_cast<int>(cones.size());
-    const bool closed = mesh_.is_closed();
-    Solution s;
-    if (closed && m == 0) {
-      s.u = g_.array() - g_.mean();
-      s.ok = mesh_.euler_characteristic() == 0;
-      s.k.resize(0);
-      return s;
-    }
-    if (m == 0) {  // u = 0 on the boundary: the free-boundary model itself
-      s.u = g_;
-      s.k.resize(0);
-      s.ok = true;
-      return s;
-    }
-    const int rows = m + (closed ? 1 : 0);
-    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, rows);
-    Eigen::VectorXd rhs(rows);
-    for (int i = 0; i < m; ++i) {
-      for (int j = 0; j < m; ++j) a(i, j) = column(cones[j])[cones[i]];
-      rhs[i] = -g_[cones[i]];
-      if (closed) a(i, m) = 1;
-    }
-    if (closed) {
-      a.row(m).head(m).setOnes();
-      rhs[m] = 2 * kPi * mesh_.euler_characteristic();
-    }
-    const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
-    if (lu.rank() < rows) return s;
-    const Eigen::VectorXd x = lu.solve(rhs);
-    s.k = x.head(m);
-    s.u = g_;
-    for (int j = 0; j < m; ++j) s.u += s.k[j] * column(cones[j]);
-    if (closed) s.u.array() += x[m];
-    for (int c : cones) s.u[c] = 0;  // held there: exactly, not to round-off
-    s.ok = s.u.allFinite();
-    return s;
-  }
-  // The cones' curvatures given: u free at them (the mean 0 on a closed surface).
-  Eigen::VectorXd prescribed(const std::vector<int>& cones, const Eigen::VectorXd& k) {
-    Eigen::VectorXd u = g_;
-    for (size_t j = 0; j < cones.size(); ++j) u += k[j] * column(cones[j]);
-    if (mesh_.is_closed()) u.array() -= u.mean();
-    return u;
-  }
-
- private:
-  int solver_rows() const {
-    return static_cast<int>(
-        std::count_if(free_index_.begin(), free_index_.end(), [](int i) { return i >= 0; }));
-  }
-  Eigen::VectorXd scatter(const Eigen::VectorXd& x) const {
-    Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh_.num_vertices());
-    for (int v = 0; v < mesh_.num_vertices(); ++v) {
-      if (free_index_[v] >= 0) u[v] = x[free_index_[v]];
-    }
-    return u;
-  }
-
-  const CompactMesh& mesh_;
-  IntrinsicTriangulation delaunay_;
-  LinearSolver solver_;
-  std::vector<int> free_index_;
-  Eigen::VectorXd k0_, g_;
-  std::unordered_map<int, Eigen::VectorXd> columns_;
-  int back_solves_ = 0;
-  bool factored_ = false;
-};
-
 // The placement's search: a cone set, its solution and D.
 class Search {
  public:
   Search(const CompactMesh& mesh, const ConePlacementOptions& o)
-      : mesh_(mesh), o_(o), model_(mesh, o.linear_solver), area_(vertex_areas(mesh)) {
+      : mesh_(mesh), o_(o), model_(mesh, o.linear_solver) {
     is_cone_.assign(mesh.num_vertices(), 0);
   }
 
   LinearConeModel& model() { return model_; }
-  const Eigen::VectorXd& area() const { return area_; }
 
   struct State {
     std::vector<int> cones;
@@ -197,7 +34,7 @@ class Search {
     s.cones = std::move(cones);
     s.solution = model_.held(s.cones);
     if (!s.solution.ok) return s;
-    s.d = distortion_of(area_, s.solution.u);
+    s.d = s.solution.d;
     s.angles_ok = (s.solution.k.array() <= 2 * kPi - o_.min_cone_angle).all();
     return s;
   }
@@ -208,8 +45,8 @@ class Search {
   int farthest(const State& s) {
     if (!s.solution.ok) return -1;
     mark(s.cones);
-    const Eigen::VectorXd& u = s.solution.u;
-    const double mean = s.cones.empty() ? area_.dot(u) : 0;
+    const Eigen::VectorXd u = model_.u(s.cones, s.solution);
+    const double mean = s.cones.empty() ? model_.area().dot(u) : 0;
     int best = -1;
     double largest = -1;
     for (int v = 0; v < mesh_.num_vertices(); ++v) {
@@ -275,7 +112,6 @@ class Search {
   const CompactMesh& mesh_;
   ConePlacementOptions o_;
   LinearConeModel model_;
-  Eigen::VectorXd area_;
   std::vector<char> is_cone_;
   mutable std::vector<std::vector<int>> adjacent_;
 };
@@ -318,7 +154,7 @@ Eigen::VectorXd quarter_rounded(const Eigen::VectorXd& k, bool closed, int chi, 
 }  // namespace
 
 double area_distortion(const CompactMesh& mesh, const Eigen::VectorXd& u) {
-  return distortion_of(vertex_areas(mesh), u);
+  return area_weighted_deviation(normalized_vertex_areas(mesh), u);
 }
 
 ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o) {
@@ -363,8 +199,13 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     model.keep_only(state.cones);  // the candidates' columns tried and left (n doubles each)
   }
 
-  // === Gauss-Seidel: each cone moved to the farthest vertex of the set without it.
-  for (int sweep = 0; sweep < o.relocation_sweeps && !state.cones.empty(); ++sweep) {
+  // === Gauss-Seidel: each cone moved to the farthest vertex of the set without it. Only where
+  // the budget stopped the greedy short of the bound: once the bound holds, dropping the weakest
+  // cones below refines the set as well (measured: 132 cones with sweeps against 137 without on a
+  // genus-22 part, 33 against 31 on a bunny scan), at a fraction of the sweeps' cost.
+  const bool budget_stopped = !search.done(state);
+  for (int sweep = 0; budget_stopped && sweep < o.relocation_sweeps && !state.cones.empty();
+       ++sweep) {
     int moved = 0;
     for (size_t i = 0; i < state.cones.size(); ++i) {
       std::vector<int> without = state.cones;
@@ -418,7 +259,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     }
   }
   Eigen::VectorXd k = state.solution.k;
-  Eigen::VectorXd u = state.solution.u;
+  Eigen::VectorXd u = state.solution.ok ? model.u(state.cones, state.solution) : Eigen::VectorXd();
   // No flat metric with these cones (a singular system): none are delivered, and the flow says
   // what the target without them gives.
   std::vector<int> cones = state.solution.ok ? state.cones : std::vector<int>{};
@@ -435,13 +276,13 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   }
   for (size_t i = 0; i < cones.size(); ++i) result.cones.push_back({cones[i], 2 * kPi - k[i]});
   result.u = u.size() ? u : Eigen::VectorXd::Zero(mesh.num_vertices());
-  result.distortion = distortion_of(search.area(), result.u);
+  result.distortion = area_weighted_deviation(model.area(), result.u);
   if (o.quarter_angles && result.bound_reached && result.distortion > o.distortion_bound) {
     result.bound_reached = false;
     result.why_not = "rounding the cone angles to quarter turns leaves D at " +
                      std::to_string(result.distortion);
   }
-  const double mean = search.area().dot(result.u);
+  const double mean = model.area().dot(result.u);
   result.max_deviation = (result.u.array() - mean).abs().maxCoeff();
   result.factorizations = model.factored() ? 1 : 0;
   result.back_solves = model.back_solves() + (model.factored() ? 1 : 0);

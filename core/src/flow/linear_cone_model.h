@@ -1,0 +1,82 @@
+// The linear model of the Euclidean Yamabe flow at u = 0, for cone placement
+// (ricci/flow/cone_placement.h has the mathematics): H, the Hessian of the input metric's
+// intrinsic Delaunay triangulation, factored once over the free vertices (the interior ones; on a
+// closed surface all but one, pinned); g = R(-K0); and the columns R(e_v) of the vertices tried as
+// cones, each one back-solve, kept side by side in one dense block.
+//
+// Beside each column the model keeps its area-weighted sums with every other kept column and with
+// g, so that the distortion D of any cone set is a (|C| x |C|) quadratic form: a cone set is
+// judged without forming u over the vertices, which costs |C| vertex-long passes.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "flow/delaunay.h"
+#include "ricci/linear/linear_solver.h"
+#include "ricci/mesh/compact_mesh.h"
+
+namespace ricci {
+
+//! Per vertex: a third of the areas of its input faces, summing to 1.
+Eigen::VectorXd normalized_vertex_areas(const CompactMesh& mesh);
+//! sqrt(sum_i A_i (u_i - mean u)^2), the mean A-weighted: D of ricci/flow/cone_placement.h.
+double area_weighted_deviation(const Eigen::VectorXd& area, const Eigen::VectorXd& u);
+
+class LinearConeModel {
+ public:
+  //! \throws SolverError when the Laplacian is not positive definite (degenerate triangles).
+  LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind);
+
+  //! The input metric's curvature per vertex (its intrinsic Delaunay triangulation's).
+  const Eigen::VectorXd& curvature0() const { return k0_; }
+  //! Per vertex: a third of the areas of its input faces, summing to 1.
+  const Eigen::VectorXd& area() const { return area_; }
+  int back_solves() const { return back_solves_; }
+  bool factored() const { return factored_; }
+
+  //! The solution of a cone set with u = 0 held at its cones: their curvatures k and, on a closed
+  //! surface, the constant c of u = g + sum_j k_j R(e_j) + c; and D of that u.
+  struct Solution {
+    Eigen::VectorXd k;
+    double c = 0;
+    double d = 0;
+    bool ok = false;  //!< false: no flat metric with u = 0 at these cones (a singular system)
+  };
+  Solution held(const std::vector<int>& cones);
+  //! u per vertex of a held solution (exactly 0 at the cones).
+  Eigen::VectorXd u(const std::vector<int>& cones, const Solution& s);
+  //! u per vertex with the cones' curvatures given, u free at them (the mean 0 on a closed
+  //! surface).
+  Eigen::VectorXd prescribed(const std::vector<int>& cones, const Eigen::VectorXd& k);
+
+  //! Columns of vertices not in the list are dropped (their room is reused).
+  void keep_only(const std::vector<int>& vertices);
+
+ private:
+  // Computes the missing columns in one multi-column solve (0 for a vertex without a row).
+  void ensure(const std::vector<int>& vertices);
+  double distortion(const std::vector<int>& cones, const Eigen::VectorXd& k) const;
+  Eigen::VectorXd scatter(const Eigen::VectorXd& x) const;
+  int store(int v, const Eigen::VectorXd& column);
+
+  const CompactMesh& mesh_;
+  IntrinsicTriangulation delaunay_;
+  LinearSolver solver_;
+  std::vector<int> free_index_;
+  int rows_ = 0;
+  Eigen::VectorXd k0_, g_, area_;
+  // Columns R(e_v) side by side; slot_of_[v] is v's, -1 without one.
+  Eigen::MatrixXd columns_;
+  std::vector<int> slot_of_, vertex_of_slot_, free_slots_;
+  // Area-weighted sums: gram_(i, j) = sum A col_i col_j, sum_(i) = sum A col_i,
+  // with_g_(i) = sum A col_i g; and for g alone.
+  Eigen::MatrixXd gram_;
+  Eigen::VectorXd sum_, with_g_;
+  double g_sum_ = 0, g_square_ = 0;
+  int back_solves_ = 0;
+  bool factored_ = false;
+};
+
+}  // namespace ricci

@@ -1,0 +1,81 @@
+// The linear cone model: D of a cone set from its quadratic form over the columns' area-weighted
+// sums is D of the u it forms, also after columns were dropped and their room reused; u is 0 at
+// the cones and flat (K0 + H u = 0) at every other free vertex; a column costs one back-solve.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "flow/delaunay.h"
+#include "flow/hessian.h"
+#include "flow/linear_cone_model.h"
+#include "flow/metric.h"
+#include "ricci/flow/ricci_flow.h"
+#include "test_meshes.h"
+
+namespace ricci::test {
+namespace {
+
+// K0 + H u per vertex, on the input metric's intrinsic Delaunay triangulation (the model's).
+Eigen::VectorXd linear_curvature(const CompactMesh& mesh, const Eigen::VectorXd& u) {
+  IntrinsicTriangulation delaunay(mesh);
+  ConformalStructure s = initialize_scheme(mesh, Geometry::Euclidean, SchemeOptions());
+  make_input_delaunay(delaunay, s);
+  const MetricState state =
+      evaluate_metric(delaunay, s, Eigen::VectorXd::Zero(mesh.num_vertices()));
+  std::vector<int> every(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) every[v] = v;
+  HessianAssembler assembler(delaunay, every);
+  return curvature(delaunay, state) + assembler.assemble(state) * u;
+}
+
+TEST(LinearConeModel, TheQuadraticFormsDistortionIsTheDistortionOfU) {
+  const CompactMesh mesh = cgal_mesh("eight.off");
+  LinearConeModel model(mesh, LinearSolverKind::Cholmod);
+  const std::vector<std::vector<int>> sets = {
+      {3}, {3, 40, 91}, {40, 91, 7, 150}, {7, 12, 200}, {3, 12, 91}};
+  for (const std::vector<int>& cones : sets) {
+    const LinearConeModel::Solution s = model.held(cones);
+    ASSERT_TRUE(s.ok);
+    const Eigen::VectorXd u = model.u(cones, s);
+    EXPECT_NEAR(s.d, area_weighted_deviation(model.area(), u), 1e-10);
+    EXPECT_GT(s.d, 0.01);
+    const Eigen::VectorXd k = linear_curvature(mesh, u);
+    double sum = 0;
+    for (size_t j = 0; j < cones.size(); ++j) {
+      EXPECT_EQ(u[cones[j]], 0);
+      EXPECT_NEAR(k[cones[j]], s.k[j], 1e-8);
+      sum += s.k[j];
+    }
+    EXPECT_NEAR(sum, 2 * kPi * mesh.euler_characteristic(), 1e-8);
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (std::find(cones.begin(), cones.end(), v) == cones.end()) {
+        EXPECT_NEAR(k[v], 0, 1e-8);
+      }
+    }
+    model.keep_only(cones);  // the next set reuses the dropped columns' room
+  }
+  // Columns 3, 40, 91, 7, 150, 12 and 200, and 3 and 91 again after they were dropped.
+  EXPECT_EQ(model.back_solves(), 9);
+}
+
+TEST(LinearConeModel, ADiskWithoutConesIsTheFreeBoundaryModel) {
+  const CompactMesh mesh = cgal_mesh("mannequin-devil.off");
+  ASSERT_FALSE(mesh.is_closed());
+  LinearConeModel model(mesh, LinearSolverKind::Cholmod);
+  const LinearConeModel::Solution s = model.held({});
+  ASSERT_TRUE(s.ok);
+  const Eigen::VectorXd u = model.u({}, s);
+  EXPECT_NEAR(s.d, area_weighted_deviation(model.area(), u), 1e-10);
+  const Eigen::VectorXd k = linear_curvature(mesh, u);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (mesh.is_boundary_vertex(v)) {
+      EXPECT_EQ(u[v], 0);
+    } else {
+      EXPECT_NEAR(k[v], 0, 1e-8);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ricci::test
