@@ -129,6 +129,11 @@ FilterComputation run_filter(Document& md, const ParameterValues& values, CallBa
     vcg::tri::UpdateNormal<Mesh>::PerVertexNormalizedPerFaceNormalized(layer->cm);
   }
   log = summary_lines(c.run, RunContext{m.label().toStdString(), "", 0});
+  if (settings.target == TargetChoice::Atlas && written.wedge_texcoord) {
+    log.push_back(
+        "To see the atlas: Filters > Texture > Set Texture (it draws a checkerboard where the "
+        "named image does not exist)");
+  }
   return c;
 }
 

@@ -4,64 +4,30 @@
 # Usage (run by ctest under xvfb-run): meshlab_gui_test.sh PREFIX MESH ARTIFACT_DIR
 set -euo pipefail
 prefix=$1 mesh=$2 artifacts=$3
-filter="Ricci Flow: Conformal Parameterization"
 mkdir -p "$artifacts"
-log="$artifacts/meshlab-gui.log"
-
-"$prefix/bin/meshlab" "$mesh" >"$log" 2>&1 &
-pid=$!
-trap 'kill $pid 2>/dev/null || true' EXIT
-
-fail() {
-  import -window root "$artifacts/failure.png" 2>/dev/null || true
-  echo "FAIL: $*" >&2
-  exit 1
-}
-
-# Waits up to $2 seconds for a visible window whose name matches $1; prints its id.
-wait_window() {
-  local id=""
-  for _ in $(seq $((10 * $2))); do
-    id=$(xdotool search --onlyvisible --name "$1" 2>/dev/null | head -1 || true)
-    [ -n "$id" ] && { echo "$id"; return 0; }
-    sleep 0.1
-  done
-  return 1
-}
+source "$(dirname "$0")/meshlab/gui_lib.sh"
 
 # Fraction of pixels of the 3D view that the quality colour ramp makes green-dominant;
 # MeshLab's grey mesh and blue background have none.
 green_fraction() {
-  convert "$1" -crop 840x760+10+80 +repage -fx "(g > r + 0.15 && g > b + 0.15) ? 1 : 0" \
-    -format "%[fx:mean]" info:
+  view_of "$1" | convert - -fx "(g > r + 0.15 && g > b + 0.15) ? 1 : 0" -format "%[fx:mean]" info:
 }
 
-main=$(wait_window "^MeshLab" 60) || fail "MeshLab's window did not appear"
-xdotool windowsize "$main" 1280 1000
-xdotool windowfocus --sync "$main"
-sleep 2
+start_meshlab "$prefix" "$mesh"
 import -window root "$artifacts/before.png"
-
-# Filters (Alt+L) > Texture (second from the bottom) > the filter. In Debian's MeshLab 2020.09
-# the Texture submenu lists its filters alphabetically; ours is the 14th.
 xdotool key alt+l
 sleep 1
 xdotool key Up Up Right
 sleep 1
 import -window root "$artifacts/texture-menu.png"
-for _ in $(seq 13); do xdotool key Down; done
-xdotool key Return
-dialog=$(wait_window "^$filter\$" 20) || fail "the dialog of '$filter' did not open from Filters > Texture"
+xdotool key Escape Escape
 sleep 1
-import -window root "$artifacts/dialog.png"
 
-# Apply (the dialog's bottom-right button), then Close (bottom-left) to uncover the view.
-eval "$(xdotool getwindowgeometry --shell "$dialog")"
-xdotool mousemove --window "$dialog" $((WIDTH * 3 / 4)) $((HEIGHT - 22)) click 1
-sleep 4
-import -window root "$artifacts/applied.png"
-xdotool mousemove --window "$dialog" $((WIDTH / 4)) $((HEIGHT - 22)) click 1
-sleep 2
+# Ours is the 14th entry of the Texture submenu.
+open_texture_filter 14 "Ricci Flow: Conformal Parameterization"
+import -window root "$artifacts/dialog.png"
+apply_and_close 4
+no_failure_dialog "the filter's defaults"
 import -window root "$artifacts/after.png"
 
 before=$(green_fraction "$artifacts/before.png")

@@ -1,0 +1,69 @@
+# Sourced by the MeshLab GUI tests (run under xvfb-run): MeshLab started on a mesh, and the steps
+# that drive it with xdotool. The caller sets `artifacts` (the screenshots' folder) first.
+
+# Stops the test with a screenshot of the whole screen.
+fail() {
+  import -window root "$artifacts/failure.png" 2>/dev/null || true
+  echo "FAIL: $*" >&2
+  exit 1
+}
+
+# Waits up to $2 seconds for a visible window whose name matches $1; prints its id.
+wait_window() {
+  local id=""
+  for _ in $(seq $((10 * $2))); do
+    id=$(xdotool search --onlyvisible --name "$1" 2>/dev/null | head -1 || true)
+    [ -n "$id" ] && { echo "$id"; return 0; }
+    sleep 0.1
+  done
+  return 1
+}
+
+# start_meshlab PREFIX MESH: MeshLab on MESH, its window 1280x1000 and focused; sets `main`.
+# MeshLab is stopped when the test exits.
+start_meshlab() {
+  "$1/bin/meshlab" "$2" >"$artifacts/meshlab-gui.log" 2>&1 &
+  meshlab_pid=$!
+  trap 'kill $meshlab_pid 2>/dev/null || true' EXIT
+  main=$(wait_window "^MeshLab" 60) || fail "MeshLab's window did not appear"
+  xdotool windowsize "$main" 1280 1000
+  xdotool windowfocus --sync "$main"
+  sleep 2
+}
+
+# open_texture_filter N NAME: Filters (Alt+L) > Texture (second from the bottom) > the N-th
+# entry, whose dialog is titled NAME; sets `dialog`. Debian's MeshLab 2020.09 lists the Texture
+# submenu alphabetically.
+open_texture_filter() {
+  xdotool windowfocus --sync "$main"
+  xdotool key alt+l
+  sleep 1
+  xdotool key Up Up Right
+  sleep 1
+  for _ in $(seq $(($1 - 1))); do xdotool key Down; done
+  xdotool key Return
+  dialog=$(wait_window "^$2\$" 20) || fail "the dialog of '$2' did not open from Filters > Texture"
+  sleep 1
+}
+
+# Apply (the dialog's bottom-right button), waiting $1 seconds, then Close (bottom-left).
+apply_and_close() {
+  eval "$(xdotool getwindowgeometry --shell "$dialog")"
+  xdotool mousemove --window "$dialog" $((WIDTH * 3 / 4)) $((HEIGHT - 22)) click 1
+  sleep "$1"
+  xdotool mousemove --window "$dialog" $((WIDTH / 4)) $((HEIGHT - 22)) click 1
+  sleep 2
+}
+
+# Fails when MeshLab shows a filter's failure ("Filter Failure", "PreConditions' Failure").
+no_failure_dialog() {
+  if wait_window "Failure" 1 >/dev/null; then
+    import -window root "$artifacts/failure.png"
+    fail "$1: MeshLab shows a failure dialog"
+  fi
+}
+
+# The 3D view of a screenshot of the 1280x1000 main window, as MIFF on standard output.
+view_of() {
+  convert "$1" -crop 840x760+10+80 +repage miff:-
+}
