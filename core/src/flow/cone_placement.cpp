@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 #include "flow/linear_cone_model.h"
 #include "ricci/mesh/errors.h"
@@ -12,6 +14,12 @@
 namespace ricci {
 
 namespace {
+
+// Where a cone moves in a Gauss-Seidel sweep: the best of this many peaks of |u| of the set
+// without it (local maxima, largest first). One (CEPS's argmax) leaves D at budget 8 at 1.72 on a
+// cow, 0.29 on a genus-4 flange, 0.51 on a bunny; 6 at 1.13, 0.27, 0.46, for about 5 times the
+// back-solves of the sweeps, which run only when the budget stops the greedy.
+constexpr int kRelocationCandidates = 6;
 
 // The placement's search: a cone set, its solution and D.
 class Search {
@@ -41,21 +49,33 @@ class Search {
   bool done(const State& s) const { return s.solution.ok && s.angles_ok && s.d <= bound(); }
   double bound() const { return o_.distortion_bound; }
 
-  // The interior vertex, not a cone, of largest |u| (|u - mean| without cones); -1 if none.
-  int farthest(const State& s) {
-    if (!s.solution.ok) return -1;
+  // The interior vertices, not cones, where |u| (|u - mean| without cones) peaks over their
+  // neighbours, largest first, at most `count`; the first is the farthest vertex.
+  std::vector<int> peaks(const State& s, int count) {
+    if (!s.solution.ok) return {};
+    neighbours(0);
     mark(s.cones);
     const Eigen::VectorXd u = model_.u(s.cones, s.solution);
     const double mean = s.cones.empty() ? model_.area().dot(u) : 0;
-    int best = -1;
-    double largest = -1;
+    std::vector<std::pair<double, int>> found;
     for (int v = 0; v < mesh_.num_vertices(); ++v) {
       if (is_cone_[v] || mesh_.is_boundary_vertex(v)) continue;
       const double d = std::abs(u[v] - mean);
-      if (d > largest) largest = d, best = v;
+      bool peak = true;
+      for (int w : adjacent_[v]) peak = peak && std::abs(u[w] - mean) <= d;
+      if (peak) found.emplace_back(d, v);
     }
     unmark(s.cones);
-    return best;
+    const size_t kept = std::min(found.size(), static_cast<size_t>(count));
+    std::partial_sort(found.begin(), found.begin() + static_cast<long>(kept), found.end(),
+                      std::greater<>());
+    std::vector<int> vertices;
+    for (size_t i = 0; i < kept; ++i) vertices.push_back(found[i].second);
+    return vertices;
+  }
+  int farthest(const State& s) {
+    const std::vector<int> top = peaks(s, 1);
+    return top.empty() ? -1 : top.front();
   }
 
   // Near the sharpest cone (two rings), the vertex whose cone leaves the sharpest angle widest.
@@ -86,7 +106,7 @@ class Search {
   void unmark(const std::vector<int>& cones) {
     for (int c : cones) is_cone_[c] = 0;
   }
-  std::vector<int> rings(int from, int depth) const {
+  const std::vector<int>& neighbours(int v) const {
     if (adjacent_.empty()) {
       adjacent_.resize(mesh_.num_vertices());
       for (int e = 0; e < mesh_.num_edges(); ++e) {
@@ -94,11 +114,14 @@ class Search {
         adjacent_[a].push_back(b), adjacent_[b].push_back(a);
       }
     }
+    return adjacent_[v];
+  }
+  std::vector<int> rings(int from, int depth) const {
     std::vector<int> found{from}, frontier{from};
     for (int d = 0; d < depth; ++d) {
       std::vector<int> next;
       for (int v : frontier) {
-        for (int w : adjacent_[v]) {
+        for (int w : neighbours(v)) {
           if (std::find(found.begin(), found.end(), w) == found.end()) {
             found.push_back(w), next.push_back(w);
           }
@@ -212,14 +235,17 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
       without.erase(without.begin() + static_cast<long>(i));
       const Search::State rest = search.evaluate(without);
       if (!rest.solution.ok) continue;
-      const int v = search.farthest(rest);
-      if (v < 0 || v == state.cones[i]) continue;
-      std::vector<int> there = state.cones;
-      there[i] = v;
-      const Search::State trial = search.evaluate(there);
-      const bool better = trial.solution.ok && (trial.angles_ok || !state.angles_ok) &&
-                          trial.d < state.d * (1 - 1e-9);
-      if (better) state = trial, ++moved;
+      Search::State best = state;
+      for (int v : search.peaks(rest, kRelocationCandidates)) {
+        if (v == state.cones[i]) continue;
+        std::vector<int> there = state.cones;
+        there[i] = v;
+        const Search::State trial = search.evaluate(there);
+        const bool better = trial.solution.ok && (trial.angles_ok || !best.angles_ok) &&
+                            trial.d < best.d * (1 - 1e-9);
+        if (better) best = trial;
+      }
+      if (best.cones != state.cones) state = best, ++moved;
     }
     result.relocations += moved;
     model.keep_only(state.cones);

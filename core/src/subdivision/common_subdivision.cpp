@@ -433,10 +433,13 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
     // texture coordinates resolve (1e-6 of the layout's size, the gap measured in eb's length
     // l e^((ua + ub) / 2) of the final metric), the two are one vertex, on the input edge: else
     // the sliver between them turns over in the texture (elk: Tc edges that are input edges
-    // flipped back cross eb 1e-8 of the layout's size from them).
+    // flipped back cross eb 1e-8 of the layout's size from them). Never farther apart than 1e-4
+    // of eb, though: where the metric squeezes eb far below the layout's size, distinct crossings
+    // merged would make edges shared by three faces (a cow's atlas at 6 cones, D 1.6).
     const double final_length = length[eb] * std::exp((result.u[a] + result.u[b]) / 2);
     for (int c : list) {
-      if (std::abs(ab_crossings[c].t - s) * final_length <= 1e-6 * layout_size) return ab_point(c);
+      const double gap = std::abs(ab_crossings[c].t - s);
+      if (gap * final_length <= 1e-6 * layout_size && gap <= 1e-4) return ab_point(c);
     }
     size_t k = 0;
     while (k < list.size() && ab_crossings[list[k]].t <= s) ++k;
