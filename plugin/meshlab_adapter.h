@@ -132,7 +132,8 @@ FilterComputation run_filter(Document& md, const ParameterValues& values, CallBa
   if (settings.target == TargetChoice::Atlas && written.wedge_texcoord) {
     log.push_back(
         "To see the atlas: Filters > Texture > Set Texture (it draws a checkerboard where the "
-        "named image does not exist)");
+        "named image does not exist); its seams: Filters > Texture > Select Vertex Texture Seams "
+        "(the selection then holds the seams instead of the cones)");
   }
   return c;
 }
