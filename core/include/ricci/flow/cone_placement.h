@@ -13,9 +13,9 @@
 //
 // Placement: greedy (add the vertex of largest |u|, from the curvature extremum on a closed
 // surface of chi != 0; Springborn, Schroeder, Pinkall 2008) until the bound or the budget stops
-// it; where the budget did, Gauss-Seidel relocation (move a cone to the argmax |u| of the set
-// without it where that lowers D; CEPS); then the weakest cones dropped while the bound holds,
-// until the distortion
+// it, then Gauss-Seidel relocation (move a cone to the argmax |u| of the set without it where
+// that lowers D, as CEPS does; where the budget stopped the greedy, to the best of several peaks
+// of |u|), then the weakest cones dropped while the bound holds, until the distortion
 //   D = sqrt(sum_i A_i (u_i - mean u)^2)
 // (A_i the vertex areas of the surface scaled to area 1) is at most the bound and every cone
 // angle at least the floor, or the cone budget is reached.
@@ -41,8 +41,7 @@ struct ConePlacementOptions {
   //! this. pi / 4 keeps a cone's wedge laid out with corner angles the mesh's own triangles can
   //! have, and the exact flow's cone (which moves from the linear model's) still positive.
   double min_cone_angle = kPi / 4;
-  //! Gauss-Seidel relocation sweeps over the cones when the budget stops the greedy (0: the
-  //! greedy's places).
+  //! Gauss-Seidel relocation sweeps over the cones (0: the greedy's places).
   int relocation_sweeps = 4;
   //! Round every cone curvature to a multiple of pi / 2 (keeping their sum), for atlases whose
   //! charts meet by quarter turns; cones rounded to 0 are dropped.
