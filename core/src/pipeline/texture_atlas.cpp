@@ -200,6 +200,16 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   for (int f = 0; f < static_cast<int>(centroid.size()); ++f) {
     for (int v : mesh.faces()[f]) centroid[f] += mesh.positions()[v] / 3;
   }
+  // Where two pieces of one input face overlap (its corner at a cone of several turns, on an
+  // obtuse CAD triangle, opens past a full turn), no seam on the input's edges parts them: there
+  // the pieces are parted one by one, the seam inside that input face.
+  std::vector<Eigen::Vector3d> piece_centroid;
+  if (sub) {
+    piece_centroid.assign(delivered.num_faces(), Eigen::Vector3d::Zero());
+    for (int f = 0; f < delivered.num_faces(); ++f) {
+      for (int v : sub->faces[f]) piece_centroid[f] += sub->positions[v] / 3;
+    }
+  }
   atlas.splits = 0;
   atlas.halvings = 0;
   for (int round = 0; round < kMaxSplitRounds && !overlaps.empty(); ++round) {
@@ -207,7 +217,11 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     for (const auto& [f, g] : overlaps) {
       if (split[charts.chart[f]]) continue;
       split[charts.chart[f]] = 1;
-      if (separate_sheets(delivered, charts, f, g, group, centroid, seam) > 0) ++atlas.splits;
+      const bool one_input_face = sub && group[f] == group[g];
+      const int marked = one_input_face
+                             ? separate_sheets(delivered, charts, f, g, {}, piece_centroid, seam)
+                             : separate_sheets(delivered, charts, f, g, group, centroid, seam);
+      if (marked > 0) ++atlas.splits;
     }
     connect_cut(delivered, length3d, seam, allowed);
     charts = lay_out_charts(delivered, flat, seam);
