@@ -196,6 +196,15 @@ TEST(Atlas, FewConesOnHighGenusGiveWideConesAndStillNoOverlap) {
   expect_valid_atlas(a, lever, 0.4);
 }
 
+TEST(Atlas, ASurfaceWhoseBoundaryTrianglesDegenerateFlowsOnItsDouble) {
+  // CGAL's locally refined cylinder (an annulus): with u held on the boundary, triangles there
+  // degenerate and no flip of this surface removes a boundary edge; on the surface doubled along
+  // its boundary they flip.
+  const std::string cylinder = cgal("cylinder_locally_refined.off");
+  const Atlas a = run_atlas(cylinder);
+  expect_valid_atlas(a, cylinder, 0.2);
+}
+
 TEST(Atlas, DiskWithBoundaryKeepsItsBoundaryFree) {
   const Atlas a = run_atlas(cgal("nefertiti.off"));
   expect_valid_atlas(a, cgal("nefertiti.off"), 0.2);

@@ -22,11 +22,14 @@ bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& op
                         const TargetCurvature& target, const Uniformization& run) {
   const LayoutKind kind = planned_layout(half, run.preset, run.geometry);
   // With u held fixed (free boundary) the boundary lengths are part of the request, and on the
-  // double a flipped boundary edge no longer has its length: not for such targets.
+  // double a flipped boundary edge no longer has its length: not for such targets. The atlas
+  // holds u at its cones and on the boundary only for the distortion's sake: its boundary may
+  // become the geodesics between the boundary's vertices.
+  const bool atlas = run.preset == TargetPreset::Atlas;
   return !run.result.converged && run.result.stalled_at_boundary && !half.is_closed() &&
-         target.num_fixed() == 0 && options.flow.edge_flips != EdgeFlips::Never &&
+         (target.num_fixed() == 0 || atlas) && options.flow.edge_flips != EdgeFlips::Never &&
          is_yamabe(run.structure) &&
-         ((run.geometry == Geometry::Euclidean && kind == LayoutKind::Plane) ||
+         ((run.geometry == Geometry::Euclidean && (kind == LayoutKind::Plane || atlas)) ||
           (run.geometry == Geometry::Hyperbolic && kind == LayoutKind::PoincareDisk));
 }
 
@@ -175,6 +178,10 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     run.layout_kind = LayoutKind::PoincareDisk;
     run.layout.relation_error = std::nan("");
     run.layout.corners = sub.corners;
+    run.subdivision = std::move(sub);
+    return;
+  }
+  if (run.preset == TargetPreset::Atlas) {  // the atlas's charts are laid out from the pieces
     run.subdivision = std::move(sub);
     return;
   }

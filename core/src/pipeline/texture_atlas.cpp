@@ -143,11 +143,13 @@ TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& place
 
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run) {
   run.layout_kind = LayoutKind::Atlas;
+  // The flow on the surface doubled along its boundary delivers the half's pieces, laid out.
+  std::optional<CommonSubdivision> sub;
+  if (run.doubled) sub = std::move(run.subdivision);
   run.subdivision.reset();
   run.subdivision_failure.clear();
   run.face_chart.clear();
   run.corners.clear();
-  const Triangulation& flowed = result_triangulation(mesh, run.result);
   const std::vector<double>& lengths = run.result.edge_lengths;
   AtlasResult& atlas = run.atlas;
   atlas.flow_distortion = area_distortion(mesh, run.result.u);
@@ -162,9 +164,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   }
 
   // === The delivered mesh, its edges' 3D and flat lengths, and which lie on the user's edges
-  std::optional<CommonSubdivision> sub;
-  if (!run.result.flip_sequence.empty()) {
+  if (!sub && !run.result.flip_sequence.empty()) {
     try {
+      const Triangulation& flowed = result_triangulation(mesh, run.result);
       sub = common_subdivision(mesh, run.structure, run.result, faces_drawn_alone(flowed, lengths));
     } catch (const LayoutError& e) {
       run.subdivision_failure = e.what();

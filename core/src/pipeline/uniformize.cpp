@@ -152,7 +152,9 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
       run.quality = measure_layout(mesh, run.geometry, run.result, run.corners);
     }
   };
-  if (run.doubled) {
+  if (run.doubled && run.preset == TargetPreset::Atlas) {
+    detail::lay_out_atlas(mesh, o, run);
+  } else if (run.doubled) {
     // Thin faces near the Poincare disk's rim that turn over only as drawn (straight) are split.
     if (run.layout_kind == LayoutKind::PoincareDisk && !o.keep_input_triangulation &&
         detail::has_drawing_turned_faces(run.subdivision->corners)) {
