@@ -43,15 +43,22 @@ bool is_obj_name(const std::string& path) {
   return ext == ".obj";
 }
 
-// --target cones:FILE or FILE: the per-vertex target, read once the mesh is known.
+// --target cones:FILE or FILE, or --cones FILE: the per-vertex target, read once the mesh is
+// known.
 void read_target_file(const cli::Options& o, UniformizationOptions& r) {
-  if (o.target_file.empty()) return;
-  if (o.target_is_cones) {
-    for (const auto& [vertex, degrees] : cli::read_cones(o.target_file)) {
+  if (!o.cones_file.empty() && !o.target_file.empty()) {
+    throw InvalidArgumentError("--cones " + o.cones_file + " and --target " + o.target +
+                               ": give the cones once, with --target atlas or alone");
+  }
+  const std::string& cones =
+      o.cones_file.empty() && o.target_is_cones ? o.target_file : o.cones_file;
+  if (!cones.empty()) {
+    for (const auto& [vertex, degrees] : cli::read_cones(cones)) {
       r.cones.push_back({vertex, degrees * kPi / 180});
     }
     return;
   }
+  if (o.target_file.empty()) return;
   const std::vector<double> values = cli::read_numbers(o.target_file);
   r.values = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<long>(values.size()));
 }

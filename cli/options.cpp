@@ -124,6 +124,13 @@ const std::vector<Flag>& flags() {
        "  FILE: Kbar per line, one line per vertex; 'nan' holds that vertex's u fixed",
        [](const O& o) { return o.target; },
        [](O& o, const std::string&, const std::string& v) { set_target(o, v); }},
+      {{"--cones"},
+       "FILE",
+       "lines \"VERTEX ANGLE_DEGREES\" as for --target cones:FILE; with --target atlas the "
+       "atlas's cones, with these angles, instead of placed ones (--distortion and --max-cones "
+       "then do not apply); alone the same as --target cones:FILE",
+       nullptr,
+       [](O& o, const std::string&, const std::string& v) { o.cones_file = v; }},
       {{"--distortion"},
        "D",
        "atlas: the area distortion to reach, sqrt(sum A (u - mean u)^2) on the surface scaled "

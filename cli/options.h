@@ -17,10 +17,11 @@ struct Options {
   std::string target = "auto";    //!< --target as given
   std::string target_file;        //!< --target cones:FILE or FILE: read once the mesh is known
   bool target_is_cones = false;
-  std::string eps_file;  //!< mixed scheme: +1/0/-1 per vertex
-  std::string report;    //!< JSON report path
-  std::string picture;   //!< PNG of the layout
-  bool strict = false;   //!< refuse a mesh that needs repairs instead of repairing it
+  std::string cones_file;  //!< --cones FILE: the atlas's cones, or alone the target cones:FILE
+  std::string eps_file;    //!< mixed scheme: +1/0/-1 per vertex
+  std::string report;      //!< JSON report path
+  std::string picture;     //!< PNG of the layout
+  bool strict = false;     //!< refuse a mesh that needs repairs instead of repairing it
   bool ascii = false;
   bool quiet = false;
   bool help = false;

@@ -210,7 +210,7 @@ class Solver {
   Solver(const Points& v, const Triangles& f, std::vector<std::string> flags)
       : mesh_(to_points(v), to_triangles(f)) {
     const cli::Options o = parse("ricci_flow.Solver", std::move(flags));
-    if (o.request.preset == TargetPreset::Values || !o.request.cones.empty() ||
+    if (o.request.preset == TargetPreset::Values || !o.cones_file.empty() ||
         o.request.preset == TargetPreset::UnitDisk) {
       throw InvalidArgumentError(
           "a Solver is made with a geometry and a scheme; give targets to solve()");

@@ -237,6 +237,52 @@ TEST(Atlas, AConeBudgetBelowTheBoundIsWarnedOf) {
   EXPECT_EQ(overlapping_pairs(a.uv), 0);
 }
 
+// The report's atlas cones: (vertex, angle in the exact metric), read with a scan of its own.
+std::vector<std::pair<int, double>> report_cones(const std::string& json) {
+  std::vector<std::pair<int, double>> cones;
+  const size_t begin = json.find("\"atlas\": {\"cones\": [");
+  const size_t end = json.find(']', begin);
+  for (size_t at = json.find("{\"vertex\": ", begin); at < end;
+       at = json.find("{\"vertex\": ", at + 1)) {
+    int vertex = 0;
+    double angle = 0;
+    EXPECT_EQ(std::sscanf(json.c_str() + at, "{\"vertex\": %d, \"angle\": %lf", &vertex, &angle),
+              2);
+    cones.emplace_back(vertex, angle);
+  }
+  return cones;
+}
+
+TEST(Atlas, TheUsersConesStayWithTheirAngles) {
+  // The cones the placement finds on CGAL's knot, given back as the user's (--cones): the same
+  // cones and angles in the exact metric, no placement, a valid atlas.
+  const std::string knot = cgal("knot1.off");
+  const std::string placed = temp("placed.json"), given = temp("given.json");
+  ASSERT_EQ(ricci_flow(knot + " --target atlas -o " + temp("placed.ply") + " --report " + placed)
+                .exit_code,
+            0);
+  const std::vector<std::pair<int, double>> cones = report_cones(slurp(placed));
+  ASSERT_GE(cones.size(), 2u);
+  const std::string file = temp("knot-cones.txt");
+  {
+    FILE* out = std::fopen(file.c_str(), "w");
+    ASSERT_NE(out, nullptr);
+    for (const auto& [v, angle] : cones) std::fprintf(out, "%d %.15g\n", v, angle * 180 / M_PI);
+    std::fclose(out);
+  }
+  const Atlas a = run_atlas(knot, "--cones " + file + " --report " + given);
+  expect_valid_atlas(a, knot, 0.2);
+  EXPECT_NE(a.summary.find("cones, yours"), std::string::npos) << a.summary;
+  const std::string report = slurp(given);
+  EXPECT_NE(report.find("\"user_cones\": true"), std::string::npos);
+  const std::vector<std::pair<int, double>> kept = report_cones(report);
+  ASSERT_EQ(kept.size(), cones.size());
+  for (size_t i = 0; i < cones.size(); ++i) {
+    EXPECT_EQ(kept[i].first, cones[i].first);
+    EXPECT_NEAR(kept[i].second, cones[i].second, 1e-8);
+  }
+}
+
 TEST(Atlas, ObjOutputHasTextureCoordinatesPerCorner) {
   const std::string out = temp("atlas.obj");
   const CliRun r = ricci_flow(cgal("knot1.off") + " --target atlas -o " + out);

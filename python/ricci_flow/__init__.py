@@ -53,7 +53,7 @@ def _flags(options, folder):
             flags += ["--eps", _write_numbers(folder, "eps.txt", [int(e) for e in value])]
         elif name == "cones":
             rows = [(int(v), float(degrees)) for v, degrees in value]
-            flags += ["--target", "cones:" + _write_numbers(folder, "cones.txt", rows)]
+            flags += ["--cones", _write_numbers(folder, "cones.txt", rows)]
         elif name == "target" and not isinstance(value, str):
             values = np.asarray(value, dtype=np.float64).ravel()
             flags += ["--target", _write_numbers(folder, "target.txt", values)]

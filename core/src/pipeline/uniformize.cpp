@@ -197,9 +197,13 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
   if (run.preset == TargetPreset::Atlas) {
     if (o.cones.empty()) {
       run.atlas.placement = place_cones(mesh, o.cone_placement);
-    } else {  // the user's cones, with their angles
-      run.atlas.placement.cones = o.cones;
-      run.atlas.placement.u = Eigen::VectorXd::Zero(mesh.num_vertices());
+    } else {  // the user's cones, with their angles: no bound to reach, no linear model
+      ConePlacement& p = run.atlas.placement;
+      p.cones = o.cones;
+      p.u = Eigen::VectorXd::Zero(mesh.num_vertices());
+      p.distortion = p.distortion_without_cones = p.max_deviation = std::nan("");
+      p.bound_reached = true;
+      run.atlas.user_cones = true;
     }
   }
   const TargetCurvature target = initial_target(mesh, run.preset, o, outer, run.atlas.placement);

@@ -133,7 +133,8 @@ std::string layout_json(const Uniformization& run) {
         << ", \"angle\": " << number(k < a.cone_angles.size() ? a.cone_angles[k] : p.cones[k].angle)
         << ", \"linear_angle\": " << number(p.cones[k].angle) << "}";
     }
-    j << "], \"distortion\": " << number(a.flow_distortion)
+    j << "], \"user_cones\": " << (a.user_cones ? "true" : "false")
+      << ", \"distortion\": " << number(a.flow_distortion)
       << ", \"linear_distortion\": " << number(p.distortion)
       << ", \"distortion_without_cones\": " << number(p.distortion_without_cones)
       << ", \"bound_reached\": " << (p.bound_reached ? "true" : "false")

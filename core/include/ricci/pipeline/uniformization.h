@@ -89,7 +89,10 @@ struct FlowTotals {
 
 //! What the atlas preset made: its cones, seams and charts.
 struct AtlasResult {
+  //! The placement; for the user's cones (UniformizationOptions::cones) only their vertices and
+  //! angles, the linear model's figures NaN.
   ConePlacement placement;
+  bool user_cones = false;  //!< the cones are the user's, not placed
   //! D of the flow's u (the exact flat metric), on the surface scaled to area 1.
   double flow_distortion = 0;
   //! The cones' angles in the exact metric (2 pi - K there, K from the flow), per placed cone.
