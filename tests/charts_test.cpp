@@ -2,13 +2,45 @@
 // anywhere in a chart (and only real ones); the sheets of an overlap parted by separate_sheets.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "ricci/layout/charts.h"
 #include "test_meshes.h"
 
 namespace ricci::test {
 namespace {
+
+TEST(Charts, EachFacePlacedByItsOwnSidesKeepsASliverWhoseNeighboursSideDiffers) {
+  // Two faces on the edge 0-2: a unit right triangle (0, 1, 2) and a sliver (0, 2, 3) whose long
+  // side is that edge. The sliver's own side 0-2 is 1e-9 shorter than its other two together;
+  // the right triangle's is 1e-8 longer, as pieces drawn one by one disagree by rounding.
+  const Triangulation mesh = Triangulation::from_faces(4, {{0, 1, 2}, {0, 2, 3}});
+  const double hypotenuse = std::sqrt(2.0), half = hypotenuse / 2 * (1 + 1e-9);
+  std::vector<std::array<double, 3>> sides(2);
+  std::vector<double> lengths(mesh.num_edges());
+  for (int f = 0; f < 2; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const auto [a, b] = mesh.edge_vertices(mesh.face_edge(f, c));
+      const bool diagonal = std::min(a, b) == 0 && std::max(a, b) == 2;
+      const double l =
+          f == 0 ? (diagonal ? hypotenuse * (1 + 1e-8) : 1.0) : (diagonal ? hypotenuse : half);
+      sides[f][c] = l;
+      lengths[mesh.face_edge(f, c)] = l;  // the last face's: the sliver's own
+    }
+  }
+  const std::vector<char> none(mesh.num_edges(), 0);
+  EXPECT_EQ(lay_out_charts(mesh, sides, none).flipped_faces, 0);
+  // One length per edge, the right triangle's diagonal for both: the sliver's sides no longer
+  // close and it collapses.
+  for (int c = 0; c < 3; ++c) {
+    const auto [a, b] = mesh.edge_vertices(mesh.face_edge(0, c));
+    if (std::min(a, b) == 0 && std::max(a, b) == 2) lengths[mesh.face_edge(0, c)] = sides[0][c];
+  }
+  EXPECT_EQ(lay_out_charts(mesh, lengths, none).flipped_faces, 1);
+}
 
 TEST(Charts, AFlatGridCutAcrossIsTwoExactChartsWithoutOverlap) {
   const CompactMesh grid = square_grid(8);

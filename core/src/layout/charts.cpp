@@ -22,16 +22,18 @@ double signed_area(const std::array<Eigen::Vector2d, 3>& t) {
   return 0.5 * cross(t[1] - t[0], t[2] - t[0]);
 }
 
-// The third corner of a triangle with corners p (opposite side b) and q (opposite side a),
-// counter-clockwise: p, q, r with |q - r| = a, |r - p| = b.
-Eigen::Vector2d third_corner(const Eigen::Vector2d& p, const Eigen::Vector2d& q, double a,
-                             double b) {
+// The corner opposite p-q of a triangle with sides a (opposite p), b (opposite q) and c (p-q),
+// counter-clockwise, the triangle scaled so that its side c spans p-q as placed: its shape, and so
+// its orientation, are its own even where p-q was placed by a neighbour whose length of that side
+// differs by rounding.
+Eigen::Vector2d third_corner(const Eigen::Vector2d& p, const Eigen::Vector2d& q, double a, double b,
+                             double c) {
   const Eigen::Vector2d d = q - p;
-  const double c = d.norm();
+  const double placed = d.norm();
   const double x = (b * b + c * c - a * a) / (2 * c);
   const double y = std::sqrt(std::max(0.0, b * b - x * x));
-  const Eigen::Vector2d along = d / c, left(-along.y(), along.x());
-  return p + x * along + y * left;
+  const Eigen::Vector2d along = d / placed, left(-along.y(), along.x());
+  return p + (placed / c) * (x * along + y * left);
 }
 
 // Faces by chart: connected across edges that are neither cut nor boundary.
@@ -97,6 +99,15 @@ std::vector<int> deepest_faces(const Triangulation& mesh, const std::vector<char
 
 Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& lengths,
                       const std::vector<char>& cut) {
+  std::vector<std::array<double, 3>> sides(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) sides[f][c] = lengths[mesh.face_edge(f, c)];
+  }
+  return lay_out_charts(mesh, sides, cut);
+}
+
+Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<double, 3>>& sides,
+                      const std::vector<char>& cut) {
   const int nf = mesh.num_faces();
   Charts charts;
   charts.chart = chart_of_faces(mesh, cut, charts.num_charts);
@@ -104,11 +115,11 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& leng
   const std::vector<int> seeds = deepest_faces(mesh, cut, charts.chart, charts.num_charts);
   std::vector<char> placed(nf, 0);
   auto& p = charts.corners;
-  const auto side = [&](int f, int c) { return lengths[mesh.face_edge(f, c)]; };
+  const auto side = [&](int f, int c) { return sides[f][c]; };
   for (int seed : seeds) {
     p[seed][0] = Eigen::Vector2d::Zero();
     p[seed][1] = Eigen::Vector2d(side(seed, 2), 0);
-    p[seed][2] = third_corner(p[seed][0], p[seed][1], side(seed, 0), side(seed, 1));
+    p[seed][2] = third_corner(p[seed][0], p[seed][1], side(seed, 0), side(seed, 1), side(seed, 2));
     placed[seed] = 1;
     std::queue<int> queue;
     queue.push(seed);
@@ -124,7 +135,7 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& leng
         const Eigen::Vector2d& to = p[f][(c + 1) % 3];    // g's corner d+2
         p[g][(d + 1) % 3] = from;
         p[g][(d + 2) % 3] = to;
-        p[g][d] = third_corner(from, to, side(g, (d + 1) % 3), side(g, (d + 2) % 3));
+        p[g][d] = third_corner(from, to, side(g, (d + 1) % 3), side(g, (d + 2) % 3), side(g, d));
         placed[g] = 1;
         queue.push(g);
       }
@@ -151,7 +162,7 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& leng
     p[k / 3][k % 3] = sum[w] / count[w];
   }
   for (int h = 0; h < 3 * nf; ++h) {
-    const double l = lengths[mesh.face_edge(h / 3, h % 3)];
+    const double l = sides[h / 3][h % 3];
     const double drawn = (p[h / 3][(h % 3 + 1) % 3] - p[h / 3][(h % 3 + 2) % 3]).norm();
     charts.max_relative_length_error =
         std::max(charts.max_relative_length_error, std::abs(drawn / l - 1));

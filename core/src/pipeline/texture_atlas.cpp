@@ -177,16 +177,16 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   const std::vector<Eigen::Vector3d>& positions = sub ? sub->positions : mesh.positions();
   const Triangulation delivered =
       Triangulation::from_faces(static_cast<int>(positions.size()), faces);
-  std::vector<double> length3d(delivered.num_edges()), flat(delivered.num_edges());
+  std::vector<double> length3d(delivered.num_edges());
+  std::vector<std::array<double, 3>> flat(delivered.num_faces());
   for (int e = 0; e < delivered.num_edges(); ++e) {
     const auto [a, b] = delivered.edge_vertices(e);
     length3d[e] = (positions[a] - positions[b]).norm();
   }
   for (int f = 0; f < delivered.num_faces(); ++f) {
     for (int c = 0; c < 3; ++c) {
-      flat[delivered.face_edge(f, c)] =
-          sub ? (sub->corners[f][(c + 1) % 3] - sub->corners[f][(c + 2) % 3]).norm()
-              : lengths[mesh.face_edge(f, c)];
+      flat[f][c] = sub ? (sub->corners[f][(c + 1) % 3] - sub->corners[f][(c + 2) % 3]).norm()
+                       : lengths[mesh.face_edge(f, c)];
     }
   }
   const std::vector<char> allowed =

@@ -29,6 +29,12 @@ struct Charts {
 //! mark).
 Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& lengths,
                       const std::vector<char>& cut);
+//! The same with each face's own side lengths (`sides[f][c]`: of mesh.face_edge(f, c)), for
+//! pieces whose lengths of a shared edge differ by rounding (a common subdivision's, drawn piece
+//! by piece): each face is placed by its own sides, so a sliver keeps its orientation; the
+//! relative length error is measured against them.
+Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<double, 3>>& sides,
+                      const std::vector<char>& cut);
 
 //! Pairs of faces of one chart whose interiors overlap (beyond a relative tolerance of 1e-9 of
 //! the chart's size): the whole chart tested, not only neighbours, on a uniform grid of cells
