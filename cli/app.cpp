@@ -50,6 +50,11 @@ void read_target_file(const cli::Options& o, UniformizationOptions& r) {
     throw InvalidArgumentError("--cones " + o.cones_file + " and --target " + o.target +
                                ": give the cones once, with --target atlas or alone");
   }
+  if (!o.cones_file.empty() && r.preset != TargetPreset::Atlas &&
+      r.preset != TargetPreset::Automatic) {
+    throw InvalidArgumentError("--cones " + o.cones_file + " with --target " + o.target +
+                               ": the cones are a target of their own, or the atlas's cones");
+  }
   const std::string& cones =
       o.cones_file.empty() && o.target_is_cones ? o.target_file : o.cones_file;
   if (!cones.empty()) {

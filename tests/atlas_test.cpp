@@ -203,6 +203,8 @@ TEST(Atlas, ASurfaceWhoseBoundaryTrianglesDegenerateFlowsOnItsDouble) {
   const std::string cylinder = cgal("cylinder_locally_refined.off");
   const Atlas a = run_atlas(cylinder);
   expect_valid_atlas(a, cylinder, 0.2);
+  EXPECT_NE(a.summary.find("Flowed on the surface doubled along its boundary"), std::string::npos)
+      << a.summary;
 }
 
 TEST(Atlas, DiskWithBoundaryKeepsItsBoundaryFree) {
@@ -281,6 +283,25 @@ TEST(Atlas, TheUsersConesStayWithTheirAngles) {
     EXPECT_EQ(kept[i].first, cones[i].first);
     EXPECT_NEAR(kept[i].second, cones[i].second, 1e-8);
   }
+}
+
+TEST(Atlas, TheUsersConesAreChecked) {
+  const auto run_with = [](const std::string& mesh, const std::string& line) {
+    const std::string file = temp("bad-cones.txt");
+    FILE* out = std::fopen(file.c_str(), "w");
+    EXPECT_NE(out, nullptr);
+    if (out) std::fputs(line.c_str(), out), std::fclose(out);
+    return ricci_flow(mesh + " --target atlas --cones " + file + " -o " + temp("bad.ply"));
+  };
+  const CliRun past = run_with(cgal("knot1.off"), "99999 90\n");
+  EXPECT_NE(past.exit_code, 0);
+  EXPECT_NE(past.err.find("cone at vertex 99999"), std::string::npos) << past.err;
+  // nefertiti's vertex 0 lies on its boundary, which the atlas keeps free.
+  const std::string disk = cgal("nefertiti.off");
+  ASSERT_TRUE(read_mesh_file(disk).positions.size() > 0);
+  const CliRun boundary = run_with(disk, "0 90\n");
+  EXPECT_NE(boundary.exit_code, 0);
+  EXPECT_NE(boundary.err.find("on the boundary"), std::string::npos) << boundary.err;
 }
 
 TEST(Atlas, ObjOutputHasTextureCoordinatesPerCorner) {

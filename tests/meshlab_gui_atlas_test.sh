@@ -6,7 +6,7 @@
 # mesh: about half of it darkened (the grey squares), half as it was (the white ones).
 # Usage (run by ctest under xvfb-run): meshlab_gui_atlas_test.sh PREFIX MESH.obj ARTIFACT_DIR
 set -euo pipefail
-prefix=$1 mesh=$2 artifacts=$3
+prefix=$(realpath -m "$1") mesh=$(realpath -m "$2") artifacts=$(realpath -m "$3")
 rm -rf "$artifacts"
 mkdir -p "$artifacts"
 source "$(dirname "$0")/meshlab/gui_lib.sh"
@@ -38,7 +38,8 @@ two_tones() {
     same=$(convert plain.miff textured.miff -fx "abs(u.intensity - v.intensity) < 0.04 ? 1 : 0" \
       mesh.miff -compose Multiply -composite -format "%[fx:mean]" info:)
     rm -f plain.miff textured.miff mesh.miff
-    awk -v m="$mesh" -v d="$darker" -v s="$same" 'BEGIN { printf "%.3f %.3f %.4f\n", d / m, s / m, m }'
+    awk -v m="$mesh" -v d="$darker" -v s="$same" \
+      'BEGIN { if (m > 0) printf "%.3f %.3f %.4f\n", d / m, s / m, m; else print "0 0 0" }'
   )
 }
 
@@ -63,7 +64,9 @@ import -window root "$artifacts/checkerboard.png"
 [ -f "$artifacts/$name.png" ] ||
   fail "Set Texture made no checkerboard: the mesh had no wedge texture coordinates"
 
-read -r darker same mesh < <(two_tones "$artifacts/atlas.png" "$artifacts/checkerboard.png")
+tones=$(two_tones "$artifacts/atlas.png" "$artifacts/checkerboard.png") ||
+  fail "the screenshots could not be compared"
+read -r darker same mesh <<<"$tones"
 echo "the mesh covers $mesh of the view; the texture darkens $darker of it and leaves $same"
 awk -v d="$darker" -v s="$same" -v m="$mesh" 'BEGIN { exit !(m > 0.02 && d > 0.25 && s > 0.25) }' ||
   fail "no checkerboard on the mesh (darkened $darker, unchanged $same of the mesh's pixels)"

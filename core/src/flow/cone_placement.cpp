@@ -61,8 +61,10 @@ class Search {
     for (int v = 0; v < mesh_.num_vertices(); ++v) {
       if (is_cone_[v] || mesh_.is_boundary_vertex(v)) continue;
       const double d = std::abs(u[v] - mean);
-      bool peak = true;
-      for (int w : adjacent_[v]) peak = peak && std::abs(u[w] - mean) <= d;
+      bool peak = true;  // over the neighbours that could be cones themselves
+      for (int w : adjacent_[v]) {
+        if (!is_cone_[w] && !mesh_.is_boundary_vertex(w)) peak = peak && std::abs(u[w] - mean) <= d;
+      }
       if (peak) found.emplace_back(d, v);
     }
     unmark(s.cones);
@@ -224,10 +226,10 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
 
   // === Gauss-Seidel: each cone moved to the best peak of |u| of the set without it (CEPS moves
   // it to the argmax). Where the budget stopped the greedy short of the bound, the best of several
-  // peaks; else the argmax alone: the sweeps then cost what the greedy does, and the cones they
+  // peaks (also where the greedy stopped short for want of a vertex); else the argmax alone: the
+  // sweeps then cost what the greedy does, and the cones they
   // leave give fewer overlapping charts (a genus-4 flange: 23 charts against 39 without sweeps).
-  const bool budget_stopped = !search.done(state);
-  const int candidates = budget_stopped ? kRelocationCandidates : 1;
+  const int candidates = search.done(state) ? 1 : kRelocationCandidates;
   for (int sweep = 0; sweep < o.relocation_sweeps && !state.cones.empty(); ++sweep) {
     int moved = 0;
     for (size_t i = 0; i < state.cones.size(); ++i) {
@@ -246,6 +248,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
         if (better) best = trial;
       }
       if (best.cones != state.cones) state = best, ++moved;
+      model.keep_only(state.cones);  // the candidates' columns: at most a few at a time
     }
     result.relocations += moved;
     model.keep_only(state.cones);

@@ -204,14 +204,18 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   }
   // Where two pieces of one input face overlap (its corner at a cone of several turns, on an
   // obtuse CAD triangle, opens past a full turn), no seam on the input's edges parts them: there
-  // the pieces are parted one by one, the seam inside that input face.
-  std::vector<Eigen::Vector3d> piece_centroid;
-  if (sub) {
-    piece_centroid.assign(delivered.num_faces(), Eigen::Vector3d::Zero());
-    for (int f = 0; f < delivered.num_faces(); ++f) {
-      for (int v : sub->faces[f]) piece_centroid[f] += sub->positions[v] / 3;
+  // the pieces of that face are groups of their own, the seam inside it.
+  const auto pieces_apart = [&](int face, std::vector<int>& finer,
+                                std::vector<Eigen::Vector3d>& finer_centroid) {
+    finer = group, finer_centroid = centroid;
+    for (int h = 0; h < delivered.num_faces(); ++h) {
+      if (group[h] != group[face]) continue;
+      finer[h] = static_cast<int>(finer_centroid.size());
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int v : sub->faces[h]) c += sub->positions[v] / 3;
+      finer_centroid.push_back(c);
     }
-  }
+  };
   atlas.splits = 0;
   atlas.halvings = 0;
   for (int round = 0; round < kMaxSplitRounds && !overlaps.empty(); ++round) {
@@ -219,10 +223,15 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     for (const auto& [f, g] : overlaps) {
       if (split[charts.chart[f]]) continue;
       split[charts.chart[f]] = 1;
-      const bool one_input_face = sub && group[f] == group[g];
-      const int marked = one_input_face
-                             ? separate_sheets(delivered, charts, f, g, {}, piece_centroid, seam)
-                             : separate_sheets(delivered, charts, f, g, group, centroid, seam);
+      int marked = 0;
+      if (sub && group[f] == group[g]) {
+        std::vector<int> finer;
+        std::vector<Eigen::Vector3d> finer_centroid;
+        pieces_apart(f, finer, finer_centroid);
+        marked = separate_sheets(delivered, charts, f, g, finer, finer_centroid, seam);
+      } else {
+        marked = separate_sheets(delivered, charts, f, g, group, centroid, seam);
+      }
       if (marked > 0) ++atlas.splits;
     }
     connect_cut(delivered, length3d, seam, allowed);

@@ -198,6 +198,14 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
     if (o.cones.empty()) {
       run.atlas.placement = place_cones(mesh, o.cone_placement);
     } else {  // the user's cones, with their angles: no bound to reach, no linear model
+      cone_target(mesh, o.cones);  // checks the vertices and angles
+      for (const Cone& c : o.cones) {
+        if (mesh.is_boundary_vertex(c.vertex)) {
+          throw InvalidTargetError("atlas: cone at vertex " + std::to_string(c.vertex) +
+                                   " on the boundary; the atlas's cones are interior vertices "
+                                   "(its boundary is free)");
+        }
+      }
       ConePlacement& p = run.atlas.placement;
       p.cones = o.cones;
       p.u = Eigen::VectorXd::Zero(mesh.num_vertices());
