@@ -144,6 +144,18 @@ def test_atlas_of_a_closed_genus_two_surface():
     assert r.atlas["overlapping_faces"] == 0 and r.atlas["distortion"] <= 0.2
 
 
+def test_atlas_through_the_users_cones():
+    # The cones the placement finds, given back as the user's: kept with their angles.
+    V, F = mesh("eight.off")
+    placed = ricci_flow.uniformize(V, F, target="atlas")
+    cones = [(int(v), math.degrees(a)) for v, a in zip(placed.cones, placed.cone_angles)]
+    r = ricci_flow.uniformize(V, F, target="atlas", cones=cones)
+    assert r.converged and r.layout_kinds == ["atlas"] and r.atlas["user_cones"]
+    assert list(r.cones) == list(placed.cones)
+    assert np.allclose(r.cone_angles, placed.cone_angles, atol=1e-8)
+    assert r.atlas["overlapping_faces"] == 0 and np.all(signed_areas(r.texcoord) > 0)
+
+
 def test_dirty_input_is_repaired_and_reported():
     V, F = mesh("nefertiti.off")
     V2 = np.vstack([V, [[9.0, 9.0, 9.0]]])                  # an unreferenced vertex
