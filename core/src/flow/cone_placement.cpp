@@ -225,10 +225,10 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   }
 
   // === Gauss-Seidel: each cone moved to the best peak of |u| of the set without it (CEPS moves
-  // it to the argmax). Where the budget stopped the greedy short of the bound, the best of several
-  // peaks (also where the greedy stopped short for want of a vertex); else the argmax alone: the
-  // sweeps then cost what the greedy does, and the cones they
-  // leave give fewer overlapping charts (a genus-4 flange: 23 charts against 39 without sweeps).
+  // it to the argmax). Where the greedy stopped short of the bound (at the budget, or for want of
+  // a vertex), the best of several peaks; else the argmax alone: the sweeps then cost what the
+  // greedy does, and the cones they leave give fewer overlapping charts (a genus-4 flange: 23
+  // charts against 39 without sweeps).
   const int candidates = search.done(state) ? 1 : kRelocationCandidates;
   for (int sweep = 0; sweep < o.relocation_sweeps && !state.cones.empty(); ++sweep) {
     int moved = 0;
@@ -251,7 +251,6 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
       model.keep_only(state.cones);  // the candidates' columns: at most a few at a time
     }
     result.relocations += moved;
-    model.keep_only(state.cones);
     if (moved == 0) break;
   }
 

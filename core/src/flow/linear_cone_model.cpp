@@ -188,10 +188,16 @@ LinearConeModel::Solution LinearConeModel::held(const std::vector<int>& cones) {
   return s;
 }
 
-Eigen::VectorXd LinearConeModel::u(const std::vector<int>& cones, const Solution& s) {
+Eigen::VectorXd LinearConeModel::combination(const std::vector<int>& cones,
+                                             const Eigen::VectorXd& k) {
   ensure(cones);
   Eigen::VectorXd u = g_;
-  for (size_t j = 0; j < cones.size(); ++j) u += s.k[j] * columns_.col(slot_of_[cones[j]]);
+  for (size_t j = 0; j < cones.size(); ++j) u += k[j] * columns_.col(slot_of_[cones[j]]);
+  return u;
+}
+
+Eigen::VectorXd LinearConeModel::u(const std::vector<int>& cones, const Solution& s) {
+  Eigen::VectorXd u = combination(cones, s.k);
   if (cones.empty() && mesh_.is_closed()) {
     u.array() -= u.mean();  // the torus: u up to a constant
   } else {
@@ -203,9 +209,7 @@ Eigen::VectorXd LinearConeModel::u(const std::vector<int>& cones, const Solution
 
 Eigen::VectorXd LinearConeModel::prescribed(const std::vector<int>& cones,
                                             const Eigen::VectorXd& k) {
-  ensure(cones);
-  Eigen::VectorXd u = g_;
-  for (size_t j = 0; j < cones.size(); ++j) u += k[j] * columns_.col(slot_of_[cones[j]]);
+  Eigen::VectorXd u = combination(cones, k);
   if (mesh_.is_closed()) u.array() -= u.mean();
   return u;
 }

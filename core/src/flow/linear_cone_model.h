@@ -58,6 +58,7 @@ class LinearConeModel {
   // Computes the missing columns in one multi-column solve (0 for a vertex without a row).
   void ensure(const std::vector<int>& vertices);
   double distortion(const std::vector<int>& cones, const Eigen::VectorXd& k) const;
+  Eigen::VectorXd combination(const std::vector<int>& cones, const Eigen::VectorXd& k);  // g + G k
   Eigen::VectorXd scatter(const Eigen::VectorXd& x) const;
   int store(int v, const Eigen::VectorXd& column);
 

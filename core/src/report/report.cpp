@@ -198,19 +198,20 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
   if (run.layout_kind == LayoutKind::Atlas) {
     const AtlasResult& a = run.atlas;
     const ConePlacement& p = a.placement;
-    const std::string charts = std::to_string(a.num_charts) + " charts (" +
-                               std::to_string(a.splits) + " splits of overlapping ones), seams ";
+    std::ostringstream cones;  // the user's, or placed on the linear model at that cost
+    cones.precision(3);
+    cones << p.cones.size();
     if (a.user_cones) {
-      line("Atlas: ", p.cones.size(), " cones, yours; area distortion D ", a.flow_distortion, "; ",
-           charts, a.seam_length, " sqrt(area), ", a.overlapping_faces,
-           " overlapping faces; packed: utilization ", a.utilization);
+      cones << " cones, yours; area distortion D " << a.flow_distortion;
     } else {
-      line("Atlas: ", p.cones.size(), " cones (", p.factorizations, " factorization, ",
-           p.back_solves, " back-solves, ", p.seconds, " s), area distortion D ", a.flow_distortion,
-           " (the linear model's ", p.distortion, "; without cones ", p.distortion_without_cones,
-           "), max |u - mean u| ", p.max_deviation, "; ", charts, a.seam_length, " sqrt(area), ",
-           a.overlapping_faces, " overlapping faces; packed: utilization ", a.utilization);
+      cones << " cones (" << p.factorizations << " factorization, " << p.back_solves
+            << " back-solves, " << p.seconds << " s), area distortion D " << a.flow_distortion
+            << " (the linear model's " << p.distortion << "; without cones "
+            << p.distortion_without_cones << "), max |u - mean u| " << p.max_deviation;
     }
+    line("Atlas: ", cones.str(), "; ", a.num_charts, " charts (", a.splits,
+         " splits of overlapping ones), seams ", a.seam_length, " sqrt(area), ",
+         a.overlapping_faces, " overlapping faces; packed: utilization ", a.utilization);
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
   }
   if (!run.layout_failure.empty()) line("Invalid layout: ", run.layout_failure);
