@@ -133,5 +133,53 @@ TEST(Charts, SeparatingTheSheetsLeavesNoOverlap) {
   EXPECT_TRUE(overlapping_faces(charts).empty());
 }
 
+TEST(Charts, OverlapsAreFoundBetweenFacesOfAnySize) {
+  // One chart: a triangle of size 1e4 and small ones of size 1e-3 on a line across it; only those
+  // whose centres lie inside it overlap it (the small ones are disjoint from each other).
+  Charts charts;
+  charts.corners.push_back(
+      {Eigen::Vector2d(0, 0), Eigen::Vector2d(1e4, 0), Eigen::Vector2d(0, 1e4)});
+  std::vector<int> inside;
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector2d c(-1960.0 + 80.0 * i, 47.0 + 30.0 * i);  // none on an edge
+    charts.corners.push_back({c, c + Eigen::Vector2d(1e-3, 0), c + Eigen::Vector2d(0, 1e-3)});
+    if (c.x() > 0 && c.x() + c.y() + 2e-3 < 1e4) inside.push_back(i + 1);
+  }
+  charts.chart.assign(charts.corners.size(), 0);
+  charts.num_charts = 1;
+  const auto pairs = overlapping_faces(charts);
+  ASSERT_EQ(pairs.size(), inside.size());
+  ASSERT_GT(inside.size(), 50u);
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    EXPECT_EQ(pairs[i], std::make_pair(0, inside[i]));
+  }
+  // Flagged as known to be clean, the chart is not tested.
+  EXPECT_TRUE(overlapping_faces(charts, 0, {1}).empty());
+}
+
+TEST(Charts, OnlyChartsLaidOutAsBeforeWithoutOverlapCountAsClean) {
+  const Strip less = sector_strip(60, 1.8 * kPi), more = sector_strip(60, 2.4 * kPi);
+  const std::vector<char> none(less.mesh.num_edges(), 0);
+  const Charts flat = lay_out_charts(less.mesh, less.lengths, none);
+  EXPECT_EQ(unchanged_clean_charts(flat, flat, {}), std::vector<char>{1});
+  Charts charts = lay_out_charts(more.mesh, more.lengths, none);
+  const auto pairs = overlapping_faces(charts);
+  ASSERT_FALSE(pairs.empty());
+  EXPECT_EQ(unchanged_clean_charts(charts, charts, pairs), std::vector<char>{0});
+  // Split in two, neither chart is the one before.
+  std::vector<Eigen::Vector3d> centroid;
+  for (const auto& t : more.mesh.faces()) {
+    centroid.push_back(
+        (more.mesh.positions()[t[0]] + more.mesh.positions()[t[1]] + more.mesh.positions()[t[2]]) /
+        3);
+  }
+  std::vector<char> cut = none;
+  ASSERT_GT(separate_sheets(more.mesh, charts, pairs[0].first, pairs[0].second, {}, centroid, cut),
+            0);
+  const Charts parted = lay_out_charts(more.mesh, more.lengths, cut);
+  ASSERT_EQ(parted.num_charts, 2);
+  EXPECT_EQ(unchanged_clean_charts(parted, charts, {}), (std::vector<char>{0, 0}));
+}
+
 }  // namespace
 }  // namespace ricci::test

@@ -5,7 +5,6 @@
 #include <functional>
 #include <limits>
 #include <queue>
-#include <unordered_map>
 
 #include "layout/corners.h"
 #include "mesh/mesh_checks.h"
@@ -193,55 +192,101 @@ bool interiors_overlap(const std::array<Eigen::Vector2d, 3>& a,
   return true;
 }
 
+struct Box {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  void add(const Eigen::Vector2d& q) { lo = lo.cwiseMin(q), hi = hi.cwiseMax(q); }
+  void add(const Box& b) { lo = lo.cwiseMin(b.lo), hi = hi.cwiseMax(b.hi); }
+  bool meets(const Box& b) const {
+    return (lo.array() <= b.hi.array()).all() && (b.lo.array() <= hi.array()).all();
+  }
+};
+
+// A bounding-box hierarchy over some faces, split at the median of the longer axis: the faces
+// whose boxes meet a box, in time about the log of the count plus the faces found, whatever the
+// spread of the faces' sizes (a chart of a high-distortion metric spans area ratios of e^20).
+class BoxTree {
+ public:
+  BoxTree(const std::vector<Box>& box, std::vector<int>& faces) : box_(box), faces_(faces) {
+    build(0, static_cast<int>(faces.size()));
+  }
+  template <class Visit>
+  void visit(const Box& b, Visit&& found) const {
+    int stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[stack[--top]];
+      if (!n.box.meets(b)) continue;
+      if (n.left < 0) {
+        for (int i = n.begin; i < n.end; ++i) {
+          if (box_[faces_[i]].meets(b)) found(faces_[i]);
+        }
+      } else {
+        stack[top++] = n.left, stack[top++] = n.right;
+      }
+    }
+  }
+
+ private:
+  struct Node {
+    Box box;
+    int begin = 0, end = 0, left = -1, right = -1;  // a leaf: no children
+  };
+  int build(int begin, int end) {
+    const int at = static_cast<int>(nodes_.size());
+    nodes_.push_back({});
+    Box b;
+    for (int i = begin; i < end; ++i) b.add(box_[faces_[i]]);
+    nodes_[at].box = b, nodes_[at].begin = begin, nodes_[at].end = end;
+    if (end - begin <= kLeaf) return at;
+    const int axis = b.hi.x() - b.lo.x() >= b.hi.y() - b.lo.y() ? 0 : 1;
+    const int mid = (begin + end) / 2;
+    std::nth_element(
+        faces_.begin() + begin, faces_.begin() + mid, faces_.begin() + end, [&](int f, int g) {
+          return box_[f].lo[axis] + box_[f].hi[axis] < box_[g].lo[axis] + box_[g].hi[axis];
+        });
+    const int left = build(begin, mid);
+    const int right = build(mid, end);
+    nodes_[at].left = left, nodes_[at].right = right;
+    return at;
+  }
+  static constexpr int kLeaf = 8;
+  const std::vector<Box>& box_;
+  std::vector<int>& faces_;
+  std::vector<Node> nodes_;
+};
+
 }  // namespace
 
-std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs) {
+std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs,
+                                                   const std::vector<char>& known_clean) {
   std::vector<std::pair<int, int>> pairs;
   const int nf = static_cast<int>(charts.corners.size());
   std::vector<std::vector<int>> by_chart(charts.num_charts);
   for (int f = 0; f < nf; ++f) by_chart[charts.chart[f]].push_back(f);
-  for (const std::vector<int>& faces : by_chart) {
-    if (faces.size() < 2) continue;
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector2d hi = -lo;
-    double area = 0;
-    for (int f : faces) {
-      for (const auto& q : charts.corners[f]) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-      area += std::abs(signed_area(charts.corners[f]));
-    }
-    const double size = (hi - lo).maxCoeff();
+  std::vector<Box> box(nf);
+  for (int f = 0; f < nf; ++f) {
+    for (const auto& q : charts.corners[f]) box[f].add(q);
+  }
+  for (int c = 0; c < charts.num_charts; ++c) {
+    std::vector<int>& faces = by_chart[c];
+    if (faces.size() < 2 || (!known_clean.empty() && known_clean[c])) continue;
+    Box whole;
+    for (int f : faces) whole.add(box[f]);
+    const double size = (whole.hi - whole.lo).maxCoeff();
     if (!(size > 0)) continue;
     const double tolerance = 1e-9 * size;
-    const double cell =
-        std::max(std::sqrt(area / static_cast<double>(faces.size())) * 2, size / 4096);
-    const long columns = static_cast<long>((hi.x() - lo.x()) / cell) + 1;
-    std::unordered_map<long, std::vector<int>> grid;
-    const auto cell_of = [&](double x, double y) {
-      return std::pair{static_cast<long>((x - lo.x()) / cell),
-                       static_cast<long>((y - lo.y()) / cell)};
-    };
-    for (int f : faces) {
-      Eigen::Vector2d a = charts.corners[f][0], b = a;
-      for (const auto& q : charts.corners[f]) a = a.cwiseMin(q), b = b.cwiseMax(q);
-      const auto [x0, y0] = cell_of(a.x(), a.y());
-      const auto [x1, y1] = cell_of(b.x(), b.y());
-      for (long y = y0; y <= y1; ++y) {
-        for (long x = x0; x <= x1; ++x) grid[y * columns + x].push_back(f);
-      }
-    }
+    const BoxTree tree(box, faces);
     std::vector<std::pair<int, int>> found;
-    for (const auto& [key, in_cell] : grid) {
-      for (size_t i = 0; i < in_cell.size(); ++i) {
-        for (size_t j = i + 1; j < in_cell.size(); ++j) {
-          const int f = std::min(in_cell[i], in_cell[j]), g = std::max(in_cell[i], in_cell[j]);
-          if (interiors_overlap(charts.corners[f], charts.corners[g], tolerance)) {
-            found.emplace_back(f, g);
-          }
+    for (int f : faces) {
+      tree.visit(box[f], [&](int g) {
+        if (g > f && interiors_overlap(charts.corners[f], charts.corners[g], tolerance)) {
+          found.emplace_back(f, g);
         }
-      }
+      });
     }
     std::sort(found.begin(), found.end());
-    found.erase(std::unique(found.begin(), found.end()), found.end());
     pairs.insert(pairs.end(), found.begin(), found.end());
     if (max_pairs > 0 && pairs.size() >= max_pairs) {
       pairs.resize(max_pairs);
@@ -305,6 +350,30 @@ int separate_sheets(const Triangulation& mesh, const Charts& charts, int f, int 
     }
   }
   return marked;
+}
+
+std::vector<char> unchanged_clean_charts(const Charts& now, const Charts& before,
+                                         const std::vector<std::pair<int, int>>& before_overlaps) {
+  std::vector<char> dirty_before(before.num_charts, 0);
+  for (const auto& [f, g] : before_overlaps) dirty_before[before.chart[f]] = 1;
+  std::vector<int> size_now(now.num_charts, 0), size_before(before.num_charts, 0);
+  for (int c : now.chart) ++size_now[c];
+  for (int c : before.chart) ++size_before[c];
+  // The chart of `before` each chart of `now` came from (-1: from several, or laid out anew).
+  std::vector<int> origin(now.num_charts, -2);
+  for (size_t f = 0; f < now.chart.size(); ++f) {
+    int& o = origin[now.chart[f]];
+    const int b = before.chart[f];
+    const bool same = now.corners[f] == before.corners[f];
+    if (o == -2) o = b;
+    if (o != b || !same) o = -1;
+  }
+  std::vector<char> clean(now.num_charts, 0);
+  for (int c = 0; c < now.num_charts; ++c) {
+    const int o = origin[c];
+    clean[c] = o >= 0 && !dirty_before[o] && size_before[o] == size_now[c];
+  }
+  return clean;
 }
 
 }  // namespace ricci

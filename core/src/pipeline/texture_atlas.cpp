@@ -235,8 +235,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       if (marked > 0) ++atlas.splits;
     }
     connect_cut(delivered, length3d, seam, allowed);
-    charts = lay_out_charts(delivered, flat, seam);
-    overlaps = overlapping_faces(charts);
+    Charts parted = lay_out_charts(delivered, flat, seam);
+    overlaps = overlapping_faces(parted, 0, unchanged_clean_charts(parted, charts, overlaps));
+    charts = std::move(parted);
   }
   // Long charts (a tube's strip) fill a square poorly: each is halved across its long axis (as
   // two sheets from its two ends), where that packs the square fuller by a tenth and leaves no

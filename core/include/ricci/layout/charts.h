@@ -37,10 +37,18 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<do
                       const std::vector<char>& cut);
 
 //! Pairs of faces of one chart whose interiors overlap (beyond a relative tolerance of 1e-9 of
-//! the chart's size): the whole chart tested, not only neighbours, on a uniform grid of cells
-//! about the mean face's size. Each pair once, smaller face first; at most max_pairs of them
+//! the chart's size): the whole chart tested, not only neighbours, through a hierarchy of the
+//! faces' bounding boxes. Each pair once, smaller face first; at most max_pairs of them
 //! (0: all).
-std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs = 0);
+//! Charts whose flag in `known_clean` is set are not tested.
+std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs = 0,
+                                                   const std::vector<char>& known_clean = {});
+
+//! Per chart of `now`: 1 where it is a chart of `before` without any of the overlapping pairs
+//! `before_overlaps`, laid out the same (its faces, at the same corners): a chart that need not be
+//! tested for overlaps again.
+std::vector<char> unchanged_clean_charts(const Charts& now, const Charts& before,
+                                         const std::vector<std::pair<int, int>>& before_overlaps);
 
 //! Seams that part faces f and g of one chart (two sheets that overlap): the chart's faces, in
 //! groups that no seam may split (`group` per face, e.g. the input face a piece lies in; empty:
