@@ -182,9 +182,16 @@ FlowResult detail::FlowState::run(const Eigen::VectorXd* start) {
                            : Eigen::VectorXd::Constant(s.u.size(), std::nan(""));
   } else {
     s.keep_delaunay();
-    if (start) s.walk_to(*start);
     // With u held at some vertices, Newton converges from wherever the walk stopped, to another
-    // metric than the start's: the walk is made again with flips at once.
+    // metric than the start's: the walk is made again with flips at once. Where the start is no
+    // metric on this triangulation, a walk without flips cannot reach it: made with them at once
+    // (the cow's atlas at 8 cones: its flow 0.43 s to 0.37 s, medians of 3).
+    if (start && start->allFinite() && target.num_fixed() > 0 && s.may_start_flipping() &&
+        !evaluate_metric(s.triangulation, s.structure, *start).valid()) {
+      s.blocked_walk.emplace(s.u, *start);
+    } else if (start) {
+      s.walk_to(*start);
+    }
     if (s.blocked_walk && target.num_fixed() > 0) {
       s.start_flipping(0, "the walk to the start was blocked by degenerating triangles");
     }
