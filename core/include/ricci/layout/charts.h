@@ -46,7 +46,8 @@ std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t 
 
 //! Per chart of `now`: 1 where it is a chart of `before` without any of the overlapping pairs
 //! `before_overlaps`, laid out the same (its faces, at the same corners): a chart that need not be
-//! tested for overlaps again.
+//! tested for overlaps again. Both layouts of one mesh; `before_overlaps` all of before's pairs
+//! (found with max_pairs 0).
 std::vector<char> unchanged_clean_charts(const Charts& now, const Charts& before,
                                          const std::vector<std::pair<int, int>>& before_overlaps);
 
