@@ -196,6 +196,25 @@ TEST(Atlas, FewConesOnHighGenusGiveWideConesAndStillNoOverlap) {
   expect_valid_atlas(a, lever, 0.4);
 }
 
+TEST(Atlas, ACadPartWhoseFlowStallsWithItsConesGetsThoseOfATighterBound) {
+  // Cura's printer part (genus 3, 1.9k faces): with the 34 cones for D <= 0.2 the Delaunay
+  // triangulation of the flat metric would need edges from a vertex to itself, which the flips
+  // refuse, and the flow stalls; the cones for D <= 0.1 flow. The atlas is within the bound
+  // asked, and the summary and the report say which bound its cones were placed for, and why.
+  const std::string part = std::string(RICCI_REAL_MESH_DIR) + "/cura-felixpro2.obj";
+  const std::string report = temp("part.json");
+  const Atlas a = run_atlas(part, "--report " + report);
+  expect_valid_atlas(a, part, 0.2);
+  EXPECT_NE(a.summary.find("The cones were placed for D <= 0.1, a tighter bound: with the cones "
+                           "for D <= 0.2"),
+            std::string::npos)
+      << a.summary;
+  const std::string json = slurp(report);
+  EXPECT_NE(json.find("\"bound\": 0.1"), std::string::npos);
+  EXPECT_NE(json.find("\"bound_instead\": \"with the cones for D <= 0.2"), std::string::npos);
+  EXPECT_NE(json.find("stalled"), std::string::npos);
+}
+
 TEST(Atlas, ASurfaceWhoseBoundaryTrianglesDegenerateFlowsOnItsDouble) {
   // CGAL's locally refined cylinder (an annulus): with u held on the boundary, triangles there
   // degenerate and no flip of this surface removes a boundary edge; on the surface doubled along

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <optional>
 #include <sstream>
 
 #include "flow/spherical_start.h"
@@ -184,9 +185,8 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
   return by_one_solve;
 }
 
-// The run for the preset resolved from the request.
-Uniformization uniformize_as_requested(const CompactMesh& mesh,
-                                       const UniformizationOptions& request) {
+// The run for the preset resolved from the request (the atlas's cones placed once).
+Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOptions& request) {
   const UniformizationOptions o = with_cone_values(mesh, request);
   Uniformization run;
   std::tie(run.preset, run.geometry) = resolve_request(mesh, o);
@@ -197,6 +197,7 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
   if (run.preset == TargetPreset::Atlas) {
     if (o.cones.empty()) {
       run.atlas.placement = place_cones(mesh, o.cone_placement);
+      run.atlas.bound = o.cone_placement.distortion_bound;
     } else {  // the user's cones, with their angles: no bound to reach, no linear model
       cone_target(mesh, o.cones);  // checks the vertices and angles
       for (const Cone& c : o.cones) {
@@ -212,6 +213,7 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
       p.distortion = p.distortion_without_cones = p.max_deviation = std::nan("");
       p.bound_reached = true;
       run.atlas.user_cones = true;
+      run.atlas.bound = std::nan("");
     }
   }
   const TargetCurvature target = initial_target(mesh, run.preset, o, outer, run.atlas.placement);
@@ -262,6 +264,58 @@ Uniformization delivered_instead(const Uniformization& attempt, Uniformization i
 std::string why_not_valid(const Uniformization& run) {
   return run.converged() ? "gave no map: " + run.layout_failure
                          : "was not reached: " + run.result.failure;
+}
+
+// Tighter distortion bounds place more cones, closer together, whose flat metric is nearer the
+// input's. Where the flow with the cones for the bound asked is not reached (on CAD parts of high
+// genus the Delaunay triangulation of their metric can need an edge from a vertex to itself,
+// which the flips refuse, and the flow stalls: cura-felixpro2.obj, openscad-tardis.stl) or their
+// layout fails, the cones for half the bound, at most this many times; D stays within the bound
+// asked.
+constexpr int kTighterBounds = 2;
+
+// The run for the preset resolved from the request; the atlas's placed cones again for tighter
+// bounds while the run gives no atlas.
+Uniformization uniformize_as_requested(const CompactMesh& mesh,
+                                       const UniformizationOptions& request) {
+  Uniformization run = uniformize_once(mesh, request);
+  if (run.preset != TargetPreset::Atlas || run.atlas.user_cones) return run;
+  std::ostringstream why;
+  why.precision(3);
+  FlowTotals retries;  // what the attempts after the first and before the last cost
+  std::optional<Uniformization> last;
+  for (int k = 0; k < kTighterBounds; ++k) {
+    const Uniformization& tried = last ? *last : run;
+    if (tried.valid() || tried.result.stop == FlowStop::Cancelled ||
+        !tried.atlas.placement.bound_reached) {
+      break;
+    }
+    why << (k ? "; with those for D <= " : "with the cones for D <= ") << tried.atlas.bound << " ("
+        << tried.atlas.placement.cones.size() << ") the atlas " << why_not_valid(tried);
+    if (last) retries.add(cost_of(last->totals));
+    UniformizationOptions tighter = request;
+    tighter.cone_placement.distortion_bound = tried.atlas.bound / 2;
+    last = uniformize_once(mesh, tighter);
+  }
+  if (!last) return run;
+  if (last->result.stop == FlowStop::Cancelled) return std::move(*last);
+  if (last->valid()) {
+    FlowTotals totals = cost_of(run.totals);
+    totals.add(retries);
+    totals.add(last->totals);
+    last->totals = totals;
+    last->atlas.bound_instead = why.str();
+    return std::move(*last);
+  }
+  // None gave an atlas: the first run's failure, and the last one tried.
+  retries.add(cost_of(last->totals));
+  run.totals.add(retries);
+  std::ostringstream tried;
+  tried.precision(3);
+  tried << "; with the cones placed again for D <= " << last->atlas.bound << " ("
+        << last->atlas.placement.cones.size() << "), the atlas " << why_not_valid(*last);
+  (run.converged() ? run.layout_failure : run.result.failure) += tried.str();
+  return run;
 }
 
 // The requested preset, and for the automatic target where the circle domain fails, the free

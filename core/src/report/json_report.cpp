@@ -137,6 +137,8 @@ std::string layout_json(const Uniformization& run) {
       << ", \"distortion\": " << number(a.flow_distortion)
       << ", \"linear_distortion\": " << number(p.distortion)
       << ", \"distortion_without_cones\": " << number(p.distortion_without_cones)
+      << ", \"bound\": " << number(a.bound)
+      << ", \"bound_instead\": " << (a.bound_instead.empty() ? "null" : quoted(a.bound_instead))
       << ", \"bound_reached\": " << (p.bound_reached ? "true" : "false")
       << ", \"max_deviation\": " << number(p.max_deviation)
       << ", \"placement\": {\"factorizations\": " << p.factorizations

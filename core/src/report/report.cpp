@@ -213,6 +213,9 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
          " splits of overlapping ones), seams ", a.seam_length, " sqrt(area), ",
          a.overlapping_faces, " overlapping faces; packed: utilization ", a.utilization);
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
+    if (!a.bound_instead.empty()) {
+      line("The cones were placed for D <= ", a.bound, ", a tighter bound: ", a.bound_instead);
+    }
   }
   if (!run.layout_failure.empty()) line("Invalid layout: ", run.layout_failure);
   const Layout& m = run.layout;

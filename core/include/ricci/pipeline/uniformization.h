@@ -93,6 +93,10 @@ struct AtlasResult {
   //! angles, the linear model's figures NaN.
   ConePlacement placement;
   bool user_cones = false;  //!< the cones are the user's, not placed
+  //! The distortion bound the cones were placed for: the one asked, or a tighter one where with
+  //! the cones of the one asked the flow or the layout failed (bound_instead says why).
+  double bound = 0;
+  std::string bound_instead;
   //! D of the flow's u (the exact flat metric), on the surface scaled to area 1.
   double flow_distortion = 0;
   //! The cones' angles in the exact metric (2 pi - K there, K from the flow), per placed cone.
