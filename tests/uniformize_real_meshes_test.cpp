@@ -155,6 +155,7 @@ TEST(Uniformize, PoincareDiskLayoutStaysNearTheCentre) {
   EXPECT_TRUE(run.valid()) << run.layout_failure;
 }
 
+#ifndef RICCI_SANITIZED  // the Release build only (tests/CMakeLists.txt says why)
 // A 3D printer's build plate (Cura, genus 97 after its non-manifold vertices are split): the
 // hyperbolic Yamabe flow stalled on its triangles; with Ptolemy flips in the line search it
 // converges. Its 80k flips cut the input into a common subdivision of a million thin pieces. With
@@ -179,6 +180,7 @@ TEST(Uniformize, HyperbolicFlowFlipsAcrossInvalidTrianglesAndDrawsThinPiecesInCh
   EXPECT_EQ(run.quality.flipped_faces, 0);
   EXPECT_TRUE(run.valid()) << run.layout_failure;
 }
+#endif
 
 // SUMO's tram body (genus 0, 26 window loops): boundary vertices of one triangle, which a circle
 // domain needs above 180 degrees (its Yamabe flow stalls on the surface and on its double); the
