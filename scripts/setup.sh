@@ -17,7 +17,7 @@ pytest_version="8.3.4"
 cgal_demo_package="libcgal-demo"
 
 packages=(
-  build-essential cmake pkg-config dpkg-dev clang-format clang-14 libclang-rt-14-dev llvm-14
+  build-essential cmake pkg-config dpkg-dev ccache clang-format clang-14 libclang-rt-14-dev llvm-14
   libeigen3-dev libsuitesparse-dev libopenblas0-pthread
   libgtest-dev libgmock-dev libbenchmark-dev
   qtbase5-dev libqt5opengl5-dev libglew-dev

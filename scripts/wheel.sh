@@ -7,6 +7,7 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
+source "$root/scripts/compiler_cache.sh"
 tools="$root/build/wheel-tools"
 if [ ! -f "$tools/.complete" ]; then
   rm -rf "$tools"
