@@ -3,6 +3,7 @@
 #include "ricci/flow/scheme.h"
 
 #include <cmath>
+#include <cstdlib>
 
 #include <gtest/gtest.h>
 
@@ -53,6 +54,45 @@ TEST(Scheme, InitialMetricReproducesInputLengths) {
       EXPECT_TRUE(reproduces_input_lengths(scheme));
     }
   }
+}
+
+// The lengths-only test of the walk to a start: never false where the metric is valid, and false
+// wherever a triangle inequality fails (on growing random conformal factors: from every metric
+// valid to most faces invalid, in every geometry and scheme).
+TEST(Scheme, TheLengthsOnlyTestAgreesWithTheMetricsValidity) {
+  const CompactMesh mesh = test::cgal_mesh("nefertiti.off");
+  std::vector<int> eps(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) eps[v] = v % 3 - 1;
+  std::srand(7);
+  Eigen::VectorXd noise(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) noise[v] = std::rand() / (RAND_MAX + 1.0) - 0.5;
+  int valid = 0, invalid = 0;
+  for (Geometry g : kGeometries) {
+    for (Scheme scheme : {Scheme::Yamabe, Scheme::InversiveDistance, Scheme::Mixed}) {
+      SchemeOptions options;
+      options.scheme = scheme;
+      options.eps = eps;
+      const ConformalStructure s =
+          initialize_scheme(mesh, g, options, g == Geometry::Euclidean ? 1.0 : 0.01);
+      for (double size : {0.0, 0.01, 0.1, 0.5, 2.0, 8.0}) {
+        const Eigen::VectorXd u = s.u0 + size * noise;
+        const MetricState state = evaluate_metric(mesh, s, u);
+        bool inequalities = state.num_invalid_edges == 0;
+        for (int f = 0; f < mesh.num_faces() && inequalities; ++f) {
+          const auto& e = mesh.face_edges(f);
+          inequalities = is_valid_triangle(
+              g, {state.edges[e[0]].length, state.edges[e[1]].length, state.edges[e[2]].length});
+        }
+        const bool admitted = lengths_admit_triangles(mesh, s, u);
+        EXPECT_EQ(admitted, inequalities)
+            << to_string(g) << " " << to_string(scheme) << " " << size;
+        EXPECT_TRUE(admitted || !state.valid()) << to_string(g) << " " << size;
+        (state.valid() ? valid : invalid) += 1;
+      }
+    }
+  }
+  EXPECT_GT(valid, 0);
+  EXPECT_GT(invalid, 0);
 }
 
 TEST(Scheme, EpsAndEtaPresets) {

@@ -103,8 +103,13 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start) {
     const Eigen::VectorXd d = start - u;
     double alpha = 1;
     MetricState trial;
+    trial.num_invalid_faces = 1;  // none found yet
+    // Most trials are cut (the cow's atlas at 8 cones: 27 steps of up to 17 halvings each), and
+    // their triangle inequalities decide it without the angles.
     for (; alpha > 1e-6; alpha *= 0.5) {
-      trial = evaluate_metric(triangulation, structure, u + alpha * d);
+      const Eigen::VectorXd at = u + alpha * d;
+      if (!lengths_admit_triangles(triangulation, structure, at)) continue;
+      trial = evaluate_metric(triangulation, structure, at);
       if (trial.valid()) break;
     }
     // Without flips, steps that stay short only creep along the valid set's boundary.

@@ -52,6 +52,31 @@ MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure&
   return state;
 }
 
+bool lengths_admit_triangles(const Triangulation& mesh, const ConformalStructure& structure,
+                             const Eigen::VectorXd& u) {
+  const Geometry g = structure.geometry;
+  const Eigen::VectorXd x = u.array().exp();
+  std::vector<double> length(mesh.num_edges());
+  int invalid[2] = {0, 0};
+  detail::in_two_halves(mesh.num_edges(), [&](int part, int begin, int end) {
+    for (int e = begin; e < end && invalid[part] == 0; ++e) {
+      const auto [i, j] = mesh.edge_vertices(e);
+      const EdgeLength l = edge_length_of_exponentials(g, x[i], x[j], structure.eps[i],
+                                                       structure.eps[j], structure.eta[e]);
+      invalid[part] += !l.valid;
+      length[e] = l.length;
+    }
+  });
+  if (invalid[0] + invalid[1] > 0) return false;
+  detail::in_two_halves(mesh.num_faces(), [&](int part, int begin, int end) {
+    for (int f = begin; f < end && invalid[part] == 0; ++f) {
+      const std::array<int, 3>& e = mesh.face_edges(f);
+      invalid[part] += !is_valid_triangle(g, {length[e[0]], length[e[1]], length[e[2]]});
+    }
+  });
+  return invalid[0] + invalid[1] == 0;
+}
+
 void update_metric_at_edge(const Triangulation& mesh, const ConformalStructure& structure,
                            const Eigen::VectorXd& u, int e, MetricState& state) {
   const auto [i, j] = mesh.edge_vertices(e);

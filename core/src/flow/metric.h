@@ -27,6 +27,12 @@ struct MetricState {
 MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure& structure,
                             const Eigen::VectorXd& u);
 
+//! Whether every edge's length law has a solution at u and every face's lengths satisfy the
+//! triangle inequality: what evaluate_metric's validity needs, without the angles (their arc
+//! tangents cost most of it). False: evaluate_metric(mesh, structure, u) is not valid.
+bool lengths_admit_triangles(const Triangulation& mesh, const ConformalStructure& structure,
+                             const Eigen::VectorXd& u);
+
 //! Recomputes edge e's length and the angles of its faces (after e was flipped or its eta
 //! changed), keeping the invalid counts up to date.
 void update_metric_at_edge(const Triangulation& mesh, const ConformalStructure& structure,
