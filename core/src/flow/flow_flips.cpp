@@ -103,18 +103,21 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start) {
     const Eigen::VectorXd d = start - u;
     double alpha = 1;
     MetricState trial;
-    trial.num_invalid_faces = 1;  // none found yet
+    bool found = false;
     // Most trials are cut (the cow's atlas at 8 cones: 27 steps of up to 17 halvings each), and
     // their triangle inequalities decide it without the angles.
     for (; alpha > 1e-6; alpha *= 0.5) {
       const Eigen::VectorXd at = u + alpha * d;
       if (!lengths_admit_triangles(triangulation, structure, at)) continue;
       trial = evaluate_metric(triangulation, structure, at);
-      if (trial.valid()) break;
+      if (trial.valid()) {
+        found = true;
+        break;
+      }
     }
     // Without flips, steps that stay short only creep along the valid set's boundary.
     short_steps = alpha <= detail::kShortStep ? short_steps + 1 : 0;
-    if (!trial.valid() || (!flipping && short_steps > detail::StallWindow::kLengthBeforeFlips)) {
+    if (!found || (!flipping && short_steps > detail::StallWindow::kLengthBeforeFlips)) {
       if (may_start_flipping()) blocked_walk.emplace(origin, start);
       return;
     }

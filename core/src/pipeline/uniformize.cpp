@@ -5,6 +5,7 @@
 #include <complex>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "flow/spherical_start.h"
 #include "pipeline/circle_domain.h"
@@ -270,9 +271,18 @@ std::string why_not_valid(const Uniformization& run) {
 // input's. Where the flow with the cones for the bound asked is not reached (on CAD parts of high
 // genus the Delaunay triangulation of their metric can need an edge from a vertex to itself,
 // which the flips refuse, and the flow stalls: cura-felixpro2.obj, openscad-tardis.stl) or their
-// layout fails, the cones for half the bound, at most this many times; D stays within the bound
-// asked.
+// layout fails, the cones for half the bound, at most this many times. Not where the placement
+// stopped short of its bound (at the cone budget): a tighter one places no other cones.
 constexpr int kTighterBounds = 2;
+
+// One attempt, as the explanations list it: "D <= 0.2 (34 cones): the atlas was not reached: ...".
+std::string attempt(const Uniformization& run) {
+  std::ostringstream s;
+  s.precision(3);
+  s << "D <= " << run.atlas.bound << " (" << run.atlas.placement.cones.size()
+    << " cones): the atlas " << why_not_valid(run);
+  return s.str();
+}
 
 // The run for the preset resolved from the request; the atlas's placed cones again for tighter
 // bounds while the run gives no atlas.
@@ -280,9 +290,7 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
                                        const UniformizationOptions& request) {
   Uniformization run = uniformize_once(mesh, request);
   if (run.preset != TargetPreset::Atlas || run.atlas.user_cones) return run;
-  std::ostringstream why;
-  why.precision(3);
-  FlowTotals retries;  // what the attempts after the first and before the last cost
+  std::vector<Uniformization> failed;  // the attempts after the first that gave no atlas
   std::optional<Uniformization> last;
   for (int k = 0; k < kTighterBounds; ++k) {
     const Uniformization& tried = last ? *last : run;
@@ -290,31 +298,50 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
         !tried.atlas.placement.bound_reached) {
       break;
     }
-    why << (k ? "; with those for D <= " : "with the cones for D <= ") << tried.atlas.bound << " ("
-        << tried.atlas.placement.cones.size() << ") the atlas " << why_not_valid(tried);
-    if (last) retries.add(cost_of(last->totals));
     UniformizationOptions tighter = request;
     tighter.cone_placement.distortion_bound = tried.atlas.bound / 2;
+    if (last) failed.push_back(std::move(*last));
     last = uniformize_once(mesh, tighter);
   }
   if (!last) return run;
   if (last->result.stop == FlowStop::Cancelled) return std::move(*last);
+  // What the attempts that are not delivered cost: their flows and their placements.
+  const auto add_cost = [&](Uniformization& to, const Uniformization& attempt) {
+    to.totals.add(cost_of(attempt.totals));
+    ConePlacement& p = to.atlas.placement;
+    p.factorizations += attempt.atlas.placement.factorizations;
+    p.back_solves += attempt.atlas.placement.back_solves;
+    p.seconds += attempt.atlas.placement.seconds;
+  };
   if (last->valid()) {
-    FlowTotals totals = cost_of(run.totals);
-    totals.add(retries);
-    totals.add(last->totals);
-    last->totals = totals;
-    last->atlas.bound_instead = why.str();
+    Uniformization& delivered = *last;
+    const FlowTotals own = delivered.totals;
+    delivered.totals = FlowTotals();
+    add_cost(delivered, run);
+    for (const Uniformization& f : failed) add_cost(delivered, f);
+    delivered.totals.add(own);
+    std::string why = "with the cones for " + attempt(run);
+    for (const Uniformization& f : failed) why += "; with those for " + attempt(f);
+    delivered.atlas.bound_instead = why;
+    // The budget can stop the tighter placement short of its bound, within the one asked.
+    ConePlacement& p = delivered.atlas.placement;
+    const bool sharp = std::any_of(p.cones.begin(), p.cones.end(), [&](const Cone& c) {
+      return c.angle < request.cone_placement.min_cone_angle;
+    });
+    if (!p.bound_reached && !sharp && p.distortion <= request.cone_placement.distortion_bound) {
+      p.bound_reached = true;
+      p.why_not.clear();
+    }
     return std::move(*last);
   }
-  // None gave an atlas: the first run's failure, and the last one tried.
-  retries.add(cost_of(last->totals));
-  run.totals.add(retries);
-  std::ostringstream tried;
-  tried.precision(3);
-  tried << "; with the cones placed again for D <= " << last->atlas.bound << " ("
-        << last->atlas.placement.cones.size() << "), the atlas " << why_not_valid(*last);
-  (run.converged() ? run.layout_failure : run.result.failure) += tried.str();
+  // None gave an atlas: the first run's failure, and every attempt after it.
+  failed.push_back(std::move(*last));
+  std::string tried;
+  for (const Uniformization& f : failed) {
+    add_cost(run, f);
+    tried += "; with the cones placed again for " + attempt(f);
+  }
+  (run.converged() ? run.layout_failure : run.result.failure) += tried;
   return run;
 }
 

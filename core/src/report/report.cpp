@@ -204,7 +204,8 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     if (a.user_cones) {
       cones << " cones, yours; area distortion D " << a.flow_distortion;
     } else {
-      cones << " cones (" << p.factorizations << " factorization, " << p.back_solves
+      cones << " cones (" << p.factorizations
+            << (p.factorizations == 1 ? " factorization, " : " factorizations, ") << p.back_solves
             << " back-solves, " << p.seconds << " s), area distortion D " << a.flow_distortion
             << " (the linear model's " << p.distortion << "; without cones "
             << p.distortion_without_cones << "), max |u - mean u| " << p.max_deviation;
