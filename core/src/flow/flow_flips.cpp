@@ -107,9 +107,9 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start) {
     // Most trials are cut (the cow's atlas at 8 cones: 27 steps of up to 17 halvings each), and
     // their triangle inequalities decide it without the angles.
     for (; alpha > 1e-6; alpha *= 0.5) {
-      const Eigen::VectorXd at = u + alpha * d;
-      if (!lengths_admit_triangles(triangulation, structure, at)) continue;
-      trial = evaluate_metric(triangulation, structure, at);
+      trial = evaluate_lengths(triangulation, structure, u + alpha * d);
+      if (!lengths_admit_triangles(triangulation, structure.geometry, trial)) continue;
+      evaluate_angles(triangulation, structure.geometry, trial);
       if (trial.valid()) {
         found = true;
         break;

@@ -24,14 +24,13 @@ std::vector<double> MetricState::lengths() const {
   return l;
 }
 
-MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure& structure,
-                            const Eigen::VectorXd& u) {
+MetricState evaluate_lengths(const Triangulation& mesh, const ConformalStructure& structure,
+                             const Eigen::VectorXd& u) {
   MetricState state;
   const Geometry g = structure.geometry;
   state.edges.resize(mesh.num_edges());
-  state.faces.resize(mesh.num_faces());
   const Eigen::VectorXd x = u.array().exp();
-  int invalid_edges[2] = {0, 0}, invalid_faces[2] = {0, 0}, first_invalid[2] = {-1, -1};
+  int invalid_edges[2] = {0, 0};
   detail::in_two_halves(mesh.num_edges(), [&](int part, int begin, int end) {
     for (int e = begin; e < end; ++e) {
       const auto [i, j] = mesh.edge_vertices(e);
@@ -40,41 +39,40 @@ MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure&
       invalid_edges[part] += !state.edges[e].valid;
     }
   });
-  detail::in_two_halves(mesh.num_faces(), [&](int part, int begin, int end) {
-    for (int f = begin; f < end; ++f) {
-      state.faces[f] = corner_angles(g, face_lengths(mesh, state, f));
-      if (!state.faces[f].valid && invalid_faces[part]++ == 0) first_invalid[part] = f;
-    }
-  });
   state.num_invalid_edges = invalid_edges[0] + invalid_edges[1];
-  state.num_invalid_faces = invalid_faces[0] + invalid_faces[1];
-  state.first_invalid_face = first_invalid[0] >= 0 ? first_invalid[0] : first_invalid[1];
   return state;
 }
 
-bool lengths_admit_triangles(const Triangulation& mesh, const ConformalStructure& structure,
-                             const Eigen::VectorXd& u) {
-  const Geometry g = structure.geometry;
-  const Eigen::VectorXd x = u.array().exp();
-  std::vector<double> length(mesh.num_edges());
+bool lengths_admit_triangles(const Triangulation& mesh, Geometry geometry,
+                             const MetricState& state) {
+  if (state.num_invalid_edges > 0) return false;
   int invalid[2] = {0, 0};
-  detail::in_two_halves(mesh.num_edges(), [&](int part, int begin, int end) {
-    for (int e = begin; e < end && invalid[part] == 0; ++e) {
-      const auto [i, j] = mesh.edge_vertices(e);
-      const EdgeLength l = edge_length_of_exponentials(g, x[i], x[j], structure.eps[i],
-                                                       structure.eps[j], structure.eta[e]);
-      invalid[part] += !l.valid;
-      length[e] = l.length;
-    }
-  });
-  if (invalid[0] + invalid[1] > 0) return false;
   detail::in_two_halves(mesh.num_faces(), [&](int part, int begin, int end) {
     for (int f = begin; f < end && invalid[part] == 0; ++f) {
-      const std::array<int, 3>& e = mesh.face_edges(f);
-      invalid[part] += !is_valid_triangle(g, {length[e[0]], length[e[1]], length[e[2]]});
+      invalid[part] += !is_valid_triangle(geometry, face_lengths(mesh, state, f));
     }
   });
   return invalid[0] + invalid[1] == 0;
+}
+
+void evaluate_angles(const Triangulation& mesh, Geometry geometry, MetricState& state) {
+  state.faces.resize(mesh.num_faces());
+  int invalid_faces[2] = {0, 0}, first_invalid[2] = {-1, -1};
+  detail::in_two_halves(mesh.num_faces(), [&](int part, int begin, int end) {
+    for (int f = begin; f < end; ++f) {
+      state.faces[f] = corner_angles(geometry, face_lengths(mesh, state, f));
+      if (!state.faces[f].valid && invalid_faces[part]++ == 0) first_invalid[part] = f;
+    }
+  });
+  state.num_invalid_faces = invalid_faces[0] + invalid_faces[1];
+  state.first_invalid_face = first_invalid[0] >= 0 ? first_invalid[0] : first_invalid[1];
+}
+
+MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure& structure,
+                            const Eigen::VectorXd& u) {
+  MetricState state = evaluate_lengths(mesh, structure, u);
+  evaluate_angles(mesh, structure.geometry, state);
+  return state;
 }
 
 void update_metric_at_edge(const Triangulation& mesh, const ConformalStructure& structure,

@@ -27,11 +27,16 @@ struct MetricState {
 MetricState evaluate_metric(const Triangulation& mesh, const ConformalStructure& structure,
                             const Eigen::VectorXd& u);
 
-//! Whether every edge's length law has a solution at u and every face's lengths satisfy the
-//! triangle inequality: what evaluate_metric's validity needs, without the angles (their arc
-//! tangents cost most of it). False: evaluate_metric(mesh, structure, u) is not valid.
-bool lengths_admit_triangles(const Triangulation& mesh, const ConformalStructure& structure,
+//! The edge lengths alone (faces empty): the first half of evaluate_metric.
+MetricState evaluate_lengths(const Triangulation& mesh, const ConformalStructure& structure,
                              const Eigen::VectorXd& u);
+//! Whether every edge's length law has a solution and every face's lengths of `state` (from
+//! evaluate_lengths) satisfy the triangle inequality: what validity needs, without the angles
+//! (their arc tangents cost most of a metric). False: the metric is not valid.
+bool lengths_admit_triangles(const Triangulation& mesh, Geometry geometry,
+                             const MetricState& state);
+//! The corner angles of `state`'s lengths: the second half of evaluate_metric.
+void evaluate_angles(const Triangulation& mesh, Geometry geometry, MetricState& state);
 
 //! Recomputes edge e's length and the angles of its faces (after e was flipped or its eta
 //! changed), keeping the invalid counts up to date.
