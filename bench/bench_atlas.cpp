@@ -75,10 +75,41 @@ void BM_AtlasMeshHessianFactorization(benchmark::State& state) {
   state.counters["unknowns"] = mesh.num_vertices() - 1;
 }
 
+// The cone placement's unit of work: columns R(e_v) of the factored Hessian, solved range(1) at a
+// time (one right-hand side per column); per column, in the counter, against one factorization.
+void BM_AtlasConeColumns(benchmark::State& state) {
+  const CompactMesh& mesh = repaired(static_cast<int>(state.range(0))).components.front().mesh;
+  Eigen::VectorXd values = Eigen::VectorXd::Zero(mesh.num_vertices());
+  values[0] = std::nan("");
+  const TargetCurvature target = TargetCurvature::from_values(mesh, values);
+  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, SchemeOptions(), target);
+  std::vector<int> free_index(mesh.num_vertices(), -1);
+  for (int v = 1; v < mesh.num_vertices(); ++v) free_index[v] = v - 1;
+  HessianAssembler assembler(mesh, free_index);
+  const SparseMatrix& h = assembler.assemble(evaluate_metric(mesh, s, s.u0));
+  LinearSolver solver(LinearSolverKind::Cholmod);
+  solver.analyze(h);
+  solver.factorize(h, 1e-8);
+  const long block = state.range(1);
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(h.rows(), block);
+  for (long j = 0; j < block; ++j) b((j * 7919) % h.rows(), j) = 1;
+  for (auto _ : state) benchmark::DoNotOptimize(solver.solve(b).data());
+  state.SetLabel(kMeshes[state.range(0)]);
+  state.counters["columns"] = static_cast<double>(block);
+  state.counters["per_column"] =
+      benchmark::Counter(static_cast<double>(block), benchmark::Counter::kIsIterationInvariantRate |
+                                                         benchmark::Counter::kInvert);
+}
+
 BENCHMARK(BM_Atlas)
     ->DenseRange(0, 3)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
+BENCHMARK(BM_AtlasConeColumns)
+    ->ArgsProduct({{0, 2, 3}, {1, 8, 32}})
+    ->Unit(benchmark::kMillisecond)
     ->Repetitions(3)
     ->ReportAggregatesOnly(true);
 BENCHMARK(BM_AtlasMeshHessianFactorization)

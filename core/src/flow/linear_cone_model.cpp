@@ -98,7 +98,7 @@ int LinearConeModel::store(int v, const Eigen::VectorXd& column) {
   return s;
 }
 
-void LinearConeModel::ensure(const std::vector<int>& vertices) {
+void LinearConeModel::solve_columns(const std::vector<int>& vertices) {
   std::vector<int> missing;
   for (int v : vertices) {
     if (slot_of_[v] < 0 && std::find(missing.begin(), missing.end(), v) == missing.end()) {
@@ -161,7 +161,7 @@ LinearConeModel::Solution LinearConeModel::held(const std::vector<int>& cones) {
     s.d = distortion(cones, s.k);
     return s;
   }
-  ensure(cones);
+  solve_columns(cones);
   const int rows = m + (closed ? 1 : 0);
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, rows);
   Eigen::VectorXd rhs(rows);
@@ -190,7 +190,7 @@ LinearConeModel::Solution LinearConeModel::held(const std::vector<int>& cones) {
 
 Eigen::VectorXd LinearConeModel::combination(const std::vector<int>& cones,
                                              const Eigen::VectorXd& k) {
-  ensure(cones);
+  solve_columns(cones);
   Eigen::VectorXd u = g_;
   for (size_t j = 0; j < cones.size(); ++j) u += k[j] * columns_.col(slot_of_[cones[j]]);
   return u;

@@ -51,12 +51,15 @@ class LinearConeModel {
   //! surface).
   Eigen::VectorXd prescribed(const std::vector<int>& cones, const Eigen::VectorXd& k);
 
+  //! Computes the columns of these vertices that are missing, in one multi-column solve (a block
+  //! of columns costs a fraction of as many single solves: CHOLMOD reads the factor once); 0 for
+  //! a vertex without a row.
+  void solve_columns(const std::vector<int>& vertices);
+  bool has_column(int v) const { return slot_of_[v] >= 0; }
   //! Columns of vertices not in the list are dropped (their room is reused).
   void keep_only(const std::vector<int>& vertices);
 
  private:
-  // Computes the missing columns in one multi-column solve (0 for a vertex without a row).
-  void ensure(const std::vector<int>& vertices);
   double distortion(const std::vector<int>& cones, const Eigen::VectorXd& k) const;
   Eigen::VectorXd combination(const std::vector<int>& cones, const Eigen::VectorXd& k);  // g + G k
   Eigen::VectorXd scatter(const Eigen::VectorXd& x) const;
