@@ -125,12 +125,48 @@ TEST(Charts, SeparatingTheSheetsLeavesNoOverlap) {
                         strip.mesh.positions()[t[2]]) /
                        3);
   }
-  EXPECT_GT(separate_sheets(strip.mesh, charts, pairs[0].first, pairs[0].second, {}, centroid, cut),
-            0);
+  std::vector<int> part = charts.chart;
+  EXPECT_GT(
+      separate_sheets(strip.mesh, part, 1, pairs[0].first, pairs[0].second, {}, centroid, cut), 0);
+  EXPECT_NE(part[pairs[0].first], part[pairs[0].second]);
   charts = lay_out_charts(strip.mesh, strip.lengths, cut);
   EXPECT_EQ(charts.num_charts, 2);
   EXPECT_NE(charts.chart[pairs[0].first], charts.chart[pairs[0].second]);
   EXPECT_TRUE(overlapping_faces(charts).empty());
+}
+
+TEST(Charts, EveryPairPartedInTurnBeforeOneLayoutLeavesNoOverlap) {
+  // A strip of 3.4 turns lies in four sheets. Its pairs parted one after the other, each in the
+  // piece it still lies in (as the atlas's split rounds do), and laid out once: the pieces
+  // labelled are the charts laid out, and none overlaps.
+  const Strip strip = sector_strip(120, 6.8 * kPi);
+  std::vector<char> cut(strip.mesh.num_edges(), 0);
+  const Charts charts = lay_out_charts(strip.mesh, strip.lengths, cut);
+  const auto pairs = overlapping_faces(charts);
+  ASSERT_FALSE(pairs.empty());
+  std::vector<Eigen::Vector3d> centroid;
+  for (const auto& t : strip.mesh.faces()) {
+    centroid.push_back((strip.mesh.positions()[t[0]] + strip.mesh.positions()[t[1]] +
+                        strip.mesh.positions()[t[2]]) /
+                       3);
+  }
+  std::vector<int> part = charts.chart;
+  int parts = 1;
+  for (const auto& [f, g] : pairs) {
+    if (part[f] == part[g]) {
+      ASSERT_GT(separate_sheets(strip.mesh, part, parts, f, g, {}, centroid, cut), 0);
+      ++parts;
+    }
+  }
+  EXPECT_GE(parts, 4);
+  const Charts parted = lay_out_charts(strip.mesh, strip.lengths, cut);
+  EXPECT_EQ(parted.num_charts, parts);
+  for (size_t f = 0; f < part.size(); ++f) {
+    for (size_t h = f + 1; h < part.size(); ++h) {
+      EXPECT_EQ(part[f] == part[h], parted.chart[f] == parted.chart[h]) << f << " " << h;
+    }
+  }
+  EXPECT_TRUE(overlapping_faces(parted).empty());
 }
 
 TEST(Charts, OverlapsAreFoundBetweenFacesOfAnySize) {
@@ -174,7 +210,8 @@ TEST(Charts, OnlyChartsLaidOutAsBeforeWithoutOverlapCountAsClean) {
         3);
   }
   std::vector<char> cut = none;
-  ASSERT_GT(separate_sheets(more.mesh, charts, pairs[0].first, pairs[0].second, {}, centroid, cut),
+  std::vector<int> part = charts.chart;
+  ASSERT_GT(separate_sheets(more.mesh, part, 1, pairs[0].first, pairs[0].second, {}, centroid, cut),
             0);
   const Charts parted = lay_out_charts(more.mesh, more.lengths, cut);
   ASSERT_EQ(parted.num_charts, 2);

@@ -300,17 +300,17 @@ std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t 
 
 namespace ricci {
 
-int separate_sheets(const Triangulation& mesh, const Charts& charts, int f, int g,
+int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_part, int f, int g,
                     const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
                     std::vector<char>& cut) {
   const int nf = mesh.num_faces();
   const auto group_of = [&](int face) { return group.empty() ? face : group[face]; };
-  const int chart = charts.chart[f];
+  const int chart = part[f];
   // Nearest of the two seeds' groups, over the chart's groups (ties to the first reached).
   const int num_groups = group.empty() ? nf : *std::max_element(group.begin(), group.end()) + 1;
   std::vector<std::vector<int>> faces_of(num_groups);
   for (int h = 0; h < nf; ++h) {
-    if (charts.chart[h] == chart) faces_of[group_of(h)].push_back(h);
+    if (part[h] == chart) faces_of[group_of(h)].push_back(h);
   }
   std::vector<double> distance(num_groups, std::numeric_limits<double>::infinity());
   std::vector<int> share(num_groups, -1);
@@ -330,7 +330,7 @@ int separate_sheets(const Triangulation& mesh, const Charts& charts, int f, int 
         const int t = mesh.twin(3 * h + c);
         if (t < 0 || cut[mesh.face_edge(h, c)]) continue;
         const int b = group_of(t / 3);
-        if (b == a || charts.chart[t / 3] != chart) continue;
+        if (b == a || part[t / 3] != chart) continue;
         const double via = d + (centroid[a] - centroid[b]).norm();
         if (via < distance[b]) {
           distance[b] = via, share[b] = share[a];
@@ -341,12 +341,17 @@ int separate_sheets(const Triangulation& mesh, const Charts& charts, int f, int 
   }
   int marked = 0;
   for (int h = 0; h < nf; ++h) {
-    if (charts.chart[h] != chart) continue;
+    if (part[h] != chart) continue;
     for (int c = 0; c < 3; ++c) {
       const int t = mesh.twin(3 * h + c), e = mesh.face_edge(h, c);
       if (t < 0 || cut[e]) continue;
       const int a = share[group_of(h)], b = share[group_of(t / 3)];
       if (a >= 0 && b >= 0 && a != b) cut[e] = 1, ++marked;
+    }
+  }
+  if (marked > 0) {
+    for (int h = 0; h < nf; ++h) {
+      if (part[h] == chart && share[group_of(h)] == 1) part[h] = new_part;
     }
   }
   return marked;

@@ -218,21 +218,29 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   };
   atlas.splits = 0;
   atlas.halvings = 0;
+  // Each round parts every overlapping pair of a chart in turn (its pieces keep their layout up
+  // to a rigid motion, so a pair still in one piece still overlaps), then lays the pieces out.
   for (int round = 0; round < kMaxSplitRounds && !overlaps.empty(); ++round) {
-    std::vector<char> split(charts.num_charts, 0);
+    std::vector<int> part = charts.chart;
+    int parts = charts.num_charts;
+    std::vector<char> stuck(parts, 0);  // a piece that a pair could not part: left to next round
     for (const auto& [f, g] : overlaps) {
-      if (split[charts.chart[f]]) continue;
-      split[charts.chart[f]] = 1;
+      if (part[f] != part[g] || stuck[part[f]]) continue;
       int marked = 0;
       if (sub && group[f] == group[g]) {
         std::vector<int> finer;
         std::vector<Eigen::Vector3d> finer_centroid;
         pieces_apart(f, finer, finer_centroid);
-        marked = separate_sheets(delivered, charts, f, g, finer, finer_centroid, seam);
+        marked = separate_sheets(delivered, part, parts, f, g, finer, finer_centroid, seam);
       } else {
-        marked = separate_sheets(delivered, charts, f, g, group, centroid, seam);
+        marked = separate_sheets(delivered, part, parts, f, g, group, centroid, seam);
       }
-      if (marked > 0) ++atlas.splits;
+      if (marked > 0) {
+        ++atlas.splits, ++parts;
+        stuck.push_back(0);
+      } else {
+        stuck[part[f]] = 1;
+      }
     }
     connect_cut(delivered, length3d, seam, allowed);
     Charts parted = lay_out_charts(delivered, flat, seam);
@@ -245,9 +253,11 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   Packing packing = pack_charts(triangles_by_chart(charts), o.packing);
   for (int round = 0; round < kMaxHalvings && overlaps.empty(); ++round) {
     std::vector<char> halved = seam;
+    std::vector<int> part = charts.chart;
     int count = 0;
     for (const auto& [f, g] : long_chart_ends(charts, kLongAspect)) {
-      count += separate_sheets(delivered, charts, f, g, group, centroid, halved) > 0;
+      count += separate_sheets(delivered, part, charts.num_charts + count, f, g, group, centroid,
+                               halved) > 0;
     }
     if (count == 0) break;
     connect_cut(delivered, length3d, halved, allowed);

@@ -51,12 +51,16 @@ std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t 
 std::vector<char> unchanged_clean_charts(const Charts& now, const Charts& before,
                                          const std::vector<std::pair<int, int>>& before_overlaps);
 
-//! Seams that part faces f and g of one chart (two sheets that overlap): the chart's faces, in
-//! groups that no seam may split (`group` per face, e.g. the input face a piece lies in; empty:
-//! each face alone), are shared out between the two by nearest group (Dijkstra across uncut
-//! edges, a step the distance of the groups' centroids in `centroid`), and the edges between the
-//! shares marked in `cut`. Returns the number of edges marked.
-int separate_sheets(const Triangulation& mesh, const Charts& charts, int f, int g,
+//! Seams that part faces f and g of one part of a layout (two sheets that overlap), `part` per
+//! face (the chart, or a piece of one parted before): the part's faces, in groups that no seam
+//! may split (`group` per face, e.g. the input face a piece lies in; empty: each face alone), are
+//! shared out between the two by nearest group (Dijkstra across uncut edges, a step the distance
+//! of the groups' centroids in `centroid`), the edges between the shares marked in `cut`, and g's
+//! share labelled `new_part` in `part`. Returns the number of edges marked (0: nothing changed).
+//! Pieces of one developed chart keep their coordinates up to a rigid motion, so the overlapping
+//! pairs of a piece are those of the chart that fall inside it: a chart's pairs can be parted one
+//! after the other, before laying out again.
+int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_part, int f, int g,
                     const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
                     std::vector<char>& cut);
 
