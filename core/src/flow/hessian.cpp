@@ -32,21 +32,39 @@ HessianAssembler::HessianAssembler(const Triangulation& mesh, std::vector<int> f
     : mesh_(mesh), free_index_(std::move(free_index)) {
   const int n = static_cast<int>(
       std::count_if(free_index_.begin(), free_index_.end(), [](int i) { return i >= 0; }));
-  std::vector<Eigen::Triplet<double, int>> pattern;
-  pattern.reserve(9 * static_cast<size_t>(mesh.num_faces()));
-  for (int f = 0; f < mesh.num_faces(); ++f) {
+  // The pattern in compressed columns directly (it is rebuilt at every change of connectivity,
+  // dozens of times in a flow with flips): each face's (row, column) pairs bucketed by column,
+  // then each column's rows sorted and made unique (two edges may join the same two vertices).
+  std::vector<int> start(n + 1, 0);
+  const auto rows_of_face = [&](int f, auto&& visit) {
     for (int a = 0; a < 3; ++a) {
       for (int b = 0; b < 3; ++b) {
         const int r = free_index_[mesh.face_vertex(f, a)], c = free_index_[mesh.face_vertex(f, b)];
-        if (r >= 0 && c >= 0) pattern.emplace_back(r, c, 0.0);
+        if (r >= 0 && c >= 0) visit(r, c);
       }
     }
+  };
+  for (int f = 0; f < mesh.num_faces(); ++f) rows_of_face(f, [&](int, int c) { ++start[c + 1]; });
+  for (int c = 0; c < n; ++c) start[c + 1] += start[c];
+  std::vector<int> rows(static_cast<size_t>(start[n])), fill(start.begin(), start.end() - 1);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    rows_of_face(f, [&](int r, int c) { rows[fill[c]++] = r; });
   }
   matrix_.resize(n, n);
-  matrix_.setFromTriplets(pattern.begin(), pattern.end());
-  matrix_.makeCompressed();
+  std::vector<int> outer(n + 1, 0);
+  int kept = 0;
+  for (int c = 0; c < n; ++c) {
+    const auto first = rows.begin() + start[c], last = rows.begin() + start[c + 1];
+    std::sort(first, last);
+    const auto unique_end = std::unique(first, last);
+    for (auto r = first; r != unique_end; ++r) rows[kept++] = *r;
+    outer[c + 1] = kept;
+  }
+  matrix_.resizeNonZeros(kept);
+  std::copy(outer.begin(), outer.end(), matrix_.outerIndexPtr());
+  std::copy(rows.begin(), rows.begin() + kept, matrix_.innerIndexPtr());
+  std::fill(matrix_.valuePtr(), matrix_.valuePtr() + kept, 0.0);
   slots_.assign(mesh.num_faces(), {});
-  const int* outer = matrix_.outerIndexPtr();
   const int* inner = matrix_.innerIndexPtr();
   for (int f = 0; f < mesh.num_faces(); ++f) {
     for (int a = 0; a < 3; ++a) {
