@@ -21,12 +21,6 @@ namespace {
 // 0.27, 0.46, for about 5 times the sweeps' back-solves.
 constexpr int kRelocationCandidates = 6;
 
-// The greedy solves the columns of this many peaks of |u| at once, the one it adds and those it
-// is likely to add next (a peak far from the new cone stays a peak): a block of 8 columns costs
-// about 3 single solves (bench_atlas's BM_AtlasConeColumns: 2.4 against 5.9 ms a column on a
-// 35k-vertex bunny).
-constexpr int kSpeculatedPeaks = 8;
-
 // Columns kept besides the cones' for the candidates tried lately (a sweep's candidates for one
 // cone are mostly those for the next), at most this many bytes of them.
 constexpr double kSpareColumnBytes = 128.0 * 1024 * 1024;
@@ -38,6 +32,20 @@ class Search {
   Search(const CompactMesh& mesh, const ConePlacementOptions& o)
       : mesh_(mesh), o_(o), model_(mesh, o.linear_solver) {
     is_cone_.assign(mesh.num_vertices(), 0);
+    first_neighbour_.assign(mesh.num_vertices() + 1, 0);
+    for (int e = 0; e < mesh.num_edges(); ++e) {
+      for (int v : mesh.edge_vertices(e)) ++first_neighbour_[v + 1];
+    }
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      first_neighbour_[v + 1] += first_neighbour_[v];
+      if (mesh.is_boundary_vertex(v)) boundary_.push_back(v);
+    }
+    neighbour_.resize(first_neighbour_.back());
+    std::vector<int> fill(first_neighbour_.begin(), first_neighbour_.end() - 1);
+    for (int e = 0; e < mesh.num_edges(); ++e) {
+      const auto [a, b] = mesh.edge_vertices(e);
+      neighbour_[fill[a]++] = b, neighbour_[fill[b]++] = a;
+    }
     max_spare_ = static_cast<size_t>(std::clamp(
         kSpareColumnBytes / (8.0 * std::max(1, mesh.num_vertices())), 1.0, 1.0 * kMaxSpareColumns));
   }
@@ -82,21 +90,23 @@ class Search {
   // neighbours, largest first, at most `count`; the first is the farthest vertex.
   std::vector<int> peaks(const State& s, int count) {
     if (!s.solution.ok) return {};
-    neighbours(0);
-    mark(s.cones);
     const Eigen::VectorXd u = model_.u(s.cones, s.solution);
     const double mean = s.cones.empty() ? model_.area().dot(u) : 0;
+    // |u - mean| where a cone may go, -1 where none may (a cone, the boundary): a vertex is a
+    // peak over the neighbours that could be cones themselves.
+    score_ = (u.array() - mean).abs();
+    for (int v : boundary_) score_[v] = -1;
+    for (int c : s.cones) score_[c] = -1;
     std::vector<std::pair<double, int>> found;
     for (int v = 0; v < mesh_.num_vertices(); ++v) {
-      if (is_cone_[v] || mesh_.is_boundary_vertex(v)) continue;
-      const double d = std::abs(u[v] - mean);
-      bool peak = true;  // over the neighbours that could be cones themselves
-      for (int w : adjacent_[v]) {
-        if (!is_cone_[w] && !mesh_.is_boundary_vertex(w)) peak = peak && std::abs(u[w] - mean) <= d;
+      const double d = score_[v];
+      if (d < 0) continue;
+      bool peak = true;
+      for (int i = first_neighbour_[v]; i < first_neighbour_[v + 1] && peak; ++i) {
+        peak = score_[neighbour_[i]] <= d;
       }
       if (peak) found.emplace_back(d, v);
     }
-    unmark(s.cones);
     const size_t kept = std::min(found.size(), static_cast<size_t>(count));
     std::partial_sort(found.begin(), found.begin() + static_cast<long>(kept), found.end(),
                       std::greater<>());
@@ -135,22 +145,13 @@ class Search {
   void unmark(const std::vector<int>& cones) {
     for (int c : cones) is_cone_[c] = 0;
   }
-  const std::vector<int>& neighbours(int v) const {
-    if (adjacent_.empty()) {
-      adjacent_.resize(mesh_.num_vertices());
-      for (int e = 0; e < mesh_.num_edges(); ++e) {
-        const auto [a, b] = mesh_.edge_vertices(e);
-        adjacent_[a].push_back(b), adjacent_[b].push_back(a);
-      }
-    }
-    return adjacent_[v];
-  }
   std::vector<int> rings(int from, int depth) const {
     std::vector<int> found{from}, frontier{from};
     for (int d = 0; d < depth; ++d) {
       std::vector<int> next;
       for (int v : frontier) {
-        for (int w : neighbours(v)) {
+        for (int i = first_neighbour_[v]; i < first_neighbour_[v + 1]; ++i) {
+          const int w = neighbour_[i];
           if (std::find(found.begin(), found.end(), w) == found.end()) {
             found.push_back(w), next.push_back(w);
           }
@@ -167,7 +168,8 @@ class Search {
   std::vector<char> is_cone_;
   std::vector<int> spare_;  // most recently solved first
   size_t max_spare_ = 1;
-  mutable std::vector<std::vector<int>> adjacent_;
+  std::vector<int> boundary_, first_neighbour_, neighbour_;  // the neighbours of v: CSR
+  Eigen::VectorXd score_;
 };
 
 // Curvatures rounded to multiples of pi / 2, their sum kept on a closed surface (4 chi quarters),
@@ -246,10 +248,9 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     int v = -1;
     if (state.solution.ok && state.d <= search.bound()) v = search.widen_sharpest(state);
     if (v < 0) {
-      const std::vector<int> top = search.peaks(state, kSpeculatedPeaks);
+      const std::vector<int> top = search.peaks(state, 1);
       if (top.empty()) break;
       v = top.front();
-      if (!model.has_column(v)) search.solve_columns(top);
     }
     std::vector<int> more = state.cones;
     more.push_back(v);

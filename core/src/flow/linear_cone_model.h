@@ -55,7 +55,6 @@ class LinearConeModel {
   //! of columns costs a fraction of as many single solves: CHOLMOD reads the factor once); 0 for
   //! a vertex without a row.
   void solve_columns(const std::vector<int>& vertices);
-  bool has_column(int v) const { return slot_of_[v] >= 0; }
   //! Columns of vertices not in the list are dropped (their room is reused).
   void keep_only(const std::vector<int>& vertices);
 
