@@ -10,6 +10,7 @@
 
 #include "flow/hessian.h"
 #include "flow/metric.h"
+#include "ricci/flow/cone_placement.h"
 #include "ricci/flow/ricci_flow.h"
 #include "ricci/io/mesh_io.h"
 #include "ricci/pipeline/atlas.h"
@@ -75,6 +76,24 @@ void BM_AtlasMeshHessianFactorization(benchmark::State& state) {
   state.counters["unknowns"] = mesh.num_vertices() - 1;
 }
 
+// The cone stage alone (place_cones: the linear model built and factored, the greedy, the
+// sweeps, the drops), range(1) the cone budget (0: the default bound D <= 0.2). Its time over
+// BM_AtlasMeshHessianFactorization's is the stage's cost in factorizations.
+void BM_AtlasConePlacement(benchmark::State& state) {
+  const CompactMesh& mesh = repaired(static_cast<int>(state.range(0))).components.front().mesh;
+  ConePlacementOptions options;
+  options.max_cones = static_cast<int>(state.range(1));
+  ConePlacement last;
+  for (auto _ : state) {
+    last = place_cones(mesh, options);
+    benchmark::DoNotOptimize(last.u.data());
+  }
+  state.SetLabel(kMeshes[state.range(0)]);
+  state.counters["cones"] = static_cast<double>(last.cones.size());
+  state.counters["columns"] = last.back_solves;
+  state.counters["distortion"] = last.distortion;
+}
+
 // The cone placement's unit of work: columns R(e_v) of the factored Hessian, solved range(1) at a
 // time (one right-hand side per column); per column, in the counter, against one factorization.
 void BM_AtlasConeColumns(benchmark::State& state) {
@@ -103,6 +122,12 @@ void BM_AtlasConeColumns(benchmark::State& state) {
 
 BENCHMARK(BM_Atlas)
     ->DenseRange(0, 3)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
+BENCHMARK(BM_AtlasConePlacement)
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 8}})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->Repetitions(3)

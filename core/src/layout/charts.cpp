@@ -306,52 +306,67 @@ int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_p
   const int nf = mesh.num_faces();
   const auto group_of = [&](int face) { return group.empty() ? face : group[face]; };
   const int chart = part[f];
-  // Nearest of the two seeds' groups, over the chart's groups (ties to the first reached).
+  // The part's faces by group, the groups numbered locally (a part is often a small share of the
+  // mesh, and it is parted again and again in a split round).
   const int num_groups = group.empty() ? nf : *std::max_element(group.begin(), group.end()) + 1;
-  std::vector<std::vector<int>> faces_of(num_groups);
+  std::vector<int> faces, local(num_groups, -1), first{0};
   for (int h = 0; h < nf; ++h) {
-    if (part[h] == chart) faces_of[group_of(h)].push_back(h);
+    if (part[h] != chart) continue;
+    faces.push_back(h);
+    if (local[group_of(h)] < 0)
+      local[group_of(h)] = static_cast<int>(first.size()) - 1, first.push_back(0);
+    ++first[local[group_of(h)] + 1];
   }
-  std::vector<double> distance(num_groups, std::numeric_limits<double>::infinity());
-  std::vector<int> share(num_groups, -1);
-  using Item = std::pair<double, int>;
+  const int groups = static_cast<int>(first.size()) - 1;
+  for (int k = 0; k < groups; ++k) first[k + 1] += first[k];
+  std::vector<int> member(faces.size()), fill(first.begin(), first.end() - 1);
+  for (int h : faces) member[fill[local[group_of(h)]]++] = h;
+  // Nearest of the two seeds' groups, over the part's groups (ties to the first reached).
+  std::vector<double> distance(groups, std::numeric_limits<double>::infinity());
+  std::vector<int> share(groups, -1);
+  using Item = std::pair<double, int>;  // a group by its own number: ties as the mesh orders them
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
   const int seeds[2] = {group_of(f), group_of(g)};
   for (int s = 0; s < 2; ++s) {
-    distance[seeds[s]] = 0, share[seeds[s]] = s;
+    distance[local[seeds[s]]] = 0, share[local[seeds[s]]] = s;
     queue.push({0, seeds[s]});
   }
   while (!queue.empty()) {
     const auto [d, a] = queue.top();
     queue.pop();
-    if (d > distance[a]) continue;
-    for (int h : faces_of[a]) {
+    const int la = local[a];
+    if (d > distance[la]) continue;
+    for (int i = first[la]; i < first[la + 1]; ++i) {
+      const int h = member[i];
       for (int c = 0; c < 3; ++c) {
         const int t = mesh.twin(3 * h + c);
         if (t < 0 || cut[mesh.face_edge(h, c)]) continue;
         const int b = group_of(t / 3);
         if (b == a || part[t / 3] != chart) continue;
         const double via = d + (centroid[a] - centroid[b]).norm();
-        if (via < distance[b]) {
-          distance[b] = via, share[b] = share[a];
+        if (via < distance[local[b]]) {
+          distance[local[b]] = via, share[local[b]] = share[la];
           queue.push({via, b});
         }
       }
     }
   }
+  const auto share_of = [&](int face) {
+    const int k = local[group_of(face)];
+    return k >= 0 ? share[k] : -1;
+  };
   int marked = 0;
-  for (int h = 0; h < nf; ++h) {
-    if (part[h] != chart) continue;
+  for (int h : faces) {
     for (int c = 0; c < 3; ++c) {
       const int t = mesh.twin(3 * h + c), e = mesh.face_edge(h, c);
       if (t < 0 || cut[e]) continue;
-      const int a = share[group_of(h)], b = share[group_of(t / 3)];
+      const int a = share_of(h), b = share_of(t / 3);
       if (a >= 0 && b >= 0 && a != b) cut[e] = 1, ++marked;
     }
   }
   if (marked > 0) {
-    for (int h = 0; h < nf; ++h) {
-      if (part[h] == chart && share[group_of(h)] == 1) part[h] = new_part;
+    for (int h : faces) {
+      if (share_of(h) == 1) part[h] = new_part;
     }
   }
   return marked;
