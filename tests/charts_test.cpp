@@ -169,6 +169,24 @@ TEST(Charts, EveryPairPartedInTurnBeforeOneLayoutLeavesNoOverlap) {
   EXPECT_TRUE(overlapping_faces(parted).empty());
 }
 
+TEST(Charts, OverlapDepthIsHowFarTwoFacesReachIntoEachOther) {
+  // The unit right triangle and its copy moved by t < 1 along x overlap by (1 - t) / sqrt(2) (in
+  // the hypotenuse's direction); over the longest side, sqrt(2).
+  for (double t : {0.0, 0.3, 0.9, 1.0, 1.5}) {
+    Charts charts;
+    const Eigen::Vector2d a(0, 0), b(1, 0), c(0, 1), shift(t, 0);
+    charts.corners = {{a, b, c}, {a + shift, b + shift, c + shift}};
+    charts.chart = {0, 0};
+    charts.num_charts = 1;
+    if (t < 1) {
+      EXPECT_NEAR(overlap_depth(charts, 0, 1), (1 - t) / 2, 1e-12) << t;
+    } else {
+      EXPECT_LE(overlap_depth(charts, 0, 1), 0) << t;  // the copy's left side separates them
+    }
+    EXPECT_EQ(overlapping_faces(charts).size(), t < 1 ? 1u : 0u) << t;
+  }
+}
+
 TEST(Charts, OverlapsAreFoundBetweenFacesOfAnySize) {
   // One chart: a triangle of size 1e4 and small ones of size 1e-3 on a line across it; only those
   // whose centres lie inside it overlap it (the small ones are disjoint from each other).

@@ -172,10 +172,12 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<do
 
 namespace {
 
-// The interiors of two counter-clockwise triangles overlap: no edge direction of either separates
-// them by more than `tolerance`.
-bool interiors_overlap(const std::array<Eigen::Vector2d, 3>& a,
-                       const std::array<Eigen::Vector2d, 3>& b, double tolerance) {
+// How far the interiors of two counter-clockwise triangles reach into each other: the least, over
+// the sides of both, of how far the other triangle reaches past the side's line (<= 0: that side
+// separates them).
+double penetration(const std::array<Eigen::Vector2d, 3>& a,
+                   const std::array<Eigen::Vector2d, 3>& b) {
+  double least = std::numeric_limits<double>::infinity();
   for (const auto* t : {&a, &b}) {
     for (int i = 0; i < 3; ++i) {
       const Eigen::Vector2d e = (*t)[(i + 1) % 3] - (*t)[i];
@@ -186,10 +188,17 @@ bool interiors_overlap(const std::array<Eigen::Vector2d, 3>& a,
       const auto& other = t == &a ? b : a;
       double nearest = std::numeric_limits<double>::infinity();
       for (const auto& q : other) nearest = std::min(nearest, n.dot(q));
-      if (nearest >= edge - tolerance) return false;
+      least = std::min(least, edge - nearest);
     }
   }
-  return true;
+  return least;
+}
+
+// The interiors of two counter-clockwise triangles overlap: no edge direction of either separates
+// them by more than `tolerance`.
+bool interiors_overlap(const std::array<Eigen::Vector2d, 3>& a,
+                       const std::array<Eigen::Vector2d, 3>& b, double tolerance) {
+  return penetration(a, b) > tolerance;
 }
 
 struct Box {
@@ -294,6 +303,15 @@ std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t 
     }
   }
   return pairs;
+}
+
+double overlap_depth(const Charts& charts, int f, int g) {
+  const auto longest = [&](int face) {
+    const auto& q = charts.corners[face];
+    return std::max({(q[1] - q[0]).norm(), (q[2] - q[1]).norm(), (q[0] - q[2]).norm()});
+  };
+  const double size = std::min(longest(f), longest(g));
+  return size > 0 ? penetration(charts.corners[f], charts.corners[g]) / size : 0;
 }
 
 }  // namespace ricci

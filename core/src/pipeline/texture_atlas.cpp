@@ -18,6 +18,9 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Rounds of splits of overlapping charts (each splits every overlapping chart once).
 constexpr int kMaxSplitRounds = 64;
+// Within a round, further pairs of a chart are parted where they overlap by more than this share
+// of the smaller face (overlap_depth): past what pieces drawn one by one disagree by.
+constexpr double kDeepOverlap = 0.25;
 // Charts longer than this times their width are halved, at most this many rounds.
 constexpr double kLongAspect = 2;
 constexpr int kMaxHalvings = 4;
@@ -218,14 +221,24 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   };
   atlas.splits = 0;
   atlas.halvings = 0;
-  // Each round parts every overlapping pair of a chart in turn (its pieces keep their layout up
-  // to a rigid motion, so a pair still in one piece still overlaps), then lays the pieces out.
+  // Each round parts the first overlapping pair of every chart, then, in their order, the further
+  // pairs still in one piece while they overlap deeply (a piece keeps its chart's layout up to a
+  // rigid motion, so such a pair still overlaps: it needs no new layout to be found again; a
+  // shallow overlap of slivers may be rounding's, and it and the rest of its piece wait for the
+  // next round's layout), then lays the pieces out.
   for (int round = 0; round < kMaxSplitRounds && !overlaps.empty(); ++round) {
     std::vector<int> part = charts.chart;
     int parts = charts.num_charts;
     std::vector<char> stuck(parts, 0);  // a piece that a pair could not part: left to next round
+    std::vector<char> split_once(parts, 0);
     for (const auto& [f, g] : overlaps) {
       if (part[f] != part[g] || stuck[part[f]]) continue;
+      const bool first = part[f] < charts.num_charts && !split_once[part[f]];
+      if (!first && !(overlap_depth(charts, f, g) > kDeepOverlap)) {
+        stuck[part[f]] = 1;  // its next pair in the order waits for the next round, as this one
+        continue;
+      }
+      if (part[f] < charts.num_charts) split_once[part[f]] = 1;
       int marked = 0;
       if (sub && group[f] == group[g]) {
         std::vector<int> finer;

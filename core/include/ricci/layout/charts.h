@@ -44,6 +44,12 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<do
 std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs = 0,
                                                    const std::vector<char>& known_clean = {});
 
+//! How deep faces f and g of a layout overlap, relative to the smaller: how far their interiors
+//! reach into each other (the least over the six side directions) over the shorter of their
+//! longest sides; <= 0 where they do not overlap. Pieces of a common subdivision that disagree on
+//! a side by rounding can overlap by a sliver's width in one layout and not in another.
+double overlap_depth(const Charts& charts, int f, int g);
+
 //! Per chart of `now`: 1 where it is a chart of `before` without any of the overlapping pairs
 //! `before_overlaps`, laid out the same (its faces, at the same corners): a chart that need not be
 //! tested for overlaps again. Both layouts of one mesh; `before_overlaps` all of before's pairs
