@@ -150,6 +150,7 @@ TEST(Charts, EveryPairPartedInTurnBeforeOneLayoutLeavesNoOverlap) {
                         strip.mesh.positions()[t[2]]) /
                        3);
   }
+  ASSERT_EQ(charts.num_charts, 1);
   std::vector<int> part = charts.chart;
   int parts = 1;
   for (const auto& [f, g] : pairs) {

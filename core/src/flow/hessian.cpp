@@ -34,7 +34,8 @@ HessianAssembler::HessianAssembler(const Triangulation& mesh, std::vector<int> f
       std::count_if(free_index_.begin(), free_index_.end(), [](int i) { return i >= 0; }));
   // The pattern in compressed columns directly (it is rebuilt at every change of connectivity,
   // dozens of times in a flow with flips): each face's (row, column) pairs bucketed by column,
-  // then each column's rows sorted and made unique (two edges may join the same two vertices).
+  // then each column's rows sorted and made unique (every face at a vertex gives its diagonal
+  // entry, both faces of an edge give its pair).
   std::vector<int> start(n + 1, 0);
   const auto rows_of_face = [&](int f, auto&& visit) {
     for (int a = 0; a < 3; ++a) {

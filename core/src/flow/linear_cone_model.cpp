@@ -203,7 +203,7 @@ Eigen::VectorXd LinearConeModel::combination(const std::vector<int>& cones,
     const double k0 = k[j], k1 = k[j + 1], k2 = k[j + 2], k3 = k[j + 3];
     for (long i = 0; i < n; ++i) out[i] += k0 * c0[i] + k1 * c1[i] + k2 * c2[i] + k3 * c3[i];
   }
-  for (; j < cones.size(); ++j) u += k[static_cast<long>(j)] * columns_.col(slot_of_[cones[j]]);
+  for (; j < cones.size(); ++j) u += k[j] * columns_.col(slot_of_[cones[j]]);
   return u;
 }
 

@@ -324,8 +324,9 @@ int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_p
   const int nf = mesh.num_faces();
   const auto group_of = [&](int face) { return group.empty() ? face : group[face]; };
   const int chart = part[f];
-  // The part's faces by group, the groups numbered locally (a part is often a small share of the
-  // mesh, and it is parted again and again in a split round).
+  if (part[g] != chart) return 0;
+  // The part's faces by group, the groups numbered locally: the Dijkstra and the marking run over
+  // the part alone (one scan of the faces finds it).
   const int num_groups = group.empty() ? nf : *std::max_element(group.begin(), group.end()) + 1;
   std::vector<int> faces, local(num_groups, -1), first{0};
   for (int h = 0; h < nf; ++h) {

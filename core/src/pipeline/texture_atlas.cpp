@@ -16,10 +16,11 @@ namespace ricci::detail {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// Rounds of splits of overlapping charts (each splits every overlapping chart once).
+// Rounds of splits of overlapping charts (each parts every overlapping chart at least once).
 constexpr int kMaxSplitRounds = 64;
-// Within a round, further pairs of a chart are parted where they overlap by more than this share
-// of the smaller face (overlap_depth): past what pieces drawn one by one disagree by.
+// Within a round, further pairs of a chart are parted while they overlap by more than this share
+// of the smaller face's longest side (overlap_depth): past what pieces drawn one by one disagree
+// by.
 constexpr double kDeepOverlap = 0.25;
 // Charts longer than this times their width are halved, at most this many rounds.
 constexpr double kLongAspect = 2;
@@ -229,7 +230,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   for (int round = 0; round < kMaxSplitRounds && !overlaps.empty(); ++round) {
     std::vector<int> part = charts.chart;
     int parts = charts.num_charts;
-    std::vector<char> stuck(parts, 0);  // a piece that a pair could not part: left to next round
+    // A piece that a pair could not part, or whose next pair overlaps shallowly: left to the next
+    // round.
+    std::vector<char> stuck(parts, 0);
     std::vector<char> split_once(parts, 0);
     for (const auto& [f, g] : overlaps) {
       if (part[f] != part[g] || stuck[part[f]]) continue;

@@ -67,7 +67,7 @@ struct ConePlacement {
   bool bound_reached = false;
   std::string why_not;  //!< when !bound_reached: the budget, or cone angles below the floor
   int factorizations = 0;
-  int back_solves = 0;
+  int back_solves = 0;  //!< columns solved (one right-hand side each, in blocks), g's included
   int relocations = 0;  //!< cones moved by the sweeps
   int dropped = 0;      //!< cones dropped at the end
   double seconds = 0;

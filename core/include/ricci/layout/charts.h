@@ -62,10 +62,12 @@ std::vector<char> unchanged_clean_charts(const Charts& now, const Charts& before
 //! may split (`group` per face, e.g. the input face a piece lies in; empty: each face alone), are
 //! shared out between the two by nearest group (Dijkstra across uncut edges, a step the distance
 //! of the groups' centroids in `centroid`), the edges between the shares marked in `cut`, and g's
-//! share labelled `new_part` in `part`. Returns the number of edges marked (0: nothing changed).
-//! Pieces of one developed chart keep their coordinates up to a rigid motion, so the overlapping
-//! pairs of a piece are those of the chart that fall inside it: a chart's pairs can be parted one
-//! after the other, before laying out again.
+//! share labelled `new_part` in `part`. Returns the number of edges marked (0: nothing changed,
+//! also where f and g are in different parts). A piece of a developed chart keeps its layout up to
+//! a rigid motion and rounding (see overlap_depth), so the pairs of a chart that overlap deeply
+//! can be parted one after the other, before laying out again. Where a part is not connected (a
+//! group split by an earlier seam inside it), its label covers its components together.
+//! \pre new_part is a label no face has.
 int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_part, int f, int g,
                     const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
                     std::vector<char>& cut);
