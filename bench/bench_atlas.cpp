@@ -32,6 +32,19 @@ const RepairedMesh& repaired(int k) {
   return meshes[k];
 }
 
+// The mesh's Yamabe Hessian at u = 0 with u held at vertex 0 (its row pinned): a target every
+// topology admits in E2.
+SparseMatrix pinned_hessian(const CompactMesh& mesh) {
+  Eigen::VectorXd values = Eigen::VectorXd::Zero(mesh.num_vertices());
+  values[0] = std::nan("");
+  const TargetCurvature target = TargetCurvature::from_values(mesh, values);
+  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, SchemeOptions(), target);
+  std::vector<int> free_index(mesh.num_vertices(), -1);
+  for (int v = 1; v < mesh.num_vertices(); ++v) free_index[v] = v - 1;
+  HessianAssembler assembler(mesh, free_index);
+  return assembler.assemble(evaluate_metric(mesh, s, s.u0));
+}
+
 // range(0): the mesh.
 void BM_Atlas(benchmark::State& state) {
   const RepairedMesh& mesh = repaired(static_cast<int>(state.range(0)));
@@ -57,15 +70,7 @@ void BM_Atlas(benchmark::State& state) {
 
 void BM_AtlasMeshHessianFactorization(benchmark::State& state) {
   const CompactMesh& mesh = repaired(static_cast<int>(state.range(0))).components.front().mesh;
-  // u held at vertex 0, as the pinned row below: a target every topology admits in E2.
-  Eigen::VectorXd values = Eigen::VectorXd::Zero(mesh.num_vertices());
-  values[0] = std::nan("");
-  const TargetCurvature target = TargetCurvature::from_values(mesh, values);
-  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, SchemeOptions(), target);
-  std::vector<int> free_index(mesh.num_vertices(), -1);
-  for (int v = 1; v < mesh.num_vertices(); ++v) free_index[v] = v - 1;
-  HessianAssembler assembler(mesh, free_index);
-  const SparseMatrix& h = assembler.assemble(evaluate_metric(mesh, s, s.u0));
+  const SparseMatrix h = pinned_hessian(mesh);
   LinearSolver solver(LinearSolverKind::Cholmod);
   solver.analyze(h);
   for (auto _ : state) {
@@ -98,14 +103,7 @@ void BM_AtlasConePlacement(benchmark::State& state) {
 // time (one right-hand side per column); per column, in the counter, against one factorization.
 void BM_AtlasConeColumns(benchmark::State& state) {
   const CompactMesh& mesh = repaired(static_cast<int>(state.range(0))).components.front().mesh;
-  Eigen::VectorXd values = Eigen::VectorXd::Zero(mesh.num_vertices());
-  values[0] = std::nan("");
-  const TargetCurvature target = TargetCurvature::from_values(mesh, values);
-  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, SchemeOptions(), target);
-  std::vector<int> free_index(mesh.num_vertices(), -1);
-  for (int v = 1; v < mesh.num_vertices(); ++v) free_index[v] = v - 1;
-  HessianAssembler assembler(mesh, free_index);
-  const SparseMatrix& h = assembler.assemble(evaluate_metric(mesh, s, s.u0));
+  const SparseMatrix h = pinned_hessian(mesh);
   LinearSolver solver(LinearSolverKind::Cholmod);
   solver.analyze(h);
   solver.factorize(h, 1e-8);

@@ -76,6 +76,16 @@ struct Strip {
   CompactMesh mesh;
   std::vector<double> lengths;
 };
+// Per face: the centroid of its corners in 3D.
+std::vector<Eigen::Vector3d> face_centroids(const CompactMesh& mesh) {
+  std::vector<Eigen::Vector3d> centroid;
+  for (const auto& t : mesh.faces()) {
+    centroid.push_back((mesh.positions()[t[0]] + mesh.positions()[t[1]] + mesh.positions()[t[2]]) /
+                       3);
+  }
+  return centroid;
+}
+
 Strip sector_strip(int n, double turn) {
   std::vector<Eigen::Vector3d> p;
   std::vector<std::array<int, 3>> f;
@@ -119,12 +129,7 @@ TEST(Charts, SeparatingTheSheetsLeavesNoOverlap) {
   Charts charts = lay_out_charts(strip.mesh, strip.lengths, cut);
   const auto pairs = overlapping_faces(charts);
   ASSERT_FALSE(pairs.empty());
-  std::vector<Eigen::Vector3d> centroid;
-  for (const auto& t : strip.mesh.faces()) {
-    centroid.push_back((strip.mesh.positions()[t[0]] + strip.mesh.positions()[t[1]] +
-                        strip.mesh.positions()[t[2]]) /
-                       3);
-  }
+  const std::vector<Eigen::Vector3d> centroid = face_centroids(strip.mesh);
   std::vector<int> part = charts.chart;
   EXPECT_GT(
       separate_sheets(strip.mesh, part, 1, pairs[0].first, pairs[0].second, {}, centroid, cut), 0);
@@ -144,12 +149,7 @@ TEST(Charts, EveryPairPartedInTurnBeforeOneLayoutLeavesNoOverlap) {
   const Charts charts = lay_out_charts(strip.mesh, strip.lengths, cut);
   const auto pairs = overlapping_faces(charts);
   ASSERT_FALSE(pairs.empty());
-  std::vector<Eigen::Vector3d> centroid;
-  for (const auto& t : strip.mesh.faces()) {
-    centroid.push_back((strip.mesh.positions()[t[0]] + strip.mesh.positions()[t[1]] +
-                        strip.mesh.positions()[t[2]]) /
-                       3);
-  }
+  const std::vector<Eigen::Vector3d> centroid = face_centroids(strip.mesh);
   ASSERT_EQ(charts.num_charts, 1);
   std::vector<int> part = charts.chart;
   int parts = 1;
@@ -222,12 +222,7 @@ TEST(Charts, OnlyChartsLaidOutAsBeforeWithoutOverlapCountAsClean) {
   ASSERT_FALSE(pairs.empty());
   EXPECT_EQ(unchanged_clean_charts(charts, charts, pairs), std::vector<char>{0});
   // Split in two, neither chart is the one before.
-  std::vector<Eigen::Vector3d> centroid;
-  for (const auto& t : more.mesh.faces()) {
-    centroid.push_back(
-        (more.mesh.positions()[t[0]] + more.mesh.positions()[t[1]] + more.mesh.positions()[t[2]]) /
-        3);
-  }
+  const std::vector<Eigen::Vector3d> centroid = face_centroids(more.mesh);
   std::vector<char> cut = none;
   std::vector<int> part = charts.chart;
   ASSERT_GT(separate_sheets(more.mesh, part, 1, pairs[0].first, pairs[0].second, {}, centroid, cut),
