@@ -131,9 +131,10 @@ FilterComputation run_filter(Document& md, const ParameterValues& values, CallBa
   log = summary_lines(c.run, RunContext{m.label().toStdString(), "", 0});
   if (settings.target == TargetChoice::Atlas && written.wedge_texcoord) {
     log.push_back(
-        "To see the atlas: Filters > Texture > Set Texture (it draws a checkerboard where the "
-        "named image does not exist); its seams: Filters > Texture > Select Vertex Texture Seams "
-        "(the selection then holds the seams instead of the cones)");
+        "To see the atlas: Filters > Texture > Set Texture (MeshLab 2025.07: check Use dummy "
+        "texture for a checkerboard; 2020.09 draws one where the named image does not exist); its "
+        "seams: Filters > Texture > Select Vertex Texture Seams (the selection then holds the "
+        "seams instead of the cones)");
   }
   return c;
 }

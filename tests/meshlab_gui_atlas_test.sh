@@ -22,27 +22,6 @@ awk '/^v /{v[++nv]=$2" "$3" "$4}
   "$mesh" >"$artifacts/$name.off"
 cd "$artifacts"
 
-# Shares of the mesh's pixels (the view's grey ones) that the texture darkens and that it leaves
-# as they were: a checkerboard of grey and white squares, modulating the shading, gives about
-# half each; no texture gives none darkened.
-two_tones() {
-  view_of "$1" >"$artifacts/plain.miff"
-  view_of "$2" >"$artifacts/textured.miff"
-  (
-    cd "$artifacts"
-    convert plain.miff -colorspace HSL -channel G -separate +channel -threshold 12% -negate \
-      mesh.miff
-    mesh=$(convert mesh.miff -format "%[fx:mean]" info:)
-    darker=$(convert plain.miff textured.miff -fx "(u.intensity - v.intensity > 0.12) ? 1 : 0" \
-      mesh.miff -compose Multiply -composite -format "%[fx:mean]" info:)
-    same=$(convert plain.miff textured.miff -fx "abs(u.intensity - v.intensity) < 0.04 ? 1 : 0" \
-      mesh.miff -compose Multiply -composite -format "%[fx:mean]" info:)
-    rm -f plain.miff textured.miff mesh.miff
-    awk -v m="$mesh" -v d="$darker" -v s="$same" \
-      'BEGIN { if (m > 0) printf "%.3f %.3f %.4f\n", d / m, s / m, m; else print "0 0 0" }'
-  )
-}
-
 start_meshlab "$prefix" "$artifacts/$name.off"
 
 # The dialog opens with the keyboard focus three Tabs before its first parameter; the target is

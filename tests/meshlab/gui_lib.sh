@@ -66,3 +66,24 @@ no_failure_dialog() {
 view_of() {
   convert "$1" -crop 840x760+10+80 +repage miff:-
 }
+
+# Shares of the mesh's pixels (the view's grey ones) that the texture darkens and that it leaves
+# as they were: a checkerboard of grey and white squares, modulating the shading, gives about
+# half each; no texture gives none darkened.
+two_tones() {
+  view_of "$1" >"$artifacts/plain.miff"
+  view_of "$2" >"$artifacts/textured.miff"
+  (
+    cd "$artifacts"
+    convert plain.miff -colorspace HSL -channel G -separate +channel -threshold 12% -negate \
+      mesh.miff
+    mesh=$(convert mesh.miff -format "%[fx:mean]" info:)
+    darker=$(convert plain.miff textured.miff -fx "(u.intensity - v.intensity > 0.12) ? 1 : 0" \
+      mesh.miff -compose Multiply -composite -format "%[fx:mean]" info:)
+    same=$(convert plain.miff textured.miff -fx "abs(u.intensity - v.intensity) < 0.04 ? 1 : 0" \
+      mesh.miff -compose Multiply -composite -format "%[fx:mean]" info:)
+    rm -f plain.miff textured.miff mesh.miff
+    awk -v m="$mesh" -v d="$darker" -v s="$same" \
+      'BEGIN { if (m > 0) printf "%.3f %.3f %.4f\n", d / m, s / m, m; else print "0 0 0" }'
+  )
+}
