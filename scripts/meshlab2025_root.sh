@@ -3,7 +3,8 @@
 # its `meshlab` and what the plugin is built with there, kept in the ignored third_party/.
 #
 #   meshlab2025_root.sh create ROOT      debootstrap ROOT, install meshlab and the build packages,
-#                                        stamp ROOT/.complete (scripts/setup.sh calls this)
+#                                        stamp ROOT/.complete
+#   meshlab2025_root.sh ensure ROOT      create ROOT unless its stamp is current (scripts/setup.sh)
 #   meshlab2025_root.sh run ROOT CMD...  CMD inside ROOT, in a private mount namespace with /proc,
 #                                        /dev, /sys, /tmp (the X server's socket and cookie) and the
 #                                        checkout (at its own path) mounted; the mounts end with CMD
@@ -24,7 +25,7 @@ meshlab_line=2025.07 # the MeshLab version the root must carry (its plugin check
 root_packages=(
   libgl1-mesa-dri fonts-dejavu-core
   g++ make cmake pkg-config qtbase5-dev libqt5opengl5-dev libglew-dev
-  libeigen3-dev libsuitesparse-dev
+  libeigen3-dev libsuitesparse-dev ccache
 )
 
 as_root() {
@@ -68,6 +69,11 @@ run_in_root() {
   local root=$1
   shift
   "${in_root[@]}" "$root" "$here" "$@"
+}
+
+# What .complete holds: the suite and the packages asked for (a change makes a new root).
+stamp() {
+  echo "$suite meshlab ${root_packages[*]}"
 }
 
 create_root() {
@@ -114,13 +120,16 @@ create_root() {
     { echo "meshlab2025_root: no libmeshlab-common.so in the root's meshlab" >&2; exit 1; }
   echo "$version" >"$root/.meshlab-version"
   rm -f "$root.log"
-  touch "$root/.complete"
+  stamp >"$root/.complete"
   echo "meshlab2025_root: meshlab $version in $root in $(($(date +%s) - start)) s," \
     "$(du -sh "$root" | cut -f1)"
 }
 
 case "${1:-}" in
 create) create_root "$2" ;;
+ensure)
+  if [ "$(cat "$2/.complete" 2>/dev/null)" != "$(stamp)" ]; then create_root "$2"; fi
+  ;;
 run)
   root=$2
   shift 2
@@ -128,7 +137,7 @@ run)
   exec "${in_root[@]}" "$root" "$here" "$@"
   ;;
 *)
-  echo "usage: $0 create ROOT | run ROOT CMD..." >&2
+  echo "usage: $0 create ROOT | ensure ROOT | run ROOT CMD..." >&2
   exit 2
   ;;
 esac

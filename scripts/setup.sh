@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One-command setup for a Debian 12 machine (run as root, or with sudo available).
 # Installs the Debian packages the project needs and fetches, into ignored folders,
-# MeshLab's source package (headers and vcglib) and the CGAL CC0 mesh data set.
+# MeshLab's source package (headers and vcglib), the CGAL CC0 mesh data set, and a root of Debian
+# unstable with its MeshLab 2025.07.
 # Idempotent: when everything is present it returns in about a second.
 set -euo pipefail
 
@@ -22,7 +23,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   qtbase5-dev libqt5opengl5-dev libglew-dev
   "meshlab=$meshlab_version"
-  xvfb xauth xdotool imagemagick
+  xvfb xauth xdotool imagemagick debootstrap
   python3-venv python3-dev xz-utils
 )
 
@@ -128,6 +129,10 @@ if [ ! -f "$meshlab2025_src/.complete" ]; then
   rm -rf "$meshlab2025_src/apt" "$meshlab2025_src"/*.tar.* "$meshlab2025_src"/*.dsc
   touch "$meshlab2025_src/.complete"
 fi
+
+# --- MeshLab 2025.07's GUI: Debian unstable's meshlab in a root of its own, with what the plugin
+# is built with there (scripts/meshlab2025_root.sh; about 2 minutes and 1.3 GiB)
+bash "$here/scripts/meshlab2025_root.sh" ensure "$third_party/meshlab-2025.07-root"
 
 # --- a Python with pymeshlab (its wheel carries MeshLab 2025.07) and pytest
 venv="$third_party/pymeshlab-venv"
