@@ -125,13 +125,14 @@ create_root() {
     "$(du -sh "$root" | cut -f1)"
 }
 
-case "${1:-}" in
-create) create_root "$2" ;;
+[ $# -ge 2 ] || set -- usage
+root=$(realpath -m "${2:-.}")
+case "$1" in
+create) create_root "$root" ;;
 ensure)
-  if [ "$(cat "$2/.complete" 2>/dev/null)" != "$(stamp)" ]; then create_root "$2"; fi
+  if [ "$(cat "$root/.complete" 2>/dev/null)" != "$(stamp)" ]; then create_root "$root"; fi
   ;;
 run)
-  root=$2
   shift 2
   [ -f "$root/.complete" ] || { echo "meshlab2025_root: $root is not set up" >&2; exit 1; }
   exec "${in_root[@]}" "$root" "$here" "$@"
