@@ -12,7 +12,10 @@
 // when rounded to float), ricci_chart (int: the Poincare disk chart the face is drawn in, 0 for a
 // layout in one piece, -1 for a face without one) and layout_corners (6 doubles: x y per corner in
 // the layout's model before any normalization: the plane in the metric's units, the Poincare
-// disk in the face's chart; NaN for faces on the sphere or without a layout). Whenever a component
+// disk in the face's chart, every vertex at its point of the conformal map, so that the faces are
+// hyperbolic triangles whose copies across the cut are images under the deck transformations,
+// where the texture may draw a few new vertices on their faces' straight sides instead; NaN for
+// faces on the sphere or without a layout). Whenever a component
 // has a layout, the face property ricci_layout (uchar) says whose: 0 none, 1 the plane, 2 the
 // Poincare disk, 3 the unit sphere. When the flow flipped edges and the input's faces would turn
 // over, the mesh is the common subdivision (common_subdivision.h): the vertices above, then the new

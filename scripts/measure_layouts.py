@@ -7,7 +7,10 @@ Usage: measure_layouts.py FILE [FILE ...] [--tsv OUT] [--disk-texcoords]
 FILE is a PLY that ricci-flow wrote, or an OBJ with a texture coordinate per face corner
 (f v/vt), as Boundary First Flattening and CEPS write them. Per file:
 
-* faces, and faces turned over in the layout (orientation as drawn: straight sides);
+* faces, and faces turned over in the layout's model (plane: straight sides; Poincare disk: as
+  hyperbolic triangles, whose sides are geodesics, straight in the Klein model; sphere: seen from
+  outside); PLY only: texture_flipped, faces with a planar or disk layout whose texture
+  coordinates (texcoord_double, as a texture draws them: straight) are turned over;
 * the quasi-conformal ratio of each face's affine map from 3D to its layout (singular values'
   ratio): median, p95, max;
 * PLY only: the angle sum at every interior vertex of the delivered mesh, its corner angles
@@ -154,11 +157,13 @@ def quasi_conformal(surface, layout):
 
 
 def orientation(model, t):
-    """Per face: > 0 when counter-clockwise as drawn (plane and disk: straight; sphere: seen from
-    outside)."""
+    """Per face: > 0 when counter-clockwise in the model (plane: straight; disk: the hyperbolic
+    triangle, straight in the Klein model; sphere: seen from outside)."""
     if model == SPHERE:
         return np.einsum("ij,ij->i", np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]),
                          t[:, 0] + t[:, 1] + t[:, 2])
+    if model == DISK:
+        t = 2 * t / (1 + np.sum(t * t, axis=2, keepdims=True))
     a, b = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
     return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
 
@@ -272,6 +277,11 @@ def measure_ply(path, atlas=False):
         worst_cut = np.nanmax([worst_cut, wc]) if kc else worst_cut
         checked, checked_cut = checked + k, checked_cut + kc
     row.update(summary(np.concatenate(qc), flipped))
+    if "texcoord_double" in f and len(f["texcoord_double"]) == len(faces):
+        uv = np.array(f["texcoord_double"], dtype=float).reshape(-1, 3, 2)
+        drawn = uv[(model == PLANE) | (model == DISK)]
+        a, b = drawn[:, 1] - drawn[:, 0], drawn[:, 2] - drawn[:, 0]
+        row["texture_flipped"] = int(np.sum(~(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] > 0)))
     row.update({"angle_error": worst, "interior_vertices": checked, "cut_angle_error": worst_cut,
                 "cut_vertices": checked_cut})
     if atlas:
@@ -472,8 +482,8 @@ def measure_atlas(surface, faces, uv):
     return row
 
 
-COLUMNS = ("file", "faces", "models", "flipped", "degenerate", "qc_median", "qc_p95", "qc_max",
-           "angle_error", "interior_vertices", "cut_angle_error", "cut_vertices")
+COLUMNS = ("file", "faces", "models", "flipped", "texture_flipped", "degenerate", "qc_median",
+           "qc_p95", "qc_max", "angle_error", "interior_vertices", "cut_angle_error", "cut_vertices")
 ATLAS_COLUMNS = ("atlas_faces", "atlas_D", "atlas_qc_median", "atlas_qc_p95", "atlas_qc_max",
                  "atlas_flipped", "atlas_uv_degenerate", "atlas_overlap", "atlas_seam",
                  "atlas_seam_edges", "atlas_charts", "atlas_util_square", "atlas_util_bbox",

@@ -275,10 +275,10 @@ void gather_face_layouts(MeshUniformization& out) {
     const size_t faces =
         run.subdivision ? run.subdivision->faces.size() : out.mesh.components[k].face.size();
     const bool laid = run.corners.size() == faces && run.layout_kind != LayoutKind::None;
+    const auto& model = run.model_corners.empty() ? run.corners : run.model_corners;
     for (size_t f = 0; f < faces; ++f) {
       out.face_layout.push_back(laid ? run.layout_kind : LayoutKind::None);
-      out.corners.push_back(laid ? run.corners[f]
-                                 : std::array<Eigen::Vector3d, 3>{none, none, none});
+      out.corners.push_back(laid ? model[f] : std::array<Eigen::Vector3d, 3>{none, none, none});
       out.face_chart.push_back(!laid ? -1 : run.face_chart.empty() ? 0 : run.face_chart[f]);
     }
   }

@@ -6,7 +6,7 @@
 #include <optional>
 #include <sstream>
 
-#include "layout/corners.h"
+#include "layout/layout_methods.h"
 #include "pipeline/circle_domain.h"
 #include "pipeline/disk_drawing.h"
 #include "ricci/layout/lay_out.h"
@@ -72,6 +72,7 @@ void place_delivered(const CompactMesh& mesh, const UniformizationOptions& o, in
       }
     } else {
       weld_corner_copies(mesh.faces(), corners);
+      glue_copies_across_cut(mesh.faces(), run.layout, corners);
     }
     run.corners = std::move(corners);
     return;
@@ -79,6 +80,12 @@ void place_delivered(const CompactMesh& mesh, const UniformizationOptions& o, in
   if (!per_vertex) {
     run.corners = sub->corners;
     weld_corner_copies(sub->faces, run.corners);
+    glue_copies_across_cut(sub->faces, run.layout, run.corners);
+    run.model_corners = sub->model_corners;
+    if (!run.model_corners.empty()) {
+      weld_corner_copies(sub->faces, run.model_corners);
+      glue_copies_across_cut(sub->faces, run.layout, run.model_corners);
+    }
     return;
   }
   run.corners.resize(sub->faces.size());
@@ -159,8 +166,9 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
     // Where splitting the geodesic pieces leaves some turned as drawn (openscad-tardis.stl: one
     // of 14,804), the new vertices on the sides of their final faces go onto the sides as drawn,
     // and the splits run again; where that still leaves some (cura-zav-maxpro.stl: genus 97,
-    // 80k flips), every new vertex does. A map, whose copies across the cut glue exactly only
-    // where no vertex moved (said in the report).
+    // 80k flips), every new vertex does. That drawing is the texture's (`corners`); the model's
+    // corners keep every vertex on the geodesics (`model_corners`), where the copies across the
+    // cut glue.
     if (on_geodesics && detail::has_drawing_turned_faces(run.subdivision->corners)) {
       CommonSubdivision sub = std::move(*on_geodesics);
       sub.drawn_side_corners = detail::draw_sides_straight(
@@ -175,6 +183,15 @@ void lay_out_result(const CompactMesh& mesh, const UniformizationOptions& o, int
       try {
         CommonSubdivision drawn = common_subdivision(mesh, run.structure, run.result, run.layout,
                                                      DiskSidePoints::OnDrawnSide);
+        // The same pieces with their new vertices on the geodesics: the model's corners.
+        const CommonSubdivision geodesic =
+            common_subdivision(mesh, run.structure, run.result, run.layout);
+        if (geodesic.faces != drawn.faces) {
+          throw LayoutError(
+              "common subdivision: the pieces drawn on straight sides differ from those on the "
+              "geodesics");
+        }
+        drawn.model_corners = geodesic.corners;
         drawn.disk_splits = detail::split_turned_disk_faces(mesh, drawn);
         drawn.on_drawn_sides = true;
         run.subdivision = std::move(drawn);

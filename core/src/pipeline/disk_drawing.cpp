@@ -72,6 +72,16 @@ double length_fraction(const Eigen::Vector3d& p, const Eigen::Vector3d& q, doubl
   return std::isfinite(whole) && whole > 0 && std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.5;
 }
 
+// The hyperboloid weight toward q of the point at fraction t of the geodesic's length from p to q
+// (the inverse of length_fraction): sinh(t d) against sinh((1 - t) d), d the geodesic's length.
+double weight_at_length_fraction(const Eigen::Vector3d& p, const Eigen::Vector3d& q, double t) {
+  const double d =
+      2 * std::asinh((p - q).norm() / std::sqrt((1 - p.squaredNorm()) * (1 - q.squaredNorm())));
+  if (!(d > 1e-12) || !std::isfinite(d)) return t;
+  const double near = std::sinh((1 - t) * d), far = std::sinh(t * d);
+  return far / (near + far);
+}
+
 class Splitter {
  public:
   Splitter(const CompactMesh& mesh, CommonSubdivision& sub) : mesh_(mesh), sub_(sub) {}
@@ -162,6 +172,7 @@ class Splitter {
     sub_.u.conservativeResize(m + 1);
     sub_.u[m] = (1 - t) * sub_.u[a] + t * sub_.u[b];
     sub_.vertex_layout.push_back(Eigen::Vector3d::Constant(std::nan("")));
+    const bool model = !sub_.model_corners.empty();
     for (const auto& [f, c] : faces) {
       const std::array<int, 3> v = sub_.faces[f];
       const std::array<Eigen::Vector3d, 3> p = sub_.corners[f];
@@ -174,6 +185,17 @@ class Splitter {
       sub_.corners.push_back({at, p[d], p[o]});
       sub_.input_face.push_back(sub_.input_face[f]);
       sub_.final_face.push_back(sub_.final_face[f]);
+      if (model) {
+        // On the model's geodesic at the fraction of its length at which the vertex divides the
+        // side in 3D: the copies of a side across a cut are isometric there, so the new vertex's
+        // copies are images of each other under the deck transformation.
+        const std::array<Eigen::Vector3d, 3> q = sub_.model_corners[f];
+        const double fraction = v[c] == a ? t : 1 - t;
+        const Eigen::Vector3d on_model =
+            disk_geodesic_point(q[c], q[d], weight_at_length_fraction(q[c], q[d], fraction));
+        sub_.model_corners[f] = {q[c], on_model, q[o]};
+        sub_.model_corners.push_back({on_model, q[d], q[o]});
+      }
     }
   }
 
@@ -255,6 +277,7 @@ std::vector<char> final_faces_turned_as_drawn(const CommonSubdivision& sub, int 
 int draw_sides_straight(CommonSubdivision& sub, const Layout& layout,
                         const std::vector<char>& final_faces) {
   const int n = sub.num_input_vertices;
+  if (sub.model_corners.empty()) sub.model_corners = sub.corners;
   std::vector<char> moved(sub.positions.size(), 0);
   for (size_t f = 0; f < sub.faces.size(); ++f) {
     if (!final_faces[static_cast<size_t>(sub.final_face[f])]) continue;

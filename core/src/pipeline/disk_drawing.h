@@ -41,7 +41,9 @@ bool has_drawing_turned_faces(const std::vector<std::array<Eigen::Vector3d, 3>>&
 //! its input edge where it lies on one (else -1), u interpolated along the side. Keeps the best
 //! state seen; stops when no such face is left, after max_rounds, after 20 rounds without
 //! progress, or when such faces grow far past their first number. Faces turned in the Klein model
-//! too are left as they are. Returns the number of sides split.
+//! too are left as they are. Where the subdivision has model_corners, they are split alike: the
+//! new vertex on the model's geodesic at the fraction of its length at which it divides the side
+//! in 3D. Returns the number of sides split.
 int split_turned_disk_faces(const CompactMesh& mesh, CommonSubdivision& sub, int max_rounds = 60);
 
 //! Per face of the flow's final triangulation: whether a face of the subdivision in it is turned
@@ -51,7 +53,9 @@ std::vector<char> final_faces_turned_as_drawn(const CommonSubdivision& sub, int 
 //! A subdivision with its new vertices on the geodesics (before any split): the new vertices on
 //! the sides of the marked final faces go onto those sides as drawn, straight in the disk's
 //! coordinates, at every corner of theirs (the neighbour across an uncut side draws it alike;
-//! across a cut the two copies then no longer glue exactly). Returns the corners moved.
+//! across a cut the two drawn copies then no longer glue exactly). The corners before the move are
+//! kept as the subdivision's model_corners (unless it has them), where they do. Returns the
+//! corners moved.
 int draw_sides_straight(CommonSubdivision& sub, const Layout& layout,
                         const std::vector<char>& final_faces);
 

@@ -166,16 +166,17 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
            sub.positions.size(), " vertices, ", sub.faces.size(), " faces");
     }
     if (!sub.on_drawn_sides && sub.drawn_side_corners > 0) {
-      line("Warning: ", sub.drawn_side_corners,
-           " corners of new vertices placed on their faces' sides as drawn, not on the geodesics "
-           "(split geodesic pieces near the rim still turned over as drawn): the two sides of the "
-           "cut glue exactly under the deck transformations only where none of them lies");
+      line("Poincare disk texture: ", sub.drawn_side_corners,
+           " corners of new vertices drawn on their faces' straight sides (split geodesic pieces "
+           "near the rim still turned over as drawn); the layout's model corners keep them on "
+           "the geodesics, where the two sides of the cut glue under the deck transformations");
     }
     if (sub.on_drawn_sides) {
       line(
-          "Warning: new vertices placed on their faces' sides as drawn, not on the geodesics "
-          "(split geodesic pieces near a chart's rim still turned over as drawn): a map, whose "
-          "two sides of the cut do not glue exactly under the deck transformations");
+          "Poincare disk texture: new vertices drawn on their faces' straight sides (split "
+          "geodesic pieces near a chart's rim still turned over as drawn); the layout's model "
+          "corners keep them on the geodesics, where the two sides of the cut glue under the "
+          "deck transformations");
     }
   } else if (run.input_faces_turned_over > 0 && !run.subdivision_failure.empty()) {
     line("No common subdivision: ", run.subdivision_failure);

@@ -37,7 +37,8 @@ struct MeshUniformization {
   std::vector<int> input_face;
   //! Per delivered face: its component's layout kind, its corners in that layout's model before
   //! any normalization (the plane in the metric's units, the unit disk for the disk target; the
-  //! Poincare disk, in the face's chart; the unit sphere), NaN where the component has no
+  //! Poincare disk, in the face's chart, on the geodesics: Uniformization::model_corners where
+  //! the texture draws some on straight sides; the unit sphere), NaN where the component has no
   //! layout; and its chart (Layout::chart, 0 for a layout in one piece, -1 without a layout).
   std::vector<LayoutKind> face_layout;
   std::vector<std::array<Eigen::Vector3d, 3>> corners;

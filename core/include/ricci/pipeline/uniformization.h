@@ -133,6 +133,10 @@ struct Uniformization {
   //! Every layout: positions per face and corner of the delivered mesh (the input's, or the
   //! common subdivision's).
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  //! PoincareDisk where the drawing moved new vertices onto their faces' sides as drawn
+  //! (CommonSubdivision::model_corners): per delivered face, the corners in the model, on the
+  //! geodesics; `corners` are then the drawing (the texture's). Empty otherwise.
+  std::vector<std::array<Eigen::Vector3d, 3>> model_corners;
   //! PoincareDisk laid out in several charts (Layout::chart), and Atlas: per delivered face, the
   //! chart its corners are in; empty for one chart.
   std::vector<int> face_chart;

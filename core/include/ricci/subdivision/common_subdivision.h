@@ -58,8 +58,14 @@ struct CommonSubdivision {
   //! Poincare disk's drawing, or a crossing of Tb's and Tc's edges).
   std::vector<int> vertex_input_edge;
   std::vector<double> vertex_edge_parameter;
-  //! The layout per face and corner, in the model of `layout` (before any normalization).
+  //! The layout per face and corner, in the model of `layout` (before any normalization), as
+  //! drawn: a texture draws it with straight sides.
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  //! H2 where new vertices were moved onto their faces' sides as drawn (drawn_side_corners,
+  //! on_drawn_sides): per face and corner as `corners`, every vertex at its point of the
+  //! conformal map, on the geodesics (hyperbolic triangles, whose copies across a cut are images
+  //! of each other under the deck transformations). Empty otherwise: `corners` are those.
+  std::vector<std::array<Eigen::Vector3d, 3>> model_corners;
   //! Per vertex: its position in the layout from the first face that holds it (H2 in charts: in
   //! that face's chart).
   std::vector<Eigen::Vector3d> vertex_layout;
