@@ -82,25 +82,36 @@ meshlab_on() {
   sleep 1
 }
 
-# Filters (Alt+L) > Texture (third from the bottom in 2025.07) with its submenu open.
+# Filters (Alt+L) > Texture (third from the bottom in 2025.07) with its submenu open; $1 seconds
+# for each menu to open.
 texture_menu() {
   xdotool windowfocus --sync "$main"
   xdotool key alt+l
-  sleep 0.5
+  sleep "${1:-0.5}"
   xdotool key Up Up Up Right
-  sleep 0.5
+  sleep "${1:-0.5}"
 }
 
 # filter_dialog N NAME: the N-th entry of Filters > Texture, whose dialog is titled NAME, moved
-# to the screen's top (it is taller than the main window); sets `dialog`.
+# to the screen's top (it is taller than the main window); sets `dialog`. A menu that opened too
+# late for its keys (a busy machine) is closed and tried again, slower.
 filter_dialog() {
-  texture_menu
-  for _ in $(seq $(($1 - 1))); do xdotool key Down; done
-  xdotool key Return
-  dialog=$(wait_window "^$2\$" 30) || fail "the dialog of '$2' did not open from Filters > Texture"
-  xdotool windowmove "$dialog" 300 0
-  xdotool windowfocus --sync "$dialog"
-  sleep 0.5
+  local attempt
+  for attempt in 1 2 3; do
+    texture_menu "$attempt"
+    for _ in $(seq $(($1 - 1))); do xdotool key Down; done
+    xdotool key Return
+    if dialog=$(wait_window "^$2\$" 20); then
+      xdotool windowmove "$dialog" 300 0
+      xdotool windowfocus --sync "$dialog"
+      sleep 0.5
+      return 0
+    fi
+    echo "the dialog of '$2' did not open (attempt $attempt); the menus closed, again" >&2
+    xdotool key Escape Escape Escape
+    sleep 1
+  done
+  fail "the dialog of '$2' did not open from Filters > Texture"
 }
 
 # click_dialog FRACTION: a click on the dialog's bottom row (Close at 1/4, Apply at 3/4).
