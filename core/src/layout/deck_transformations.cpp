@@ -1,8 +1,7 @@
 // The isometries of the models, and how a cut-open layout is glued back: deck transformations,
-// the closure error, the surface group's relations, and a delivered layout's copies glued by them.
+// the closure error and the surface group's relations.
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 #include "layout/layout_methods.h"
 
@@ -110,12 +109,9 @@ void detail::glue_along_cut(const Triangulation& mesh, Layout& layout) {
     return {static_cast<double>(moved.real()), static_cast<double>(moved.imag()), 0};
   };
   if (planar && !charts) {
-    // Fitted on the path's middle edge: the development's drift along the path (glue_copies_
-    // across_cut moves the copies by it) is split between its two ends.
     for (const CutPath& path : layout.cut.paths) {
-      const size_t middle = path.edges.size() / 2;
-      const int a = path.vertices[middle], b = path.vertices[middle + 1];
-      const auto [left, right] = sides(path.edges[middle], a);
+      const int a = path.vertices[0], b = path.vertices[1];
+      const auto [left, right] = sides(path.edges[0], a);
       layout.deck.push_back(DiskIsometry::mapping(geometry, to_complex(at(right, a)),
                                                   to_complex(at(right, b)), to_complex(at(left, a)),
                                                   to_complex(at(left, b))));
@@ -143,25 +139,6 @@ void detail::glue_along_cut(const Triangulation& mesh, Layout& layout) {
         layout.closure_error =
             std::max(layout.closure_error,
                      std::abs(deck(to_complex(at(right, v))) - to_complex(at(left, v))));
-      }
-    }
-  }
-  // The isometries between a cut vertex's copies: the deck transformations, or in charts one per
-  // cut path and pair of charts its sides are drawn in, fitted on the path's first edge there.
-  layout.seam_maps.clear();
-  if (planar && !charts) layout.seam_maps = layout.deck;
-  if (planar && charts) {
-    std::set<std::array<int, 3>> fitted;
-    for (size_t k = 0; k < layout.cut.paths.size(); ++k) {
-      const CutPath& path = layout.cut.paths[k];
-      for (size_t i = 0; i < path.edges.size(); ++i) {
-        const int a = path.vertices[i], b = path.vertices[i + 1];
-        const auto [left, right] = sides(path.edges[i], a);
-        if (!fitted.insert({static_cast<int>(k), layout.chart[right], layout.chart[left]}).second)
-          continue;
-        layout.seam_maps.push_back(
-            DiskIsometry::mapping(geometry, to_complex(at(right, a)), to_complex(at(right, b)),
-                                  to_complex(at(left, a)), to_complex(at(left, b))));
       }
     }
   }
@@ -224,70 +201,6 @@ double surface_group_relation_error(const Triangulation& mesh, const Layout& lay
     }
   }
   return error;
-}
-
-namespace {
-
-constexpr double kSameCopy = 1e-6;  // glue_copies_across_cut's tolerance
-
-// How far apart two points of the layout are: hyperbolic distance, or in E2 relative to `extent`.
-double apart(Geometry g, double extent, Complex p, Complex q) {
-  if (g == Geometry::Euclidean) return std::abs(p - q) / extent;
-  return std::acosh(1 + 2 * std::norm(p - q) / ((1 - std::norm(p)) * (1 - std::norm(q))));
-}
-
-double extent_of(const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
-  double extent = 0;
-  for (const auto& t : corners) {
-    for (const Eigen::Vector3d& p : t) extent = std::max(extent, p.head<2>().norm());
-  }
-  return extent;
-}
-
-}  // namespace
-
-int detail::glue_copies_across_cut(const std::vector<std::array<int, 3>>& faces,
-                                   const Layout& layout,
-                                   std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
-  const Geometry g = layout.geometry;
-  if (layout.seam_maps.empty() || g == Geometry::Spherical) return 0;
-  std::vector<DiskIsometry> maps;
-  for (const DiskIsometry& d : layout.seam_maps) maps.push_back(d), maps.push_back(d.inverse());
-  const double extent = extent_of(corners);
-  // Per vertex: its distinct positions (copies), and per corner which copy it is.
-  int num_vertices = 0;
-  for (const auto& t : faces) num_vertices = std::max({num_vertices, t[0] + 1, t[1] + 1, t[2] + 1});
-  std::vector<std::vector<Complex>> copies(static_cast<size_t>(num_vertices));
-  std::vector<std::array<int, 3>> copy_of(faces.size());
-  for (size_t f = 0; f < faces.size(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      std::vector<Complex>& seen = copies[static_cast<size_t>(faces[f][c])];
-      const Complex z = to_complex(corners[f][c]);
-      const auto same = std::find(seen.begin(), seen.end(), z);
-      copy_of[f][c] = static_cast<int>(same - seen.begin());
-      if (same == seen.end()) seen.push_back(z);
-    }
-  }
-  int moved = 0;
-  for (std::vector<Complex>& z : copies) {
-    if (z.size() != 2) continue;
-    for (const DiskIsometry& m : maps) {
-      const Complex image = m(z[0]);
-      if (!(apart(g, extent, image, z[1]) <= kSameCopy)) continue;
-      moved += image != z[1];
-      z[1] = image;
-      break;
-    }
-  }
-  for (size_t f = 0; f < faces.size(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const Complex z =
-          copies[static_cast<size_t>(faces[f][c])][static_cast<size_t>(copy_of[f][c])];
-      corners[f][c].x() = z.real();
-      corners[f][c].y() = z.imag();
-    }
-  }
-  return moved;
 }
 
 }  // namespace ricci

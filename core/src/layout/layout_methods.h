@@ -25,22 +25,8 @@ Layout plane_layout(const Triangulation& mesh, const std::vector<double>& length
 Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
                double chart_radius = kChartRadius);
 
-//! Fills the deck transformations and seam maps (E2, H2), the closure error and the flipped-face
-//! count of a layout whose corners and cut are set.
+//! Fills the deck transformations (E2, H2), the closure error and the flipped-face count of a
+//! layout whose corners and cut are set.
 void glue_along_cut(const Triangulation& mesh, Layout& layout);
-
-//! Makes the two copies of a vertex inside a cut path images of each other under the layout's
-//! seam_maps (the deck transformations, or in charts one per chart pair; welded copies): the
-//! second copy, where within 1e-6 (hyperbolic distance; E2: of the layout's extent) of a seam
-//! map's image (or its inverse's) of the first, is set to that image. Developed face by face, the
-//! two sides of a cut differ by the drift of the development (the metric's rounding, amplified
-//! in the hyperbolic plane with the distance travelled: openscad-tardis.stl 1e-12 in the disk's
-//! coordinates, angle sums off by 1e-8 at cut vertices of small faces); glued by one isometry,
-//! the faces around a cut vertex close up as around any other. Where paths meet (three copies
-//! or more) the copies stay as developed: glued too, the seam maps' relation residual would land
-//! there, and it is no smaller than the drift (occt-tr12j.stl: 1e-8 against 5e-9). Returns the
-//! copies moved.
-int glue_copies_across_cut(const std::vector<std::array<int, 3>>& faces, const Layout& layout,
-                           std::vector<std::array<Eigen::Vector3d, 3>>& corners);
 
 }  // namespace ricci::detail

@@ -6,7 +6,7 @@
 #include <optional>
 #include <sstream>
 
-#include "layout/layout_methods.h"
+#include "layout/corners.h"
 #include "pipeline/circle_domain.h"
 #include "pipeline/disk_drawing.h"
 #include "ricci/layout/lay_out.h"
@@ -72,7 +72,6 @@ void place_delivered(const CompactMesh& mesh, const UniformizationOptions& o, in
       }
     } else {
       weld_corner_copies(mesh.faces(), corners);
-      glue_copies_across_cut(mesh.faces(), run.layout, corners);
     }
     run.corners = std::move(corners);
     return;
@@ -80,12 +79,8 @@ void place_delivered(const CompactMesh& mesh, const UniformizationOptions& o, in
   if (!per_vertex) {
     run.corners = sub->corners;
     weld_corner_copies(sub->faces, run.corners);
-    glue_copies_across_cut(sub->faces, run.layout, run.corners);
     run.model_corners = sub->model_corners;
-    if (!run.model_corners.empty()) {
-      weld_corner_copies(sub->faces, run.model_corners);
-      glue_copies_across_cut(sub->faces, run.layout, run.model_corners);
-    }
+    if (!run.model_corners.empty()) weld_corner_copies(sub->faces, run.model_corners);
     return;
   }
   run.corners.resize(sub->faces.size());

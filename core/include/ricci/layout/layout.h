@@ -72,10 +72,6 @@ struct Layout {
   std::vector<int> chart_parent;
   std::vector<DiskIsometry> chart_from_parent;
   double chart_radius = 0;  //!< when in charts
-  //! E2 and H2: isometries taking a copy of a cut vertex to another, as drawn: the deck
-  //! transformations; in charts, one per cut path and pair of charts its two sides are drawn in,
-  //! fitted on the path's first edge between them.
-  std::vector<DiskIsometry> seam_maps;
   //! Largest hyperbolic distance of a corner from the centre of the single-chart domain (H2; a
   //! lower bound beyond about 37, where |z| rounds to 1).
   double reach = 0;
