@@ -97,7 +97,8 @@ create_root() {
     { tail -n 30 "$root.log"; echo "meshlab2025_root: debootstrap failed ($root.log)" >&2; exit 1; }
   # The machine's mirror may serve a frozen copy of unstable (as this project's CI machine does)
   # whose Release file is past its Valid-Until date; its signature is still checked.
-  echo 'Acquire::Check-Valid-Until "false";' >"$root/etc/apt/apt.conf.d/50ricci-frozen-mirror"
+  echo 'Acquire::Check-Valid-Until "false";' |
+    as_root tee "$root/etc/apt/apt.conf.d/50ricci-frozen-mirror" >/dev/null
   echo "meshlab2025_root: installing meshlab, ${root_packages[*]} in the root"
   run_in_root "$root" apt-get update -qq >>"$root.log" 2>&1 ||
     { tail -n 30 "$root.log"; exit 1; }
@@ -118,9 +119,9 @@ create_root() {
   esac
   [ -f "$root/usr/lib/x86_64-linux-gnu/meshlab/libmeshlab-common.so" ] ||
     { echo "meshlab2025_root: no libmeshlab-common.so in the root's meshlab" >&2; exit 1; }
-  echo "$version" >"$root/.meshlab-version"
+  echo "$version" | as_root tee "$root/.meshlab-version" >/dev/null
   rm -f "$root.log"
-  stamp >"$root/.complete"
+  stamp | as_root tee "$root/.complete" >/dev/null
   echo "meshlab2025_root: meshlab $version in $root in $(($(date +%s) - start)) s," \
     "$(du -sh "$root" | cut -f1)"
 }

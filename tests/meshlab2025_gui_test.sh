@@ -120,11 +120,25 @@ click_dialog() {
   xdotool mousemove --window "$dialog" $((WIDTH * $1 / 4)) $((HEIGHT - 22)) click 1
 }
 
+# close_dialog: Close, then waits until the dialog is gone (and a second for the view to repaint)
+# before anything is screenshot.
+close_dialog() {
+  local id
+  id=$dialog
+  click_dialog 1
+  for _ in $(seq 100); do
+    xdotool search --onlyvisible --name "." 2>/dev/null | grep -qx "$id" ||
+      { sleep 1; return 0; }
+    sleep 0.2
+  done
+  fail "a filter's dialog did not close within 20 s"
+}
+
 # apply FILTER_NAME SECONDS: Apply, then waits for the log to say the filter was applied (returns
 # 0) or for MeshLab's failure dialog (returns 1; MeshLab logs the failure once it is closed).
 apply() {
   local before
-  before=$(grep -c "^LOG:" "$log" || true)
+  before=$(wc -l <"$log")
   click_dialog 3
   for _ in $(seq $((5 * $2))); do
     if tail -n +"$((before + 1))" "$log" | grep -q "^LOG: .*Applied filter: $1 in"; then return 0; fi
@@ -174,8 +188,7 @@ grep -q "^LOG: 2 Ricci flow on nefertiti.off: disk, 299 vertices, 562 faces" "$l
   fail "the log has no summary of the run"
 grep -Eq "^LOG: 2 Layout \(plane\): 0 of the input's faces flipped" "$log" ||
   fail "the log's layout line is missing or reports flipped faces"
-click_dialog 1
-sleep 1
+close_dialog
 import -window root "$artifacts/after.png"
 export_obj "$artifacts/nefertiti-uv.obj"
 read -r v f t ft u <<<"$(obj_uv "$artifacts/nefertiti-uv.obj")"
@@ -199,8 +212,7 @@ grep -q "^LOG: 2 Ricci flow on cow.obj: closed genus-0 surface.*target atlas" "$
   fail "the dialog's target was not the atlas"
 grep -Eq "^LOG: 2 Atlas: .* [0-9]+ charts .* 0 overlapping faces" "$log" ||
   fail "the log has no atlas line, or the atlas overlaps"
-click_dialog 1
-sleep 1
+close_dialog
 import -window root "$artifacts/atlas.png"
 # Set Texture, two entries below ours: the filename's field and its button, then "Use dummy
 # texture"; the check size two fields on (32 texels: 16 squares a side).
@@ -209,8 +221,7 @@ xdotool key Tab Tab Tab Tab Tab space Tab Tab ctrl+a
 xdotool type "32"
 apply "Set Texture" 60 || fail "Set Texture failed on the atlas"
 no_failure_dialog "Set Texture"
-click_dialog 1
-sleep 1
+close_dialog
 import -window root "$artifacts/checkerboard.png"
 tones=$(two_tones "$artifacts/atlas.png" "$artifacts/checkerboard.png") ||
   fail "the screenshots could not be compared"
