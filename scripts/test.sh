@@ -6,33 +6,37 @@
 # (Xvfb), and the Python wheel installed into a fresh venv (pytest).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+# Each stage's line says when it began and how long after the command's start (pytest's summary
+# stays the last line).
+started=$(date +%s)
+stage() { echo "== $(date +%T), $((($(date +%s) - started) / 60)) min in: $*"; }
 bash "$root/scripts/setup.sh"
 
-echo "== formatting (.clang-format)"
+stage "formatting (.clang-format)"
 (cd "$root" && git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run --Werror)
 
-echo "== release build and tests"
+stage "release build and tests"
 bash "$root/scripts/build.sh" test -DCMAKE_BUILD_TYPE=Release -DRICCI_WARNINGS_AS_ERRORS=ON \
   -DRICCI_BUILD_PLUGIN=ON
 ctest --test-dir "$root/build/test" --output-on-failure --parallel "$(nproc)"
 
-echo "== sanitizer build (address, undefined) and tests"
+stage "sanitizer build (address, undefined) and tests"
 bash "$root/scripts/build.sh" asan -DCMAKE_BUILD_TYPE=Debug -DRICCI_SANITIZE=ON \
   -DRICCI_WARNINGS_AS_ERRORS=ON -DRICCI_BUILD_PLUGIN=ON
 ASAN_OPTIONS=detect_leaks=1 ctest --test-dir "$root/build/asan" --output-on-failure \
   --parallel "$(nproc)"
 
-echo "== fuzz targets (libFuzzer, ASan and UBSan): regression inputs, then 30 s each"
+stage "fuzz targets (libFuzzer, ASan and UBSan): regression inputs, then 30 s each"
 bash "$root/scripts/fuzz.sh" 30
 
-echo "== plugin for MeshLab 2025.07, loaded by pymeshlab (pytest)"
+stage "plugin for MeshLab 2025.07, loaded by pymeshlab (pytest)"
 bash "$root/scripts/build.sh" pymeshlab -DCMAKE_BUILD_TYPE=Release -DRICCI_WARNINGS_AS_ERRORS=ON \
   -DRICCI_BUILD_PLUGIN=ON -DRICCI_BUILD_CLI=OFF \
   -DRICCI_MESHLAB_SOURCE="$root/third_party/meshlab-2025.07/source" \
   -DRICCI_PYMESHLAB_PYTHON="$root/third_party/pymeshlab-venv/bin/python"
 ctest --test-dir "$root/build/pymeshlab" --output-on-failure --verbose -R Pymeshlab
 
-echo "== plugin for MeshLab 2025.07 in its GUI: built in Debian unstable's root, tested under Xvfb"
+stage "plugin for MeshLab 2025.07 in its GUI: built in Debian unstable's root, tested under Xvfb"
 # Built inside the root (its g++, Qt and MeshLab 2025.07, Debian's float build), without -Werror:
 # that compiler and Eigen are newer than the ones the warnings are kept clean for above.
 root25="$root/third_party/meshlab-2025.07-root"
@@ -47,7 +51,7 @@ in_root25 cmake -S "$root" -B "$root/build/meshlab2025" -DCMAKE_BUILD_TYPE=Relea
 rm -f "$root/build-meshlab2025.log"
 ctest --test-dir "$root/build/meshlab2025" --output-on-failure --no-tests=error -R Meshlab2025Gui
 
-echo "== Python wheel: built into dist/, installed into a fresh venv, tested there (pytest)"
+stage "Python wheel: built into dist/, installed into a fresh venv, tested there (pytest)"
 bash "$root/scripts/wheel.sh"
 (cd "$root/build" && "$root/build/wheel-venv/bin/python" -m pytest -q -p no:cacheprovider \
   "$root/python/tests")
