@@ -87,3 +87,15 @@ two_tones() {
       'BEGIN { if (m > 0) printf "%.3f %.3f %.4f\n", d / m, s / m, m; else print "0 0 0" }'
   )
 }
+
+# expect_checkerboard BEFORE AFTER SHARE: the mesh (more than 2 % of the view) has more than
+# SHARE of its pixels darkened and more than SHARE unchanged from screenshot BEFORE to AFTER.
+expect_checkerboard() {
+  local tones darker same mesh
+  tones=$(two_tones "$1" "$2") || fail "the screenshots could not be compared"
+  read -r darker same mesh <<<"$tones"
+  echo "the mesh covers $mesh of the view; the texture darkens $darker of it and leaves $same"
+  awk -v d="$darker" -v s="$same" -v m="$mesh" -v x="$3" \
+    'BEGIN { exit !(m > 0.02 && d > x && s > x) }' ||
+    fail "no checkerboard on the mesh (darkened $darker, unchanged $same of the mesh's pixels)"
+}
