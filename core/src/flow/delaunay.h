@@ -56,8 +56,9 @@ struct FlipReport {
                     //!< both opposite vertices one, eta <= 0 or an invalid triangle after)
 };
 
-//! Euclidean Yamabe at u0 = 0 (lambda = sqrt(2 eta) is the input's length): flips the input's own
-//! metric to its intrinsic Delaunay triangulation, each flip isometric (the new diagonal the
+//! Yamabe at u0 = 0 (lambda = sqrt(2 eta): in E2 the input's length, in S2 half the chord of the
+//! scaled input length read as an arc): flips the Euclidean metric of the lambda-lengths to its
+//! intrinsic Delaunay triangulation, each flip isometric (the new diagonal the
 //! unfolded quadrilateral's), recorded with EdgeFlip::isometric.
 FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure);
 

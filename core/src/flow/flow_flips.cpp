@@ -30,7 +30,7 @@ void detail::FlowState::keep_delaunay() {
   if (!flipping) return;
   const auto t = Clock::now();
   if (options.delaunay_class && canonical_class && !input_made_delaunay && flip_sequence.empty() &&
-      structure.geometry == Geometry::Euclidean && is_yamabe(structure) && structure.u0.isZero()) {
+      structure.geometry != Geometry::Hyperbolic && is_yamabe(structure) && structure.u0.isZero()) {
     input_made_delaunay = true;
     const FlipReport isometric = make_input_delaunay(triangulation, structure);
     if (!isometric.sequence.empty()) {

@@ -64,12 +64,15 @@ struct FlowState {
   Eigen::VectorXd newton_start;
   static constexpr int kStartOverByIteration = 3;
   std::vector<EdgeFlip> flip_sequence;
-  // Euclidean Yamabe: when flips begin on the input's triangulation, it is first flipped to the
+  // Yamabe in E2 and S2: when flips begin on the input's triangulation, it is first flipped to the
   // input metric's intrinsic Delaunay triangulation (make_input_delaunay), whose lambda-lengths
   // give the canonical discrete conformal class (Gillespie, Springborn, Crane 2021: the class of
   // the metric, not of its triangulation; the input's own class where it is Delaunay already).
   // The non-Delaunay elk.off torus: its flat torus's modulus is 3.656i with the input's class,
-  // 3.812i with this one and with CEPS.
+  // 3.812i with this one and with CEPS. S2's lambda-lengths are half the chords of the scaled input
+  // lengths read as arcs: IPP's 3D sample's sphere, QC p95 6.97 in the input triangulation's class,
+  // 3.14 in this one (CEPS 3.34). H2 keeps the input's class: its cut layouts follow the flips in
+  // one overlay (common_subdivision.h).
   bool input_made_delaunay = false;
   // False after a solve in the canonical class stalled at the boundary (and until restart()).
   bool canonical_class = true;

@@ -231,13 +231,16 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
 
 // === Through the input's intrinsic Delaunay triangulation
 //
-// Euclidean Yamabe with isometric flips first: the input Ta is flipped to its intrinsic Delaunay
-// triangulation Tb in its own metric, then Tb by Ptolemy flips to the final Tc. An input edge is
-// straight in Tb's faces drawn in the input's metric, but bends at Tb's edges in the hyperbolic
-// picture where Tc's edges are straight, and the map is projective on each cell of Tb and Tc
-// only. So the pieces are the cells of Ta, Tb and Tc together: Tb cut by Tc (an overlay of the
-// Ptolemy flips over Tb, exact), each piece then cut, in the Euclidean chart of its face of Tb,
-// by the input's edges (an overlay of the isometric flips, exact).
+// Yamabe (E2, S2) with isometric flips first: the input Ta is flipped to its intrinsic Delaunay
+// triangulation Tb in the metric of its lambda-lengths, then Tb by Ptolemy flips to the final Tc.
+// An input edge is straight in Tb's faces drawn in that metric, but bends at Tb's edges in the
+// hyperbolic picture where Tc's edges are straight, and the map is projective on each cell of Tb
+// and Tc only. So the pieces are the cells of Ta, Tb and Tc together: Tb cut by Tc (an overlay of
+// the Ptolemy flips over Tb, exact), each piece then cut, in the Euclidean chart of its face of
+// Tb, by the input's edges (an overlay of the isometric flips, exact). A face of Tc is drawn in
+// the plane of its chord triangle (in E2 its layout, on S2 the flat triangle of its corners on
+// the unit sphere, whose sides are the chords, Euclidean Yamabe lengths); on S2 the points are
+// then projected centrally onto the sphere, which is projective too.
 
 double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -289,6 +292,33 @@ class KleinChord {
   double x_of(double mu) const { return (mu - mu0_) / (mu1_ - mu0_); }
   Eigen::Vector2d p_, d_;
   double mu0_ = 0, mu1_ = 1, rho_ = 1;
+};
+
+// The plane of a final face's chord triangle: E2, the layout itself; S2, the plane through its
+// corners on the unit sphere, with 2D coordinates there, and points lifted back by central
+// projection onto the sphere.
+class ChordPlane {
+ public:
+  ChordPlane(Geometry g, const std::array<Eigen::Vector3d, 3>& corners)
+      : spherical_(g == Geometry::Spherical), origin_(corners[0]) {
+    if (!spherical_) return;
+    e1_ = (corners[1] - corners[0]).normalized();
+    const Eigen::Vector3d d = corners[2] - corners[0];
+    e2_ = (d - d.dot(e1_) * e1_).normalized();
+  }
+  Eigen::Vector3d chart(const Eigen::Vector3d& p) const {
+    if (!spherical_) return p;
+    const Eigen::Vector3d d = p - origin_;
+    return {d.dot(e1_), d.dot(e2_), 0};
+  }
+  Eigen::Vector3d lift(const Eigen::Vector3d& z) const {
+    if (!spherical_) return z;
+    return (origin_ + z.x() * e1_ + z.y() * e2_).normalized();
+  }
+
+ private:
+  bool spherical_;
+  Eigen::Vector3d origin_, e1_, e2_;
 };
 
 // A vertex of the subdivision beyond the input's: on input edge `input_edge` at parameter s, or
@@ -353,11 +383,15 @@ std::vector<std::array<size_t, 3>> ears(const CutPolygon& cell) {
 }
 
 // Ta cut by Tb cut by Tc; flips[0, split) are the isometric flips.
-CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const FlowResult& result,
-                                               const Layout& layout, size_t split) {
+CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
+                                               const ConformalStructure& initial,
+                                               const FlowResult& result, const Layout& layout,
+                                               size_t split) {
   const std::vector<EdgeFlip>& flips = result.flip_sequence;
-  InputOverlay in_delaunay(mesh, true);               // Ta over Tb
-  std::vector<double> length = mesh.input_lengths();  // of Tb's edges
+  const Geometry geometry = layout.geometry;
+  InputOverlay in_delaunay(mesh, true);          // Ta over Tb
+  std::vector<double> length(mesh.num_edges());  // lambda-lengths of Tb's edges
+  for (int e = 0; e < mesh.num_edges(); ++e) length[e] = std::sqrt(2 * initial.eta[e]);
   for (size_t i = 0; i < split; ++i) {
     const EdgeFlip& f = flips[i];
     // The unfolded quadrilateral of the chords: a = (0, 0), b = (ab, 0), k above, l below.
@@ -366,7 +400,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
                  xl = (c[1] * c[1] - c[2] * c[2] + c[4] * c[4]) / (2 * c[4]);
     const double yk = std::sqrt(std::max(0.0, c[0] * c[0] - xk * xk)),
                  yl = -std::sqrt(std::max(0.0, c[1] * c[1] - xl * xl));
-    length[f.edge] *= std::sqrt((xk - xl) * (xk - xl) + (yk - yl) * (yk - yl)) / c[4];
+    length[f.edge] = std::sqrt((xk - xl) * (xk - xl) + (yk - yl) * (yk - yl));
     in_delaunay.flip(f);
   }
   const Triangulation& Tb = in_delaunay.triangulation();
@@ -414,11 +448,10 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
   };
   double layout_size = 0;  // the diagonal of the layout's bounding box
   {
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()),
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()),
                     hi = -lo;
     for (const auto& corners : layout.corners) {
-      for (const Eigen::Vector3d& p : corners)
-        lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
+      for (const Eigen::Vector3d& p : corners) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     }
     layout_size = (hi - lo).norm();
   }
@@ -626,8 +659,11 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
     throw LayoutError("common subdivision: face " + std::to_string(G) +
                       " of the final triangulation: " + what);
   };
+  std::vector<ChordPlane> planes;
   for (int G = 0; G < Tc.num_faces(); ++G) {
-    const auto& gc = layout.corners[G];
+    planes.emplace_back(geometry, layout.corners[G]);
+    std::array<Eigen::Vector3d, 3> gc;  // G's corners in the plane of its chords
+    for (int k = 0; k < 3; ++k) gc[k] = planes.back().chart(layout.corners[G][k]);
     const auto circle_g = circumcircle(gc[0].head<2>(), gc[1].head<2>(), gc[2].head<2>());
     auto g_layout = [&](int side, double t) {
       const int v = Tc.face_vertex(G, side), w = Tc.face_vertex(G, (side + 1) % 3);
@@ -852,7 +888,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh, const Fl
       for (int k = 0; k < 3; ++k) {
         const CutPoint& p = cell.points[ear[k]];
         tri[k] = number[p.vertex];
-        pos[k] = p.layout;
+        pos[k] = planes[cell_face[c]].lift(p.layout);
         if (!laid[tri[k]]) {
           laid[tri[k]] = 1;
           out.vertex_layout[tri[k]] = pos[k];
@@ -883,8 +919,8 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
   bool isometric_later = false;
   for (size_t i = split; i < result.flip_sequence.size(); ++i)
     isometric_later = isometric_later || result.flip_sequence[i].isometric;
-  if (projective && split > 0 && !isometric_later && g == Geometry::Euclidean) {
-    CommonSubdivision out = subdivision_through_delaunay(mesh, result, layout, split);
+  if (projective && split > 0 && !isometric_later && g != Geometry::Hyperbolic) {
+    CommonSubdivision out = subdivision_through_delaunay(mesh, initial, result, layout, split);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
     return out;
   }

@@ -48,10 +48,10 @@ struct FlowOptions {
   int max_step_halvings = 40;  //!< line search: smallest step is 2^-max_step_halvings
   //! Edge flips; after flips the result lives on another triangulation of the same vertices.
   EdgeFlips edge_flips = EdgeFlips::WhenNeeded;
-  //! Euclidean Yamabe: when flips begin on the input's triangulation, flip it first to the input
-  //! metric's intrinsic Delaunay triangulation (EdgeFlip::isometric), whose class is the
-  //! canonical one; false keeps the input triangulation's class (the surface doubled along its
-  //! boundary, whose two halves' flips must mirror each other, keeps it).
+  //! Yamabe in E2 and S2: when flips begin on the input's triangulation, flip it first to the
+  //! intrinsic Delaunay triangulation of the input's lambda-lengths (EdgeFlip::isometric), whose
+  //! class is the canonical one; false keeps the input triangulation's class (the surface doubled
+  //! along its boundary, whose two halves' flips must mirror each other, keeps it).
   bool delaunay_class = true;
   //! S2 on a closed genus-0 surface (run_ricci_flow, compute_ricci_flow): first walk to the
   //! stereographic lift of the flattened punctured mesh (spherical_start.h).
@@ -80,10 +80,10 @@ struct EdgeFlip {
   //! Yamabe (eps = 0 at all four corners): Ptolemy's relation on the lambda-lengths, which keeps
   //! the discrete conformal class; otherwise the flip keeps the metric of that moment.
   bool ptolemy = false;
-  //! A flip of the input's own Euclidean metric, before the flow (Euclidean Yamabe, when edge
-  //! flips begin: the input's intrinsic Delaunay triangulation, whose lambda-lengths define the
-  //! discrete conformal class of Gillespie, Springborn and Crane 2021, whatever the input's
-  //! triangulation). lambda and chord are then its Euclidean lengths.
+  //! A flip of the Euclidean metric of the input's lambda-lengths, before the flow (Yamabe in E2
+  //! and S2, when edge flips begin: the input's intrinsic Delaunay triangulation, whose
+  //! lambda-lengths define the discrete conformal class of Gillespie, Springborn and Crane 2021,
+  //! whatever the input's triangulation). lambda and chord are then those lambda-lengths.
   bool isometric = false;
   //! Sides k-a, a-l, l-b, b-k and the diagonal a-b before the flip: lambda-lengths sqrt(2 eta)
   //! (used when ptolemy), and chords of the metric of that moment (2 sin(l/2) in S2, 2 sinh(l/2)
@@ -109,7 +109,8 @@ struct FlowResult {
   int flips_from_iteration = -1;
   std::string without_flips;
   int connectivity_changes = 0;  //!< flip rounds of this solve that changed the triangulation
-  //! Euclidean Yamabe: the flips began from the input metric's intrinsic Delaunay triangulation
+  //! Yamabe in E2 and S2: the flips began from the intrinsic Delaunay triangulation of the input's
+  //! lambda-lengths
   //! (EdgeFlip::isometric), the canonical discrete conformal class; false when the input was
   //! Delaunay already, or when the flow in that class stalled at the boundary and the input's own
   //! class, tried instead, is what this result is (input_class_because says why).
