@@ -115,29 +115,40 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<do
   std::vector<char> placed(nf, 0);
   auto& p = charts.corners;
   const auto side = [&](int f, int c) { return sides[f][c]; };
+  // Faces are reached across the longest side first (a maximum spanning tree of the dual graph):
+  // a sliver placed from its short side would turn the error of that side's ends into an error
+  // of its far corner larger by their ratio, and hand it on to its neighbours. Drawn from a long
+  // side instead, it turns over only where its width is below the rounding of its placement
+  // (cura-zav-maxpro's atlas: pieces 1e-8 wide and 5e-4 long, 4 turned when drawn breadth first).
+  using Step = std::pair<double, int>;  // (length of the side crossed, halfedge crossed from)
+  std::priority_queue<Step> queue;
+  const auto reach_from = [&](int f) {
+    for (int c = 0; c < 3; ++c) {
+      const int t = mesh.twin(3 * f + c);
+      if (t >= 0 && !cut[mesh.face_edge(f, c)] && !placed[t / 3])
+        queue.emplace(side(f, c), 3 * f + c);
+    }
+  };
   for (int seed : seeds) {
     p[seed][0] = Eigen::Vector2d::Zero();
     p[seed][1] = Eigen::Vector2d(side(seed, 2), 0);
     p[seed][2] = third_corner(p[seed][0], p[seed][1], side(seed, 0), side(seed, 1), side(seed, 2));
     placed[seed] = 1;
-    std::queue<int> queue;
-    queue.push(seed);
+    reach_from(seed);
     while (!queue.empty()) {
-      const int f = queue.front();
+      const int h = queue.top().second;
       queue.pop();
-      for (int c = 0; c < 3; ++c) {
-        const int t = mesh.twin(3 * f + c);
-        if (t < 0 || cut[mesh.face_edge(f, c)] || placed[t / 3]) continue;
-        // Halfedge 3f + c runs from corner c+1 to c+2; its twin in g from d+1 to d+2 the other way.
-        const int g = t / 3, d = t % 3;
-        const Eigen::Vector2d& from = p[f][(c + 2) % 3];  // g's corner d+1
-        const Eigen::Vector2d& to = p[f][(c + 1) % 3];    // g's corner d+2
-        p[g][(d + 1) % 3] = from;
-        p[g][(d + 2) % 3] = to;
-        p[g][d] = third_corner(from, to, side(g, (d + 1) % 3), side(g, (d + 2) % 3), side(g, d));
-        placed[g] = 1;
-        queue.push(g);
-      }
+      const int f = h / 3, c = h % 3, t = mesh.twin(h);
+      if (placed[t / 3]) continue;
+      // Halfedge 3f + c runs from corner c+1 to c+2; its twin in g from d+1 to d+2 the other way.
+      const int g = t / 3, d = t % 3;
+      const Eigen::Vector2d& from = p[f][(c + 2) % 3];  // g's corner d+1
+      const Eigen::Vector2d& to = p[f][(c + 1) % 3];    // g's corner d+2
+      p[g][(d + 1) % 3] = from;
+      p[g][(d + 2) % 3] = to;
+      p[g][d] = third_corner(from, to, side(g, (d + 1) % 3), side(g, (d + 2) % 3), side(g, d));
+      placed[g] = 1;
+      reach_from(g);
     }
   }
   // Each wedge (corners of a vertex joined across uncut edges) at the mean of its corners.
