@@ -48,6 +48,64 @@ TEST(Charts, EachFacePlacedByItsOwnSidesKeepsASliverWhoseNeighboursSideDiffers) 
   EXPECT_LT(std::abs(sliver_area(lay_out_charts(mesh, lengths, none))), 1e-12);
 }
 
+// A grid of unit squares under a line of needle pairs (1 long, 1e-8 wide, back to back across their
+// short side), one row of faces above. Breadth first from the grid's middle, the upper needles are
+// reached across their short side first: drawn from it, a needle points its far corner in a
+// direction off by the rounding of that side's ends over 1e-8, 1e-7 of the long side, which the
+// faces drawn from that corner carry on. The development must reach every face across a long side,
+// and draw a needle's own small angle to its precision (its height by the cosine law kept only
+// 1e-8 of its long side).
+TEST(Charts, NeedlesAreDrawnFromTheirLongSides) {
+  const int n = 30, rows = 10;
+  const double delta = 1e-8;
+  std::vector<Eigen::Vector3d> p;
+  const auto g = [&](int i, int j) { return i * (rows + 1) + j; };  // (i, j - rows), j = rows: t_i
+  for (int i = 0; i <= n; ++i) {
+    for (int j = 0; j <= rows; ++j) p.emplace_back(i, j - rows, 0);
+  }
+  const int first_tp = static_cast<int>(p.size());
+  for (int i = 0; i <= n; ++i) p.emplace_back(i + delta, 0, 0);  // t_i's twin, delta to its right
+  for (int i = 0; i <= n; ++i) p.emplace_back(i, 1, 0);          // c_i, above
+  const auto t = [&](int i) { return g(i, rows); };
+  const auto tp = [&](int i) { return first_tp + i; };
+  const auto c = [&](int i) { return first_tp + n + 1 + i; };
+  std::vector<std::array<int, 3>> faces;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j + 1 < rows; ++j) {
+      faces.push_back({g(i, j), g(i + 1, j), g(i + 1, j + 1)});
+      faces.push_back({g(i, j), g(i + 1, j + 1), g(i, j + 1)});
+    }
+  }
+  for (int i = 0; i <= n; ++i) {
+    const int b = g(i, rows - 1);
+    faces.push_back({b, tp(i), t(i)});  // the needles, back to back on t-tp
+    faces.push_back({t(i), tp(i), c(i)});
+    if (i == n) break;
+    faces.push_back({b, g(i + 1, rows - 1), tp(i)});
+    faces.push_back({g(i + 1, rows - 1), t(i + 1), tp(i)});
+    faces.push_back({tp(i), t(i + 1), c(i + 1)});
+    faces.push_back({tp(i), c(i + 1), c(i)});
+  }
+  const CompactMesh mesh(p, faces);
+  const Charts charts =
+      lay_out_charts(mesh, mesh.input_lengths(), std::vector<char>(mesh.num_edges(), 0));
+  ASSERT_EQ(charts.num_charts, 1);
+  EXPECT_EQ(charts.flipped_faces, 0);
+  // The chart is the mesh up to a rigid motion: distances from two grid corners kept to rounding.
+  std::vector<Eigen::Vector2d> at(p.size());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int k = 0; k < 3; ++k) at[mesh.face_vertex(f, k)] = charts.corners[f][k];
+  }
+  double worst = 0;
+  for (size_t v = 0; v < p.size(); ++v) {
+    for (int ref : {g(0, 0), g(n, 0)}) {
+      const double want = (p[v] - p[ref]).norm(), got = (at[v] - at[ref]).norm();
+      worst = std::max(worst, std::abs(got - want));
+    }
+  }
+  EXPECT_LT(worst, 1e-12);
+}
+
 TEST(Charts, AFlatGridCutAcrossIsTwoExactChartsWithoutOverlap) {
   const CompactMesh grid = square_grid(8);
   // Cut along x = 0.5: the interior edges with both ends there.
