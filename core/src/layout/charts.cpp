@@ -8,6 +8,7 @@
 
 #include "layout/corners.h"
 #include "mesh/mesh_checks.h"
+#include "ricci/mesh/geometry.h"
 
 namespace ricci {
 
@@ -29,15 +30,7 @@ Eigen::Vector2d third_corner(const Eigen::Vector2d& p, const Eigen::Vector2d& q,
                              double c) {
   const Eigen::Vector2d d = q - p;
   const double placed = d.norm();
-  // The angle at p by the half-angle law, which keeps a needle's small angle to its own precision
-  // (its height sqrt(b^2 - x^2) by the cosine law kept only sqrt(eps) of b: 1e-8 of its long side).
-  const double sa = (b + c - a) / 2, sb = (a + c - b) / 2, sc = (a + b - c) / 2;
-  double x = (b * b + c * c - a * a) / (2 * c), y = 0;
-  if (sa > 0 && sb > 0 && sc > 0) {
-    const double h2 = sb * sc / ((sa + sb + sc) * sa);  // tan^2 of half the angle at p
-    x = b * (1 - h2) / (1 + h2);
-    y = b * 2 * std::sqrt(h2) / (1 + h2);
-  }
+  const auto [x, y] = triangle_apex(c, b, a);
   const Eigen::Vector2d along = d / placed, left(-along.y(), along.x());
   return p + (placed / c) * (x * along + y * left);
 }

@@ -237,6 +237,13 @@ double third_side(Geometry g, double x, double y, double angle) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
+std::array<double, 2> triangle_apex(double c, double b, double a) {
+  const double sa = (b + c - a) / 2, sb = (a + c - b) / 2, sc = (a + b - c) / 2;
+  if (!(sa > 0 && sb > 0 && sc > 0)) return {(b * b + c * c - a * a) / (2 * c), 0.0};
+  const double h2 = sb * sc / ((sa + sb + sc) * sa);  // tan^2 of half the angle at (0, 0)
+  return {b * (1 - h2) / (1 + h2), b * 2 * std::sqrt(h2) / (1 + h2)};
+}
+
 double triangle_area(Geometry g, const std::array<double, 3>& l,
                      const std::array<double, 3>& angle) {
   switch (g) {

@@ -88,9 +88,9 @@ Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
                            Eigen::Vector3d(z.real(), z.imag(), 0)};
       continue;
     }
-    const double x = (a * a + b * b - c * c) / (2 * a);
+    const auto [x, y] = triangle_apex(a, b, c);
     layout.corners[f] = {Eigen::Vector3d::Zero(), Eigen::Vector3d(a, 0, 0),
-                         Eigen::Vector3d(x, std::sqrt(std::max(0.0, b * b - x * x)), 0)};
+                         Eigen::Vector3d(x, y, 0)};
   }
   return layout;
 }

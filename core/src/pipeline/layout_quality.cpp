@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "ricci/layout/layout.h"
+#include "ricci/mesh/geometry.h"
 
 namespace ricci {
 
@@ -16,8 +17,7 @@ namespace {
 Eigen::Matrix2d frame(const std::array<double, 3>& l) {
   const double c = l[1], b = l[2];               // |01| = l[2], |02| = l[1]
   if (!(b > 0)) return Eigen::Matrix2d::Zero();  // collapsed
-  const double x = (b * b + c * c - l[0] * l[0]) / (2 * b);
-  const double y = std::sqrt(std::max(0.0, c * c - x * x));
+  const auto [x, y] = triangle_apex(b, c, l[0]);
   Eigen::Matrix2d m;
   m << b, x, 0, y;
   return m;

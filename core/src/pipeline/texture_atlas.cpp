@@ -9,6 +9,7 @@
 #include "ricci/layout/packing.h"
 #include "ricci/layout/seams.h"
 #include "ricci/mesh/errors.h"
+#include "ricci/mesh/geometry.h"
 #include "ricci/subdivision/common_subdivision.h"
 
 namespace ricci::detail {
@@ -36,9 +37,9 @@ Layout faces_drawn_alone(const Triangulation& flowed, const std::vector<double>&
   for (int f = 0; f < flowed.num_faces(); ++f) {
     const double a = lengths[flowed.face_edge(f, 0)], b = lengths[flowed.face_edge(f, 1)],
                  c = lengths[flowed.face_edge(f, 2)];
-    const double x = (b * b + c * c - a * a) / (2 * c);
+    const auto [x, y] = triangle_apex(c, b, a);
     layout.corners[f] = {Eigen::Vector3d::Zero(), Eigen::Vector3d(c, 0, 0),
-                         Eigen::Vector3d(x, std::sqrt(std::max(0.0, b * b - x * x)), 0)};
+                         Eigen::Vector3d(x, y, 0)};
   }
   return layout;
 }

@@ -11,6 +11,7 @@
 
 #include "layout/layout_methods.h"
 #include "ricci/mesh/errors.h"
+#include "ricci/mesh/geometry.h"
 #include "subdivision/input_overlay.h"
 
 namespace ricci {
@@ -396,11 +397,9 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
     const EdgeFlip& f = flips[i];
     // The unfolded quadrilateral of the chords: a = (0, 0), b = (ab, 0), k above, l below.
     const auto& c = f.chord;
-    const double xk = (c[0] * c[0] - c[3] * c[3] + c[4] * c[4]) / (2 * c[4]),
-                 xl = (c[1] * c[1] - c[2] * c[2] + c[4] * c[4]) / (2 * c[4]);
-    const double yk = std::sqrt(std::max(0.0, c[0] * c[0] - xk * xk)),
-                 yl = -std::sqrt(std::max(0.0, c[1] * c[1] - xl * xl));
-    length[f.edge] = std::sqrt((xk - xl) * (xk - xl) + (yk - yl) * (yk - yl));
+    const auto [xk, yk] = triangle_apex(c[4], c[0], c[3]);
+    const auto [xl, yl] = triangle_apex(c[4], c[1], c[2]);  // below: at -yl
+    length[f.edge] = std::hypot(xk - xl, yk + yl);
     in_delaunay.flip(f);
   }
   const Triangulation& Tb = in_delaunay.triangulation();
@@ -569,10 +568,9 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
   auto chart_of = [&](int F) {
     const double c = length[Tb.face_edge(F, 2)], a = length[Tb.face_edge(F, 0)],
                  b = length[Tb.face_edge(F, 1)];
-    const double x = (b * b - a * a + c * c) / (2 * c);
-    return std::array<Eigen::Vector2d, 3>{
-        Eigen::Vector2d(0, 0), Eigen::Vector2d(c, 0),
-        Eigen::Vector2d(x, std::sqrt(std::max(0.0, b * b - x * x)))};
+    const auto [x, y] = triangle_apex(c, b, a);
+    return std::array<Eigen::Vector2d, 3>{Eigen::Vector2d(0, 0), Eigen::Vector2d(c, 0),
+                                          Eigen::Vector2d(x, y)};
   };
   auto side_of_edge = [&](int F, int eb) {
     for (int k = 0; k < 3; ++k) {

@@ -24,8 +24,7 @@ Eigen::Vector2d apex(const Eigen::Vector2d& p, const Eigen::Vector2d& q, double 
                      bool left) {
   const Eigen::Vector2d d = q - p;
   const double c = d.norm();
-  const double along = (x * x - y * y + c * c) / (2 * c);
-  const double h = std::sqrt(std::max(0.0, x * x - along * along));
+  const auto [along, h] = triangle_apex(c, x, y);
   const Eigen::Vector2d n(-d.y() / c, d.x() / c);
   return p + d * (along / c) + (left ? h : -h) * n;
 }

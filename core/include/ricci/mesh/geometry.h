@@ -70,6 +70,13 @@ TriangleAngles corner_angles(Geometry g, const std::array<double, 3>& l);
 //! third side). NaN when the result is not a valid length.
 double third_side(Geometry g, double x, double y, double angle);
 
+//! The apex (x, y), y >= 0, of the Euclidean triangle on the base from (0, 0) to (c, 0) whose
+//! sides from the apex are b to (0, 0) and a to (c, 0). The angle at (0, 0) comes from the
+//! half-angle law, which keeps a needle's small angle, and so its height, to its own precision
+//! (the cosine law's height sqrt(b^2 - x^2) keeps only sqrt(eps) of b). Lengths that violate the
+//! triangle inequality give the point of the base's line where the cosine law puts x (y = 0).
+std::array<double, 2> triangle_apex(double c, double b, double a);
+
 //! Area of a triangle with the given lengths and angles: Heron (E2), angle defect (H2),
 //! angle excess (S2).
 double triangle_area(Geometry g, const std::array<double, 3>& l,
