@@ -233,6 +233,18 @@ TEST(Atlas, ASurfaceWhoseBoundaryTrianglesDegenerateFlowsOnItsDouble) {
       << a.summary;
 }
 
+TEST(Atlas, ADoubledSurfaceWithConesIsLaidOutFromItsPiecesOwnShapes) {
+  // CGAL's b9_mesh (a CAD part with boundary, flowed on its double): around a cone the development
+  // of the half's pieces does not close, and the mean of a vertex's corners there turned pieces
+  // over (4 at D <= 0.2, 19 and 42 at the tighter bounds: no atlas at all).
+  const std::string part = cgal("b9_mesh.off");
+  const Atlas a = run_atlas(part);
+  expect_valid_atlas(a, part, 0.2);
+  EXPECT_NE(a.summary.find("Flowed on the surface doubled along its boundary"), std::string::npos)
+      << a.summary;
+  EXPECT_EQ(a.summary.find("a tighter bound"), std::string::npos) << a.summary;
+}
+
 TEST(Atlas, DiskWithBoundaryKeepsItsBoundaryFree) {
   const Atlas a = run_atlas(cgal("nefertiti.off"));
   expect_valid_atlas(a, cgal("nefertiti.off"), 0.2);

@@ -203,6 +203,7 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
       out.closure_error = std::max(out.closure_error, (placed[p][c] - sub.corners[p][c]).norm());
     }
   }
+  out.piece_corners = std::move(placed);
 
   // The boundary: sides of one piece only, each on one boundary edge of the half (the one its new
   // vertex lies on, or the one joining its two ends), measured in the piece's own frame.

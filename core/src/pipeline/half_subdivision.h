@@ -12,6 +12,9 @@ namespace ricci::detail {
 
 struct HalfSubdivision {
   CommonSubdivision subdivision;  //!< of the half; corners and vertex_layout developed
+  //! Plane: each piece's corners as developed, before the per-vertex mean that makes `corners`:
+  //! isometric copies of the pieces, where the mean is not one around a cone (the atlas's).
+  std::vector<std::array<Eigen::Vector3d, 3>> piece_corners;
   //! Plane: per edge of the half, its length in the final metric on the boundary, 0 inside;
   //! empty in the Poincare disk.
   std::vector<double> boundary_lengths;
