@@ -170,13 +170,13 @@ TEST(Geometry, InvalidTrianglesAreRejected) {
 }
 
 // The apex of a triangle on its base: at its two distances, above the base, and a needle's height
-// to its own precision: the apex 1e-9 above the base's end (sides 1, 1 and 1e-9; the cosine law's
-// height sqrt(b^2 - x^2) is 0 there).
+// to its own precision: the apex 1e-9 above the base's end (sides 1, 1 and 1e-9, the distance to
+// the far end 1 to within rounding; the cosine law's height sqrt(b^2 - x^2) is 0 there).
 TEST(Geometry, TriangleApexKeepsANeedlesHeight) {
   const auto apex = triangle_apex(5, 3, 4);  // the 3-4-5 triangle, right angle at the apex
   EXPECT_NEAR(apex[0], 1.8, 1e-15);
   EXPECT_NEAR(apex[1], 2.4, 1e-15);
-  const auto needle = triangle_apex(1.0, std::hypot(1.0, 1e-9), 1e-9);
+  const auto needle = triangle_apex(1.0, 1.0, 1e-9);
   EXPECT_NEAR(needle[0], 1.0, 1e-15);
   EXPECT_NEAR(needle[1] / 1e-9, 1.0, 1e-6);
   // Lengths that do not close (by rounding): on the base's line where the cosine law puts it.

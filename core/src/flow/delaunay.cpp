@@ -139,6 +139,11 @@ FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure&
     if (angle(ka, bk, ab) + angle(al, lb, ab) <= kPi + 1e-12 || q.k == q.l) continue;
     const double at_a = angle(ka, ab, bk) + angle(al, ab, lb);
     const double kl = third_side(Geometry::Euclidean, ka, al, at_a);
+    // S2's lambda is sin(l / 2) at u = 0: a new diagonal of 1 or more has no spherical length.
+    if (structure.geometry == Geometry::Spherical && !(kl < 1)) {
+      ++report.blocked;
+      continue;
+    }
     EdgeFlip record;
     record.edge = e;
     record.isometric = true;

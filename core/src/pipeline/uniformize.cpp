@@ -284,6 +284,17 @@ std::string attempt(const Uniformization& run) {
   return s.str();
 }
 
+// The budget can stop a tighter placement short of its bound, within the one asked: reached then.
+void within_bound_asked(const UniformizationOptions& request, ConePlacement& p) {
+  const bool sharp = std::any_of(p.cones.begin(), p.cones.end(), [&](const Cone& c) {
+    return c.angle < request.cone_placement.min_cone_angle;
+  });
+  if (!p.bound_reached && !sharp && p.distortion <= request.cone_placement.distortion_bound) {
+    p.bound_reached = true;
+    p.why_not.clear();
+  }
+}
+
 // The run for the preset resolved from the request; the atlas's placed cones again for tighter
 // bounds while the run gives no atlas.
 Uniformization atlas_within_bounds(const CompactMesh& mesh, const UniformizationOptions& request) {
@@ -322,15 +333,7 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
     std::string why = "with the cones for " + attempt(run);
     for (const Uniformization& f : failed) why += "; with those for " + attempt(f);
     delivered.atlas.bound_instead = why;
-    // The budget can stop the tighter placement short of its bound, within the one asked.
-    ConePlacement& p = delivered.atlas.placement;
-    const bool sharp = std::any_of(p.cones.begin(), p.cones.end(), [&](const Cone& c) {
-      return c.angle < request.cone_placement.min_cone_angle;
-    });
-    if (!p.bound_reached && !sharp && p.distortion <= request.cone_placement.distortion_bound) {
-      p.bound_reached = true;
-      p.why_not.clear();
-    }
+    within_bound_asked(request, delivered.atlas.placement);
     return std::move(*last);
   }
   // None gave an atlas: the first run's failure, and every attempt after it.
@@ -354,6 +357,7 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
                                        const UniformizationOptions& request) {
   Uniformization run = atlas_within_bounds(mesh, request);
   const double asked = request.cone_placement.distortion_bound;
+  run.atlas.bound_asked = asked;
   if (run.preset != TargetPreset::Atlas || run.atlas.user_cones || !run.valid() ||
       !run.atlas.placement.bound_reached || !(run.atlas.flow_distortion > kExactSlack * asked)) {
     return run;
@@ -361,13 +365,19 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
   UniformizationOptions tighter = request;
   tighter.cone_placement.distortion_bound = run.atlas.bound * asked / run.atlas.flow_distortion;
   Uniformization again = atlas_within_bounds(mesh, tighter);
+  again.atlas.bound_asked = asked;
   if (again.result.stop == FlowStop::Cancelled) return again;
   const bool better = again.valid() && again.atlas.flow_distortion < run.atlas.flow_distortion;
   Uniformization& delivered = better ? again : run;
   const Uniformization& other = better ? run : again;
-  const FlowTotals own = delivered.totals;
-  delivered.totals = cost_of(other.totals);
-  delivered.totals.add(own);
+  if (better) {  // the costs in the order they were spent: the first run's, then the retry's
+    const FlowTotals own = delivered.totals;
+    delivered.totals = cost_of(other.totals);
+    delivered.totals.add(own);
+    within_bound_asked(request, delivered.atlas.placement);
+  } else {
+    delivered.totals.add(cost_of(other.totals));
+  }
   ConePlacement& p = delivered.atlas.placement;
   p.factorizations += other.atlas.placement.factorizations;
   p.back_solves += other.atlas.placement.back_solves;

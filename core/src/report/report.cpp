@@ -216,10 +216,10 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
          a.overlapping_faces, " overlapping faces; packed: utilization ", a.utilization);
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
     // The linear model's D is a model's: the exact flat metric of its cones can exceed the bound.
-    if (!a.user_cones && p.bound_reached && a.flow_distortion > a.bound) {
+    if (!a.user_cones && p.bound_reached && a.flow_distortion > a.bound_asked) {
       line("Warning: the exact flat metric's area distortion D ", a.flow_distortion,
-           " is above the bound ", a.bound, " that the linear model's cones met (", p.distortion,
-           ")");
+           " is above the bound asked, ", a.bound_asked, ", which the linear model's cones met (",
+           p.distortion, ")");
     }
     if (!a.bound_instead.empty()) {
       line("The cones were placed for D <= ", a.bound, ", a tighter bound: ", a.bound_instead);

@@ -468,32 +468,34 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
     // flipped back cross eb 1e-8 of the layout's size from them). Never farther apart than 1e-4
     // of eb, though: where the metric squeezes eb far below the layout's size, distinct crossings
     // merged would make edges shared by three faces (a cow's atlas at 6 cones, D 1.6).
-    const double final_length = length[eb] * std::exp((result.u[a] + result.u[b]) / 2);
+    // In S2 the lambda-lengths are half the chords.
+    const double final_length = (geometry == Geometry::Spherical ? 2 : 1) * length[eb] *
+                                std::exp((result.u[a] + result.u[b]) / 2);
     // Only the input edges' crossings next to s along eb, the nearer first: merged with one
     // beyond another, the vertex would lie on the far side of that input edge (cura-zav-maxpro's
     // atlas: a Tc crossing at 3.91e-5 of a sliver's side made one with an input edge's crossing
     // at 4.29e-5, across another's at 4.01e-5, and the two input edges crossed in the chart).
     size_t k = 0;
     while (k < list.size() && ab_crossings[list[k]].t <= s) ++k;
-    std::vector<int> next_to;
-    if (k > 0) next_to.push_back(list[k - 1]);
-    if (k < list.size()) next_to.push_back(list[k]);
-    if (next_to.size() == 2 &&
-        std::abs(ab_crossings[next_to[1]].t - s) < std::abs(ab_crossings[next_to[0]].t - s)) {
+    std::array<int, 2> next_to = {k > 0 ? list[k - 1] : -1, k < list.size() ? list[k] : -1};
+    if (next_to[0] < 0 || (next_to[1] >= 0 && std::abs(ab_crossings[next_to[1]].t - s) <
+                                                  std::abs(ab_crossings[next_to[0]].t - s))) {
       std::swap(next_to[0], next_to[1]);
     }
-    // And only where no other edge of Tc crosses eb nearer to that crossing: two merged with one
-    // would close the face of Tc between them to a point (edges shared by three faces).
-    const auto nearest_of_tc = [&](double t) {
-      double best = std::numeric_limits<double>::infinity();
+    // And only where no other edge of Tc crosses eb as near to that crossing or nearer (this one
+    // among them): two merged with one would close the face of Tc between them to a point (edges
+    // shared by three faces).
+    const auto alone_within = [&](double t, double gap) {
+      int near = 0;
       for (int x = over_delaunay.first_crossing(eb); x >= 0; x = bc_crossings[x].next)
-        best = std::min(best, std::abs(bc_crossings[x].s - t));
-      return best;
+        near += std::abs(bc_crossings[x].s - t) <= gap;
+      return near == 1;
     };
     for (int c : next_to) {
+      if (c < 0) continue;
       const double gap = std::abs(ab_crossings[c].t - s);
       if (gap * final_length <= 1e-6 * layout_size && gap <= 1e-4 &&
-          nearest_of_tc(ab_crossings[c].t) >= gap) {
+          alone_within(ab_crossings[c].t, gap)) {
         return ab_point(c);
       }
     }

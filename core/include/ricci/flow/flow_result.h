@@ -110,10 +110,9 @@ struct FlowResult {
   std::string without_flips;
   int connectivity_changes = 0;  //!< flip rounds of this solve that changed the triangulation
   //! Yamabe in E2 and S2: the flips began from the intrinsic Delaunay triangulation of the input's
-  //! lambda-lengths
-  //! (EdgeFlip::isometric), the canonical discrete conformal class; false when the input was
-  //! Delaunay already, or when the flow in that class stalled at the boundary and the input's own
-  //! class, tried instead, is what this result is (input_class_because says why).
+  //! lambda-lengths (EdgeFlip::isometric), the canonical discrete conformal class; false when the
+  //! input was Delaunay already, or when the flow in that class stalled at the boundary and the
+  //! input's own class, tried instead, is what this result is (input_class_because says why).
   bool delaunay_class = false;
   std::string input_class_because;
   //! Every flipped edge since the input triangulation, in order (replays the flips), over every

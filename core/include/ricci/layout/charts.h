@@ -23,10 +23,10 @@ struct Charts {
   int flipped_faces = 0;  //!< faces of non-positive signed area
 };
 
-//! Develops each chart from its face deepest inside it (breadth-first across uncut edges, each
-//! face from the edge it shares with a placed one, by the E2 cosine law), then puts every wedge at
-//! the mean of its corners. `lengths` per edge, `cut` per edge (1: seam; boundary edges need no
-//! mark).
+//! Develops each chart from its face deepest inside it (across uncut edges, the longest side that
+//! joins a face to a placed one first, each face drawn from that side by triangle_apex), then puts
+//! every wedge at the mean of its corners. `lengths` per edge, `cut` per edge (1: seam; boundary
+//! edges need no mark).
 Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& lengths,
                       const std::vector<char>& cut);
 //! The same with each face's own side lengths (`sides[f][c]`: of mesh.face_edge(f, c)), for

@@ -94,9 +94,11 @@ struct AtlasResult {
   ConePlacement placement;
   bool user_cones = false;  //!< the cones are the user's, not placed
   //! The distortion bound the cones were placed for: the one asked, or a tighter one where with
-  //! the cones of the one asked the flow or the layout failed (bound_instead says why).
+  //! the cones of the one asked the flow or the layout failed, or the exact flat metric's D
+  //! exceeded 1.25 times the bound asked (bound_instead says why).
   double bound = 0;
   std::string bound_instead;
+  double bound_asked = 0;  //!< the bound the request asked for
   //! D of the flow's u (the exact flat metric), on the surface scaled to area 1.
   double flow_distortion = 0;
   //! The cones' angles in the exact metric (2 pi - K there, K from the flow), per placed cone.
