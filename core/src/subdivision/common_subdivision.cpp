@@ -399,7 +399,8 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
     const auto& c = f.chord;
     const auto [xk, yk] = triangle_apex(c[4], c[0], c[3]);
     const auto [xl, yl] = triangle_apex(c[4], c[1], c[2]);  // below: at -yl
-    length[f.edge] = std::hypot(xk - xl, yk + yl);
+    // sqrt, not std::hypot: glibc 2.35's hypot symbol would keep the wheel from manylinux_2_34.
+    length[f.edge] = std::sqrt((xk - xl) * (xk - xl) + (yk + yl) * (yk + yl));
     in_delaunay.flip(f);
   }
   const Triangulation& Tb = in_delaunay.triangulation();
