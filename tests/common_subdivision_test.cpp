@@ -268,6 +268,16 @@ double quasi_conformal(const std::array<Vec3, 3>& x, const std::array<Vec3, 3>& 
   return sigma[0] / sigma[1];
 }
 
+// The flow flipped the input isometrically to its Delaunay triangulation, then by Ptolemy flips
+// away from it, each more than `more_than` times, and delivered a subdivision.
+void expect_flips_of_both_kinds(const Uniformization& run, int more_than) {
+  int isometric = 0, ptolemy = 0;
+  for (const EdgeFlip& f : run.result.flip_sequence) (f.isometric ? isometric : ptolemy) += 1;
+  ASSERT_GT(isometric, more_than) << "this mesh no longer shows the case";
+  ASSERT_GT(ptolemy, more_than) << "this mesh no longer shows the case";
+  ASSERT_TRUE(run.subdivision.has_value()) << run.layout_failure;
+}
+
 // Meshcat's slotted disk: the Euclidean Yamabe flow flips it isometrically to its intrinsic
 // Delaunay triangulation, then by Ptolemy flips away from it. The map is projective on the cells
 // of both triangulations only; an input edge drawn straight across an edge of the Delaunay
@@ -282,11 +292,7 @@ TEST(CommonSubdivision, PiecesFollowTheInputsDelaunayTriangulation) {
   o.preset = TargetPreset::FreeBoundary;
   const Uniformization run = uniformize(mesh, o);
   ASSERT_TRUE(run.converged()) << run.result.failure;
-  int isometric = 0, ptolemy = 0;
-  for (const EdgeFlip& f : run.result.flip_sequence) (f.isometric ? isometric : ptolemy) += 1;
-  ASSERT_GT(isometric, 50) << "this mesh no longer shows the case";
-  ASSERT_GT(ptolemy, 50) << "this mesh no longer shows the case";
-  ASSERT_TRUE(run.subdivision.has_value()) << run.layout_failure;
+  ASSERT_NO_FATAL_FAILURE(expect_flips_of_both_kinds(run, 50));
   const CommonSubdivision& s = *run.subdivision;
   expect_input_surface(mesh, s);
   std::vector<double> ratio;
@@ -319,11 +325,7 @@ TEST(CommonSubdivision, SpherePiecesFollowTheInputsDelaunayTriangulation) {
   ASSERT_EQ(run.geometry, Geometry::Spherical);
   ASSERT_TRUE(run.converged()) << run.result.failure;
   EXPECT_TRUE(run.result.delaunay_class);
-  int isometric = 0, ptolemy = 0;
-  for (const EdgeFlip& f : run.result.flip_sequence) (f.isometric ? isometric : ptolemy) += 1;
-  ASSERT_GT(isometric, 20) << "this mesh no longer shows the case";
-  ASSERT_GT(ptolemy, 20) << "this mesh no longer shows the case";
-  ASSERT_TRUE(run.subdivision.has_value()) << run.layout_failure;
+  ASSERT_NO_FATAL_FAILURE(expect_flips_of_both_kinds(run, 20));
   const CommonSubdivision& s = *run.subdivision;
   expect_input_surface(mesh, s);
   std::vector<double> ratio;
