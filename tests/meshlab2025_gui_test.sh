@@ -58,6 +58,10 @@ meshlab_on() {
   [ -z "${meshlab_pid:-}" ] || { kill "$meshlab_pid" 2>/dev/null || true; wait "$meshlab_pid" || true; }
   rm -rf "$artifacts/home" && mkdir -p "$artifacts/home"
   : >"$log"
+  # The X server answers before MeshLab starts (xvfb-run's server is started with -noreset, so
+  # the last client leaving does not reset it; this is the check that it is there).
+  for _ in $(seq 100); do xdotool getdisplaygeometry >/dev/null 2>&1 && break; sleep 0.1; done
+  xdotool getdisplaygeometry >/dev/null 2>&1 || fail "the X server on $DISPLAY does not answer"
   bash "$checkout/scripts/meshlab2025_root.sh" run "$root" env HOME="$artifacts/home" \
     QT_LOGGING_RULES="default.debug=true" meshlab "$1" >"$log" 2>&1 &
   meshlab_pid=$!
