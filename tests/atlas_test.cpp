@@ -157,8 +157,19 @@ void expect_valid_atlas(const Atlas& a, const std::string& input, double bound) 
     moved = std::max(moved, (p - file.positions[i]).norm());
   }
   EXPECT_EQ(moved, 0);
-  // The bound is on the linear model's u per vertex; the faces of the exact metric come close.
-  EXPECT_LE(face_distortion(a), 1.25 * bound);
+  // The delivered faces' D, measured here from the packed texture, is the one the summary gives,
+  // and within the bound; on several parts, each part's (the tram's test reads them) and the
+  // whole's near them.
+  const std::string said = "area distortion D ";
+  const size_t at = a.summary.find(said);
+  ASSERT_NE(at, std::string::npos) << a.summary;
+  if (a.summary.find(said, at + 1) == std::string::npos) {
+    const double reported = std::stod(a.summary.substr(at + said.size(), 24));
+    EXPECT_NEAR(face_distortion(a), reported, 5e-3 * reported);  // printed to 3 digits
+    EXPECT_LE(face_distortion(a), bound * (1 + 1e-3));
+  } else {
+    EXPECT_LE(face_distortion(a), 1.25 * bound);
+  }
   ASSERT_TRUE(a.ply.has_face("ricci_chart"));
   for (double k : a.ply.face.at("ricci_chart")) EXPECT_GE(k, 0);
 }
@@ -247,28 +258,37 @@ TEST(Atlas, ADoubledSurfaceWithConesIsLaidOutFromItsPiecesOwnShapes) {
 }
 
 #ifndef RICCI_SANITIZED  // the Release build only (tests/CMakeLists.txt says why)
-TEST(Atlas, PartsWhoseExactDistortionFarExceedsTheBoundGetTheConesOfATighterOne) {
+TEST(Atlas, PartsWhoseFacesExceedTheBoundGetTheConesOfATighterOne) {
   // SUMO's tram: 142 small parts, most flowed on their doubles. The linear model's D of their
-  // cones is within 0.2, the exact flat metric's was up to 0.53; beyond 1.25 times the bound the
-  // cones are placed again for a bound scaled down by the excess. Every part's D (the report's,
-  // one per part) is then within 1.25 times the bound.
+  // cones is within 0.2, their delivered faces' D was up to 0.53; above the bound the cones are
+  // placed again for a bound scaled down by the excess. Every part's D (the report's, one per
+  // part) is then within the bound, or the summary warns of it, part by part.
   const std::string tram = std::string(RICCI_REAL_MESH_DIR) + "/sumo-tram.obj";
   const std::string report = temp("tram.json");
   const Atlas a = run_atlas(tram, "--report " + report);
   expect_valid_atlas(a, tram, 0.2);
   const std::string json = slurp(report);
   const std::string key = "\"distortion\": ";
-  int parts = 0;
+  int parts = 0, above = 0;
   double worst = 0;
   for (size_t at = json.find(key); at != std::string::npos; at = json.find(key, at + 1)) {
     const std::string value = json.substr(at + key.size(), 24);
     ASSERT_NE(value.rfind("null", 0), 0u) << "a part without D";
     worst = std::max(worst, std::stod(value));
+    above += std::stod(value) > 0.2;
     ++parts;
   }
   EXPECT_GE(parts, 142);
-  EXPECT_LE(worst, 1.25 * 0.2);
-  EXPECT_NE(json.find("the exact flat metric's D was"), std::string::npos);
+  int warned = 0;
+  const std::string warning = "Warning: the delivered faces' area distortion D ";
+  for (size_t at = a.summary.find(warning); at != std::string::npos;
+       at = a.summary.find(warning, at + 1)) {
+    ++warned;
+  }
+  EXPECT_EQ(warned, above);
+  EXPECT_LE(above, 142 / 2);
+  EXPECT_LE(worst, 0.35);
+  EXPECT_NE(json.find("the delivered faces' D was"), std::string::npos);
 }
 #endif
 

@@ -129,6 +129,36 @@ std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> triangles_by_chart(cons
   return by_chart;
 }
 
+// D of the delivered faces, as an independent check of the atlas measures it: with A the 3D and a
+// the flat area of each face, both scaled to sum 1 over the faces with both nonzero, s = log(a /
+// A) / 2 and D = sqrt(sum A (s - mean s)^2). The charts share one scale, so their own
+// coordinates serve.
+double face_distortion(const std::vector<Eigen::Vector3d>& positions,
+                       const std::vector<std::array<int, 3>>& faces,
+                       const std::vector<std::array<Eigen::Vector2d, 3>>& corners) {
+  std::vector<double> area3d(faces.size()), area2d(faces.size());
+  double total3d = 0, total2d = 0;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const auto& [a, b, c] = faces[f];
+    area3d[f] = 0.5 * (positions[b] - positions[a]).cross(positions[c] - positions[a]).norm();
+    const Eigen::Vector2d u = corners[f][1] - corners[f][0], v = corners[f][2] - corners[f][0];
+    area2d[f] = 0.5 * (u.x() * v.y() - u.y() * v.x());
+    if (!(area3d[f] > 0) || !(area2d[f] > 0)) area3d[f] = area2d[f] = 0;  // no weight
+    total3d += area3d[f], total2d += area2d[f];
+  }
+  std::vector<double> s(faces.size(), 0.0);
+  double mean = 0;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    if (area3d[f] == 0) continue;
+    s[f] = 0.5 * std::log((area2d[f] / total2d) / (area3d[f] / total3d));
+    mean += area3d[f] / total3d * s[f];
+  }
+  double d = 0;
+  for (size_t f = 0; f < faces.size(); ++f)
+    d += area3d[f] / total3d * (s[f] - mean) * (s[f] - mean);
+  return std::sqrt(d);
+}
+
 // Branches a cone of angle theta needs so that no wedge of it reaches a full turn.
 int branches_for(double theta) {
   return std::max(1, static_cast<int>(std::floor(theta / (2 * kPi))) + 1);
@@ -304,6 +334,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     }
   }
   run.face_chart = charts.chart;
+  atlas.distortion = face_distortion(positions, faces, charts.corners);
   atlas.utilization = packing.utilization;
   atlas.texture.resize(delivered.num_faces());
   for (int f = 0; f < delivered.num_faces(); ++f) {

@@ -134,7 +134,8 @@ std::string layout_json(const Uniformization& run) {
         << ", \"linear_angle\": " << number(p.cones[k].angle) << "}";
     }
     j << "], \"user_cones\": " << (a.user_cones ? "true" : "false")
-      << ", \"distortion\": " << number(a.flow_distortion)
+      << ", \"distortion\": " << number(a.distortion)
+      << ", \"vertex_distortion\": " << number(a.flow_distortion)
       << ", \"linear_distortion\": " << number(p.distortion)
       << ", \"distortion_without_cones\": " << number(p.distortion_without_cones)
       << ", \"bound\": " << number(a.bound)

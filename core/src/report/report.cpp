@@ -203,21 +203,23 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     cones.precision(3);
     cones << p.cones.size();
     if (a.user_cones) {
-      cones << " cones, yours; area distortion D " << a.flow_distortion;
+      cones << " cones, yours; area distortion D " << a.distortion << " on the faces ("
+            << a.flow_distortion << " at the vertices)";
     } else {
       cones << " cones (" << p.factorizations
             << (p.factorizations == 1 ? " factorization, " : " factorizations, ") << p.back_solves
-            << " back-solves, " << p.seconds << " s), area distortion D " << a.flow_distortion
-            << " (the linear model's " << p.distortion << "; without cones "
-            << p.distortion_without_cones << "), max |u - mean u| " << p.max_deviation;
+            << " back-solves, " << p.seconds << " s), area distortion D " << a.distortion
+            << " on the faces (" << a.flow_distortion << " at the vertices, the linear model's "
+            << p.distortion << "; without cones " << p.distortion_without_cones
+            << "), max |u - mean u| " << p.max_deviation;
     }
     line("Atlas: ", cones.str(), "; ", a.num_charts, " charts (", a.splits,
          " splits of overlapping ones), seams ", a.seam_length, " sqrt(area), ",
          a.overlapping_faces, " overlapping faces; packed: utilization ", a.utilization);
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
     // The linear model's D is a model's: the exact flat metric of its cones can exceed the bound.
-    if (!a.user_cones && p.bound_reached && a.flow_distortion > a.bound_asked) {
-      line("Warning: the exact flat metric's area distortion D ", a.flow_distortion,
+    if (!a.user_cones && p.bound_reached && a.distortion > a.bound_asked) {
+      line("Warning: the delivered faces' area distortion D ", a.distortion,
            " is above the bound asked, ", a.bound_asked, ", which the linear model's cones met (",
            p.distortion, ")");
     }

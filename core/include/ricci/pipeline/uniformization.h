@@ -95,12 +95,15 @@ struct AtlasResult {
   bool user_cones = false;  //!< the cones are the user's, not placed
   //! The distortion bound the cones were placed for: the one asked, or a tighter one where with
   //! the cones of the one asked the flow or the layout failed, or the exact flat metric's D
-  //! exceeded 1.25 times the bound asked (bound_instead says why).
+  //! delivered faces' D exceeded the bound asked (bound_instead says why).
   double bound = 0;
   std::string bound_instead;
   double bound_asked = 0;  //!< the bound the request asked for
-  //! D of the flow's u (the exact flat metric), on the surface scaled to area 1.
+  //! D of the flow's u (the exact flat metric) at the vertices, on the surface scaled to area 1.
   double flow_distortion = 0;
+  //! D of the delivered faces: sqrt(sum A (s - mean s)^2), s = log(a / A) / 2, with A the 3D and
+  //! a the chart area of each face, both scaled to sum 1 (what the bound is held to).
+  double distortion = 0;
   //! The cones' angles in the exact metric (2 pi - K there, K from the flow), per placed cone.
   std::vector<double> cone_angles;
   int num_charts = 0;
