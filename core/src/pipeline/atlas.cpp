@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 
+#include "pipeline/texture_atlas.h"
 #include "ricci/mesh/errors.h"
 
 namespace ricci {
@@ -163,6 +164,8 @@ void gather_texture(MeshUniformization& out, const PackingOptions& packing) {
   }
   if (pieces.empty()) return;
   const Packing p = pack_charts(pieces, packing);
+  out.packed.pieces = static_cast<int>(pieces.size());
+  out.packed.utilization = p.utilization;
   const auto to_atlas = [&](int piece, const Eigen::Vector2d& q) {
     const Eigen::Vector2d uv = p.scale * p.rotation[piece] * q + p.offset[piece];
     return Eigen::Vector2d(std::clamp(uv.x(), 0.0, 1.0), std::clamp(uv.y(), 0.0, 1.0));
@@ -198,6 +201,7 @@ void gather_texture(MeshUniformization& out, const PackingOptions& packing) {
       out.texture.wedge.push_back(uv);
     }
   }
+  out.packed.distortion = detail::face_distortion(out.positions, out.faces, out.texture.wedge);
 }
 
 // Per-vertex results of every component, on the delivered vertices.

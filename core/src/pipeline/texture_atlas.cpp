@@ -129,10 +129,13 @@ std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> triangles_by_chart(cons
   return by_chart;
 }
 
-// D of the delivered faces, as an independent check of the atlas measures it: with A the 3D and a
-// the flat area of each face, both scaled to sum 1 over the faces with both nonzero, s = log(a /
-// A) / 2 and D = sqrt(sum A (s - mean s)^2). The charts share one scale, so their own
-// coordinates serve.
+// Branches a cone of angle theta needs so that no wedge of it reaches a full turn.
+int branches_for(double theta) {
+  return std::max(1, static_cast<int>(std::floor(theta / (2 * kPi))) + 1);
+}
+
+}  // namespace
+
 double face_distortion(const std::vector<Eigen::Vector3d>& positions,
                        const std::vector<std::array<int, 3>>& faces,
                        const std::vector<std::array<Eigen::Vector2d, 3>>& corners) {
@@ -158,13 +161,6 @@ double face_distortion(const std::vector<Eigen::Vector3d>& positions,
     d += area3d[f] / total3d * (s[f] - mean) * (s[f] - mean);
   return std::sqrt(d);
 }
-
-// Branches a cone of angle theta needs so that no wedge of it reaches a full turn.
-int branches_for(double theta) {
-  return std::max(1, static_cast<int>(std::floor(theta / (2 * kPi))) + 1);
-}
-
-}  // namespace
 
 TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& placement,
                              bool quarter_angles) {

@@ -14,6 +14,12 @@
 // Not installed API.
 #pragma once
 
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
 #include "ricci/flow/target.h"
 #include "ricci/mesh/compact_mesh.h"
 #include "ricci/pipeline/uniformization.h"
@@ -28,6 +34,14 @@ TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& place
 //! The atlas layout of a converged flow: run.corners (z = 0), run.face_chart, run.subdivision
 //! where the flow flipped edges, run.atlas; run.layout holds the delivered corners.
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
+
+//! The area distortion D of laid-out faces, as an independent check of an atlas measures it: with
+//! A the 3D and a the layout's area of each face, both scaled to sum 1 over the faces where both
+//! are positive (the others have no weight), s = log(a / A) / 2 and D = sqrt(sum A (s - mean
+//! s)^2). The layout at one scale, any.
+double face_distortion(const std::vector<Eigen::Vector3d>& positions,
+                       const std::vector<std::array<int, 3>>& faces,
+                       const std::vector<std::array<Eigen::Vector2d, 3>>& corners);
 
 //! Why a converged atlas is no valid atlas (no layout, faces overlapping), or "".
 std::string atlas_failure(const Uniformization& run);

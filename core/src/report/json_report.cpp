@@ -270,6 +270,11 @@ std::string json_report(const MeshUniformization& run, const RunContext& context
   j << "  \"input\": " << quoted(context.input) << ",\n";
   j << "  \"converged\": " << (run.converged() ? "true" : "false") << ",\n";
   j << "  \"repairs\": " << repairs_json(m.report) << ",\n";
+  if (run.packed.pieces > 0) {
+    j << "  \"texture\": {\"pieces\": " << run.packed.pieces
+      << ", \"utilization\": " << number(run.packed.utilization)
+      << ", \"distortion\": " << number(run.packed.distortion) << "},\n";
+  }
   j << "  \"components\": [";
   for (size_t k = 0; k < run.components.size(); ++k) {
     j << (k ? ", " : "") << "{\n  "

@@ -58,6 +58,14 @@ std::vector<std::string> summary_lines(const MeshUniformization& run, const RunC
       lines.push_back(line);
     }
   }
+  if (run.packed.pieces > 0) {
+    std::ostringstream l;
+    l.precision(3);
+    l << "Texture of all " << n << " components: area distortion D " << run.packed.distortion
+      << " on all its faces; " << run.packed.pieces << " pieces packed, utilization "
+      << run.packed.utilization;
+    lines.push_back(l.str());
+  }
   return lines;
 }
 

@@ -47,6 +47,15 @@ struct MeshUniformization {
   //! per face corner (faces of sphere components at 0); the charts packed into [0, 1]^2. Empty
   //! when no component has a planar layout.
   TextureCoordinates texture;
+  //! Several components with planar layouts: the texture packed from all of them, its pieces
+  //! (an atlas component's charts, any other layout whole), its share of [0, 1]^2, and the area
+  //! distortion D of all its faces (as AtlasResult::distortion, over the whole texture). Zero
+  //! pieces otherwise.
+  struct PackedTexture {
+    int pieces = 0;
+    double utilization = 0;
+    double distortion = 0;
+  } packed;
   //! The atlas target: its cones, on delivered vertices, with their angles in the exact metric.
   std::vector<Cone> cones;
   //! Per component: the delivered index of its first new vertex.
