@@ -106,6 +106,9 @@ class Result:
         utilization, ...), a list with one entry per component when there are several; else
         None.
     texcoord: the texture atlas in [0, 1]^2, per vertex (n, 2) or per corner (m, 3, 2).
+    texture: with several components whose layouts were packed into texcoord: that texture as a
+        whole (pieces, utilization, and distortion, the area distortion D of all its faces);
+        else None.
     u, radius, curvature, target: per vertex (NaN where a vertex is in no face; target NaN where
         u was held fixed).
     quality: the layout's quality (flipped and collapsed faces, quasi-conformal ratio, area ratio,
@@ -126,6 +129,7 @@ class Result:
         self.curvature, self.target = d["curvature"], d["target"]
         self.layout_kinds = list(d["layout_kinds"])
         self.texcoord = d["texcoord"]
+        self.texture = self.report.get("texture")
         planar = all(k in _PLANAR for k in self.layout_kinds)
         corners = d["corner_layout"]
         self.corner_layout = None if corners is None else (corners[:, :, :2] if planar else corners)

@@ -144,6 +144,26 @@ def test_atlas_of_a_closed_genus_two_surface():
     assert r.atlas["overlapping_faces"] == 0 and r.atlas["distortion"] <= 0.2
 
 
+def test_atlas_of_two_parts_reports_its_whole_texture():
+    # Two copies of a genus-2 surface, apart: one texture packed from both, its D the one
+    # measured here from texcoord (s = log(uv area / 3D area) / 2, both scaled to sum 1).
+    V, F = mesh("eight.off")
+    V2 = np.vstack([V, V + [10, 0, 0]])
+    F2 = np.vstack([F, F + len(V)])
+    r = ricci_flow.uniformize(V2, F2, target="atlas")
+    assert r.converged and r.layout_kinds == ["atlas", "atlas"]
+    assert r.texture["pieces"] >= 2 and 0 < r.texture["utilization"] <= 1
+    P = r.vertices[r.faces]
+    area3d = 0.5 * np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
+    area_uv = 0.5 * signed_areas(r.texcoord)
+    assert np.all(area_uv > 0)
+    A, a = area3d / area3d.sum(), area_uv / area_uv.sum()
+    s = 0.5 * np.log(a / A)
+    d = math.sqrt(np.sum(A * (s - np.sum(A * s)) ** 2))
+    assert abs(d - r.texture["distortion"]) < 1e-9
+    assert d <= 0.2
+
+
 def test_atlas_through_the_users_cones():
     # The cones the placement finds, given back as the user's: kept with their angles.
     V, F = mesh("eight.off")
