@@ -93,5 +93,69 @@ TEST(LinearConeModel, ADiskWithoutConesIsTheFreeBoundaryModel) {
   }
 }
 
+// Every step of a held system (a cone added, left out, moved) gives the set's solution as
+// LinearConeModel::held factors it afresh, on a closed surface (bordered by the constant) and on
+// one with boundary, over more steps than it takes between factorizations.
+void expect_steps_match_held(const CompactMesh& mesh, int first, int stride, int steps) {
+  LinearConeModel model(mesh, LinearSolverKind::Cholmod);
+  HeldSystem system(model);
+  const int n = mesh.num_vertices();
+  const auto interior = [&](int v) {
+    while (mesh.is_boundary_vertex(v % n) || (mesh.is_closed() && v % n == 0)) ++v;
+    return v % n;
+  };
+  std::vector<int> cones;
+  for (int j = 0; j < 20; ++j) {
+    const int v = interior(first + j * stride);
+    if (std::find(cones.begin(), cones.end(), v) == cones.end()) cones.push_back(v);
+  }
+  ASSERT_TRUE(system.reset(cones));
+  const auto expect_same = [&](const LinearConeModel::Solution& fast, const std::vector<int>& set) {
+    const LinearConeModel::Solution full = model.held(set);
+    ASSERT_TRUE(full.ok && fast.ok);
+    ASSERT_EQ(fast.k.size(), full.k.size());
+    EXPECT_LT((fast.k - full.k).cwiseAbs().maxCoeff(), 1e-9 * (1 + full.k.cwiseAbs().maxCoeff()));
+    EXPECT_NEAR(fast.c, full.c, 1e-9 * (1 + std::abs(full.c)));
+    EXPECT_NEAR(fast.d, full.d, 1e-9);
+  };
+  int next = first + 7;
+  for (int step = 0; step < steps; ++step) {
+    std::vector<int> set = system.cones();
+    const int i = (step * 5) % static_cast<int>(set.size());
+    int v = interior(next += stride + 3);
+    while (std::find(set.begin(), set.end(), v) != set.end()) v = interior(++next);
+    // Solved without changing the set: one left out, one added, one moved.
+    std::vector<int> without = set, added = set, moved = set;
+    without.erase(without.begin() + i);
+    added.push_back(v);
+    moved[static_cast<size_t>(i)] = v;
+    expect_same(system.without(i), without);
+    expect_same(system.with(v), added);
+    expect_same(system.with(v, i), moved);
+    // Then the set itself changed, in turn by each kind of step.
+    switch (step % 3) {
+      case 0:
+        system.add(v, i);
+        break;
+      case 1:
+        system.add(v);
+        break;
+      default:
+        system.remove(i);
+        break;
+    }
+    ASSERT_TRUE(system.valid());
+    expect_same(system.solution(), system.cones());
+  }
+}
+
+TEST(HeldSystem, StepsGiveTheSetsSolutionAsAFreshFactorizationOnAClosedSurface) {
+  expect_steps_match_held(cgal_mesh("eight.off"), 3, 17, 40);
+}
+
+TEST(HeldSystem, StepsGiveTheSetsSolutionAsAFreshFactorizationWithABoundary) {
+  expect_steps_match_held(cgal_mesh("mannequin-devil.off"), 5, 23, 40);
+}
+
 }  // namespace
 }  // namespace ricci::test

@@ -30,12 +30,16 @@ constexpr int kMaxSpareColumns = 64;
 // column costs little less (bench_atlas: 1.8 ms at 32, 2.4 at 8, 5.9 alone on a bunny), while the
 // block's dense right-hand sides grow with it.
 constexpr size_t kMaxBlock = 32;
+// From this many cones a set that differs from the current one by a cone is solved from the
+// current one's inverse (HeldSystem, O(|C|^2)) instead of factored (O(|C|^3)): at a few hundred
+// cones the factorizations were most of the placement (CGAL's cheese, genus 133).
+constexpr size_t kIncrementalFrom = 16;
 
 // The placement's search: a cone set, its solution and D.
 class Search {
  public:
   Search(const CompactMesh& mesh, const ConePlacementOptions& o)
-      : mesh_(mesh), o_(o), model_(mesh, o.linear_solver) {
+      : mesh_(mesh), o_(o), model_(mesh, o.linear_solver), system_(model_) {
     is_cone_.assign(mesh.num_vertices(), 0);
     first_neighbour_.assign(mesh.num_vertices() + 1, 0);
     for (int e = 0; e < mesh.num_edges(); ++e) {
@@ -88,6 +92,39 @@ class Search {
     s.angles_ok = (s.solution.k.array() <= 2 * kPi - o_.min_cone_angle).all();
     return s;
   }
+  // The set s with v added last, with its i-th cone moved to v (moved = i), or without its i-th
+  // cone (v < 0): from s's held system where s has many cones.
+  State step(const State& s, int v, int moved = -1) {
+    const size_t m = s.cones.size();
+    std::vector<int> cones = s.cones;
+    if (v < 0) {
+      cones.erase(cones.begin() + moved);
+    } else if (moved >= 0) {
+      cones[static_cast<size_t>(moved)] = v;
+    } else {
+      cones.push_back(v);
+    }
+    if (m < kIncrementalFrom || !s.solution.ok) return evaluate(std::move(cones));
+    if (!system_.valid() || system_.cones() != s.cones) system_.reset(s.cones);
+    if (!system_.valid()) return evaluate(std::move(cones));
+    State t;
+    t.cones = std::move(cones);
+    t.solution = v < 0 ? system_.without(moved) : system_.with(v, moved);
+    if (!t.solution.ok) return t;
+    t.d = t.solution.d;
+    t.angles_ok = (t.solution.k.array() <= 2 * kPi - o_.min_cone_angle).all();
+    return t;
+  }
+  // The held system follows the search to t, a step from s as `step` took it.
+  void follow(const State& s, const State& t, int v, int moved = -1) {
+    if (s.cones.size() < kIncrementalFrom || !system_.valid() || system_.cones() != s.cones) return;
+    if (v < 0) {
+      system_.remove(moved);
+    } else {
+      system_.add(v, moved);
+    }
+    if (system_.cones() != t.cones) system_.reset(t.cones);
+  }
   bool done(const State& s) const { return s.solution.ok && s.angles_ok && s.d <= bound(); }
   double bound() const { return o_.distortion_bound; }
 
@@ -136,9 +173,7 @@ class Search {
     int best = -1;
     double widest = -std::numeric_limits<double>::infinity();
     for (int v : tried_there) {
-      std::vector<int> tried = s.cones;
-      tried.push_back(v);
-      const State t = evaluate(tried);
+      const State t = step(s, v);
       if (!t.solution.ok) continue;
       const double angle = 2 * kPi - t.solution.k.maxCoeff();
       if (angle > widest) widest = angle, best = v;
@@ -174,6 +209,7 @@ class Search {
   const CompactMesh& mesh_;
   ConePlacementOptions o_;
   LinearConeModel model_;
+  HeldSystem system_;  // the current set's, where it has many cones
   std::vector<char> is_cone_;
   std::vector<int> spare_;  // most recently solved first
   size_t max_spare_ = 1;
@@ -261,9 +297,9 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
       if (top.empty()) break;
       v = top.front();
     }
-    std::vector<int> more = state.cones;
-    more.push_back(v);
-    state = search.evaluate(more);
+    Search::State more = search.step(state, v);
+    search.follow(state, more, v);
+    state = std::move(more);
     search.keep_columns(state.cones);
   }
 
@@ -276,23 +312,25 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   for (int sweep = 0; sweep < o.relocation_sweeps && !state.cones.empty(); ++sweep) {
     int moved = 0;
     for (size_t i = 0; i < state.cones.size(); ++i) {
-      std::vector<int> without = state.cones;
-      without.erase(without.begin() + static_cast<long>(i));
-      const Search::State rest = search.evaluate(without);
+      const int at = static_cast<int>(i);
+      const Search::State rest = search.step(state, -1, at);
       if (!rest.solution.ok) continue;
       Search::State best = state;
+      int best_v = -1;
       const std::vector<int> moves = search.peaks(rest, candidates);
       search.solve_columns(moves);
       for (int v : moves) {
         if (v == state.cones[i]) continue;
-        std::vector<int> there = state.cones;
-        there[i] = v;
-        const Search::State trial = search.evaluate(there);
+        const Search::State trial = search.step(state, v, at);
         const bool better = trial.solution.ok && (trial.angles_ok || !best.angles_ok) &&
                             trial.d < best.d * (1 - 1e-9);
-        if (better) best = trial;
+        if (better) best = trial, best_v = v;
       }
-      if (best.cones != state.cones) state = best, ++moved;
+      if (best_v >= 0) {
+        search.follow(state, best, best_v, at);
+        state = std::move(best);
+        ++moved;
+      }
       search.keep_columns(state.cones);
     }
     result.relocations += moved;
@@ -309,12 +347,14 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     std::vector<int> drop;
     for (int i : order) drop.push_back(state.cones[i]);
     for (int c : drop) {
-      std::vector<int> without;
-      for (int v : state.cones) {
-        if (v != c) without.push_back(v);
+      const int at = static_cast<int>(std::find(state.cones.begin(), state.cones.end(), c) -
+                                      state.cones.begin());
+      Search::State trial = search.step(state, -1, at);
+      if (search.done(trial)) {
+        search.follow(state, trial, -1, at);
+        state = std::move(trial);
+        ++result.dropped;
       }
-      const Search::State trial = search.evaluate(without);
-      if (search.done(trial)) state = trial, ++result.dropped;
     }
   }
 

@@ -135,17 +135,26 @@ void LinearConeModel::keep_only(const std::vector<int>& vertices) {
 }
 
 // D^2 = var(g) + 2 sum_j k_j cov(col_j, g) + sum_ij k_i k_j cov(col_i, col_j), the area-weighted
-// (co)variances: the constant c drops out.
+// (co)variances: the constant c drops out. The double sum reads the gram matrix a column at a
+// time (it is called for every set a search tries).
 double LinearConeModel::distortion(const std::vector<int>& cones, const Eigen::VectorXd& k) const {
-  double d2 = g_square_ - g_sum_ * g_sum_;
-  for (size_t i = 0; i < cones.size(); ++i) {
-    const int si = slot_of_[cones[i]];
-    d2 += 2 * k[i] * (with_g_[si] - sum_[si] * g_sum_);
-    for (size_t j = 0; j < cones.size(); ++j) {
-      const int sj = slot_of_[cones[j]];
-      d2 += k[i] * k[j] * (gram_(si, sj) - sum_[si] * sum_[sj]);
-    }
+  const size_t m = cones.size();
+  std::vector<int> slot(m);
+  double with_g = 0, sum = 0;
+  for (size_t i = 0; i < m; ++i) {
+    slot[i] = slot_of_[cones[i]];
+    with_g += k[static_cast<long>(i)] * with_g_[slot[i]];
+    sum += k[static_cast<long>(i)] * sum_[slot[i]];
   }
+  double quadratic = 0;
+  for (size_t j = 0; j < m; ++j) {
+    const double* column = gram_.col(slot[j]).data();
+    double dot = 0;
+    for (size_t i = 0; i < m; ++i) dot += k[static_cast<long>(i)] * column[slot[i]];
+    quadratic += k[static_cast<long>(j)] * dot;
+  }
+  const double d2 =
+      g_square_ - g_sum_ * g_sum_ + 2 * (with_g - sum * g_sum_) + quadratic - sum * sum;
   return std::sqrt(std::max(0.0, d2));
 }
 
@@ -223,6 +232,217 @@ Eigen::VectorXd LinearConeModel::prescribed(const std::vector<int>& cones,
   Eigen::VectorXd u = combination(cones, k);
   if (mesh_.is_closed()) u.array() -= u.mean();
   return u;
+}
+
+}  // namespace ricci
+
+namespace ricci {
+
+namespace {
+
+// Steps a held system takes between factorizations: each adds rounding of the order of its
+// condition number times machine epsilon; a factorization costs about |C| steps.
+constexpr int kStepsBetweenFactorizations = 32;
+
+// Index order of a bordered system of m cones whose cone entries are `cones` positions, with c
+// (closed) last.
+std::vector<int> all_but(int size, int i) {
+  std::vector<int> keep;
+  keep.reserve(static_cast<size_t>(size));
+  for (int j = 0; j < size; ++j) {
+    if (j != i) keep.push_back(j);
+  }
+  return keep;
+}
+
+}  // namespace
+
+Eigen::VectorXd HeldSystem::rhs(const std::vector<int>& cones) const {
+  const int m = static_cast<int>(cones.size());
+  Eigen::VectorXd b(m + (model_.closed() ? 1 : 0));
+  for (int j = 0; j < m; ++j) b[j] = -model_.g()[cones[j]];
+  if (model_.closed()) b[m] = 2 * kPi * model_.euler_characteristic();
+  return b;
+}
+
+bool HeldSystem::reset(const std::vector<int>& cones) {
+  cones_ = cones;
+  updates_ = 0;
+  valid_ = false;
+  const int m = static_cast<int>(cones.size());
+  if (m == 0) return false;
+  model_.solve_columns(cones);
+  const bool closed = model_.closed();
+  const int rows = m + (closed ? 1 : 0);
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, rows);
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < m; ++i) a(i, j) = model_.entry(cones[i], cones[j]);
+    if (closed) a(j, m) = a(m, j) = 1;
+  }
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+  if (!(lu.rcond() > 1e-12)) return false;  // as LinearConeModel::held
+  inverse_ = lu.inverse();
+  x_ = lu.solve(rhs(cones));
+  valid_ = x_.allFinite();
+  return valid_;
+}
+
+LinearConeModel::Solution HeldSystem::solution_of(const std::vector<int>& cones,
+                                                  const Eigen::VectorXd& x) const {
+  LinearConeModel::Solution s;
+  const long m = static_cast<long>(cones.size());
+  if (!x.allFinite()) return s;
+  s.k = x.head(m);
+  s.c = model_.closed() ? x[m] : 0;
+  s.d = model_.distortion(cones, s.k);
+  s.ok = true;
+  return s;
+}
+
+LinearConeModel::Solution HeldSystem::solution() const {
+  if (!valid_) return {};
+  return solution_of(cones_, x_);
+}
+
+void HeldSystem::drop_index(int i, Eigen::MatrixXd& inverse, Eigen::VectorXd& x) const {
+  // Of the inverse P of a system, the inverse of the system without index i is P's block without
+  // i less P(., i) P(i, .) / P(i, i), and its solution x less P(., i) x_i / P(i, i).
+  const std::vector<int> keep = all_but(static_cast<int>(x.size()), i);
+  const double pivot = inverse(i, i);
+  const Eigen::VectorXd column = inverse(keep, i);
+  const Eigen::RowVectorXd row = inverse(i, keep);
+  const Eigen::MatrixXd rest = inverse(keep, keep) - column * row / pivot;
+  const Eigen::VectorXd rest_x = x(keep) - column * (x[i] / pivot);
+  inverse = rest;
+  x = rest_x;
+}
+
+LinearConeModel::Solution HeldSystem::without(int i) const {
+  if (!valid_ || !(std::abs(inverse_(i, i)) > 0)) return {};
+  const std::vector<int> keep = all_but(static_cast<int>(x_.size()), i);
+  const Eigen::VectorXd x = x_(keep) - inverse_(keep, i) * (x_[i] / inverse_(i, i));
+  std::vector<int> cones = cones_;
+  cones.erase(cones.begin() + i);
+  return solution_of(cones, x);
+}
+
+namespace {
+
+// A bordered step: the system A (inverse B, solution xb) with a row r, a column a and a corner d
+// appended, its right-hand side b_v: the solution is (xb - B a y, y) with y = (b_v - r.xb) / s,
+// s = d - r.B a; false where s vanishes (the larger system is singular).
+struct Bordered {
+  Eigen::VectorXd ba;  // B a
+  double s = 0, y = 0;
+  bool ok = false;
+};
+
+Bordered border(const Eigen::MatrixXd& b_inverse, const Eigen::VectorXd& xb,
+                const Eigen::RowVectorXd& r, const Eigen::VectorXd& a, double d, double bv) {
+  Bordered out;
+  out.ba = b_inverse * a;
+  const double rba = r.dot(out.ba);
+  out.s = d - rba;
+  if (!(std::abs(out.s) > 1e-12 * (std::abs(d) + std::abs(rba)))) return out;
+  out.y = (bv - r.dot(xb)) / out.s;
+  out.ok = std::isfinite(out.y);
+  return out;
+}
+
+}  // namespace
+
+LinearConeModel::Solution HeldSystem::with(int v, int moved) const {
+  if (!valid_) return {};
+  Eigen::MatrixXd b_inverse = inverse_;
+  Eigen::VectorXd xb = x_;
+  std::vector<int> base = cones_;
+  if (moved >= 0) {
+    if (!(std::abs(inverse_(moved, moved)) > 0)) return {};
+    drop_index(moved, b_inverse, xb);
+    base.erase(base.begin() + moved);
+  }
+  model_.solve_columns({v});
+  const int mb = static_cast<int>(base.size());
+  const int rb = static_cast<int>(xb.size());
+  Eigen::VectorXd a = Eigen::VectorXd::Ones(rb);
+  Eigen::RowVectorXd r = Eigen::RowVectorXd::Ones(rb);
+  for (int j = 0; j < mb; ++j) a[j] = model_.entry(base[j], v), r[j] = model_.entry(v, base[j]);
+  const Bordered step = border(b_inverse, xb, r, a, model_.entry(v, v), -model_.g()[v]);
+  if (!step.ok) return {};
+  const Eigen::VectorXd y = xb - step.ba * step.y;
+  // The cones in their order: v at the moved one's place, or last; c last.
+  const int at = moved >= 0 ? moved : mb;
+  std::vector<int> cones = base;
+  cones.insert(cones.begin() + at, v);
+  Eigen::VectorXd x(rb + 1);
+  x.head(at) = y.head(at);
+  x[at] = step.y;
+  x.segment(at + 1, rb - at) = y.tail(rb - at);
+  return solution_of(cones, x);
+}
+
+void HeldSystem::remove(int i) {
+  if (!valid_ || !(std::abs(inverse_(i, i)) > 0) || ++updates_ > kStepsBetweenFactorizations) {
+    std::vector<int> cones = cones_;
+    cones.erase(cones.begin() + i);
+    reset(cones);
+    return;
+  }
+  drop_index(i, inverse_, x_);
+  cones_.erase(cones_.begin() + i);
+}
+
+void HeldSystem::add(int v, int moved) {
+  std::vector<int> after = cones_;
+  if (moved >= 0) {
+    after[static_cast<size_t>(moved)] = v;
+  } else {
+    after.push_back(v);
+  }
+  if (!valid_ || ++updates_ > kStepsBetweenFactorizations ||
+      (moved >= 0 && !(std::abs(inverse_(moved, moved)) > 0))) {
+    reset(after);
+    return;
+  }
+  if (moved >= 0) drop_index(moved, inverse_, x_);
+  std::vector<int> base = cones_;
+  if (moved >= 0) base.erase(base.begin() + moved);
+  model_.solve_columns({v});
+  const int mb = static_cast<int>(base.size());
+  const int rb = static_cast<int>(x_.size());
+  Eigen::VectorXd a = Eigen::VectorXd::Ones(rb);
+  Eigen::RowVectorXd r = Eigen::RowVectorXd::Ones(rb);
+  for (int j = 0; j < mb; ++j) a[j] = model_.entry(base[j], v), r[j] = model_.entry(v, base[j]);
+  const Bordered step = border(inverse_, x_, r, a, model_.entry(v, v), -model_.g()[v]);
+  if (!step.ok) {
+    reset(after);
+    return;
+  }
+  // The bordered inverse [B + B a r B / s, -B a / s; -r B / s, 1 / s], its new index moved to
+  // v's place among the cones.
+  const Eigen::RowVectorXd rb_row = r * inverse_;
+  Eigen::MatrixXd grown(rb + 1, rb + 1);
+  grown.topLeftCorner(rb, rb) = inverse_ + step.ba * rb_row / step.s;
+  grown.topRightCorner(rb, 1) = -step.ba / step.s;
+  grown.bottomLeftCorner(1, rb) = -rb_row / step.s;
+  grown(rb, rb) = 1 / step.s;
+  Eigen::VectorXd x(rb + 1);
+  x.head(rb) = x_ - step.ba * step.y;
+  x[rb] = step.y;
+  const int at = moved >= 0 ? moved : mb;
+  std::vector<int> order;  // new index -> grown's
+  for (int j = 0; j < rb + 1; ++j) {
+    if (j < at) {
+      order.push_back(j);
+    } else if (j == at) {
+      order.push_back(rb);
+    } else {
+      order.push_back(j - 1);
+    }
+  }
+  inverse_ = grown(order, order);
+  x_ = x(order);
+  cones_ = after;
 }
 
 }  // namespace ricci

@@ -51,6 +51,15 @@ class LinearConeModel {
   //! surface).
   Eigen::VectorXd prescribed(const std::vector<int>& cones, const Eigen::VectorXd& k);
 
+  //! D of u = g + G k (+ c) for a cone set's curvatures k, from the area-weighted sums: O(|C|^2).
+  double distortion(const std::vector<int>& cones, const Eigen::VectorXd& k) const;
+  //! R(e_column)[row] (column's column solved): the held system's entry.
+  double entry(int row, int column) const { return columns_(row, slot_of_[column]); }
+  //! g per vertex: u with no cone.
+  const Eigen::VectorXd& g() const { return g_; }
+  bool closed() const { return mesh_.is_closed(); }
+  int euler_characteristic() const { return mesh_.euler_characteristic(); }
+
   //! Computes the columns of these vertices that are missing, in one multi-column solve (a block
   //! of columns costs a fraction of as many single solves: CHOLMOD reads the factor once); 0 for
   //! a vertex without a row.
@@ -59,7 +68,6 @@ class LinearConeModel {
   void keep_only(const std::vector<int>& vertices);
 
  private:
-  double distortion(const std::vector<int>& cones, const Eigen::VectorXd& k) const;
   Eigen::VectorXd combination(const std::vector<int>& cones, const Eigen::VectorXd& k);  // g + G k
   Eigen::VectorXd scatter(const Eigen::VectorXd& x) const;
   int store(int v, const Eigen::VectorXd& column);
@@ -80,6 +88,43 @@ class LinearConeModel {
   double g_sum_ = 0, g_square_ = 0;
   int back_solves_ = 0;
   bool factored_ = false;
+};
+
+//! The held system of one cone set (LinearConeModel::held's), kept as its inverse, so that a set
+//! that differs from it by one cone (one added, one left out, one moved elsewhere) is solved in
+//! O(|C|^2) rather than factored in O(|C|^3); the set itself is changed by such steps at that
+//! cost too, and factored afresh every so often against drift. The cones keep their order: a
+//! cone left out leaves the others in theirs, one added comes last, one moved keeps its place.
+class HeldSystem {
+ public:
+  explicit HeldSystem(LinearConeModel& model) : model_(model) {}
+  //! Factors the set's system; false where it is singular (the set then has no solution).
+  bool reset(const std::vector<int>& cones);
+  bool valid() const { return valid_; }
+  const std::vector<int>& cones() const { return cones_; }
+  LinearConeModel::Solution solution() const;
+  //! The set without its i-th cone: O(|C|) (and its D, O(|C|^2)).
+  LinearConeModel::Solution without(int i) const;
+  //! The set with v added last; with its i-th cone moved to v (i >= 0). Columns of v solved.
+  LinearConeModel::Solution with(int v, int moved = -1) const;
+  //! Changes the set as `with` and `without` solve it.
+  void add(int v, int moved = -1);
+  void remove(int i);
+
+ private:
+  // The bordered system's size and right-hand side for the cones.
+  Eigen::VectorXd rhs(const std::vector<int>& cones) const;
+  LinearConeModel::Solution solution_of(const std::vector<int>& cones,
+                                        const Eigen::VectorXd& x) const;
+  // inverse without its index i (Schur complement), and x without it.
+  void drop_index(int i, Eigen::MatrixXd& inverse, Eigen::VectorXd& x) const;
+
+  LinearConeModel& model_;
+  std::vector<int> cones_;
+  Eigen::MatrixXd inverse_;  // of the bordered system (cones, then c on a closed surface)
+  Eigen::VectorXd x_;        // its solution
+  bool valid_ = false;
+  int updates_ = 0;  // since the last factorization
 };
 
 }  // namespace ricci
