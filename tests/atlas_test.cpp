@@ -163,13 +163,12 @@ void expect_valid_atlas(const Atlas& a, const std::string& input, double bound) 
   const std::string said = "area distortion D ";
   const size_t at = a.summary.find(said);
   ASSERT_NE(at, std::string::npos) << a.summary;
-  if (a.summary.find(said, at + 1) == std::string::npos) {
+  const size_t whole = a.summary.find("Texture of all ");
+  if (whole == std::string::npos) {  // one part
     const double reported = std::stod(a.summary.substr(at + said.size(), 24));
     EXPECT_NEAR(face_distortion(a), reported, 5e-3 * reported);  // printed to 3 digits
     EXPECT_LE(face_distortion(a), bound * (1 + 1e-3));
   } else {  // several parts: the whole texture's line
-    const size_t whole = a.summary.find("Texture of all ");
-    ASSERT_NE(whole, std::string::npos) << a.summary;
     const size_t d = a.summary.find(said, whole);
     ASSERT_NE(d, std::string::npos);
     const double reported = std::stod(a.summary.substr(d + said.size(), 24));
@@ -295,8 +294,8 @@ TEST(Atlas, PartsWhoseFacesExceedTheBoundGetTheConesOfATighterOne) {
     ++warned;
   }
   EXPECT_EQ(warned, above);
-  EXPECT_LE(above, 142 / 2);
-  EXPECT_LE(worst, 0.35);
+  EXPECT_LE(above, 4);  // 2 measured, flowed on their doubles (0.246)
+  EXPECT_LE(worst, 0.25);
   EXPECT_NE(json.find("the delivered faces' D was"), std::string::npos);
 }
 #endif

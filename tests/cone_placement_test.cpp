@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "flow/linear_cone_model.h"
 #include "ricci/flow/cone_placement.h"
 #include "ricci/flow/ricci_flow.h"
 #include "ricci/mesh/errors.h"
@@ -35,6 +36,28 @@ TEST(ConePlacement, ClosedSurfaceConesSatisfyGaussBonnetTheFloorAndTheBound) {
     EXPECT_EQ(p.factorizations, 1);
     EXPECT_GT(p.back_solves, static_cast<int>(p.cones.size()));
   }
+}
+
+TEST(ConePlacement, ManyConesPlacedByHeldSystemStepsAreThoseAFreshFactorizationGives) {
+  // From 16 cones the search solves each set it tries from the current set's inverse. The cones it
+  // delivers, factored afresh on a model of their own, give its angles, u and D.
+  const CompactMesh mesh = cgal_mesh("eight.off");
+  ConePlacementOptions o;
+  o.distortion_bound = 0.08;  // 40-odd cones on this genus-2 surface
+  const ConePlacement p = place_cones(mesh, o);
+  ASSERT_TRUE(p.bound_reached) << p.why_not;
+  ASSERT_GT(p.cones.size(), 24u);
+  LinearConeModel fresh(mesh, LinearSolverKind::Cholmod);
+  std::vector<int> cones;
+  for (const Cone& c : p.cones) cones.push_back(c.vertex);
+  const LinearConeModel::Solution s = fresh.held(cones);
+  ASSERT_TRUE(s.ok);
+  for (size_t j = 0; j < cones.size(); ++j) {
+    EXPECT_NEAR(p.cones[j].angle, 2 * kPi - s.k[static_cast<long>(j)], 1e-9);
+  }
+  EXPECT_LT((fresh.u(cones, s) - p.u).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_NEAR(p.distortion, s.d, 1e-9);
+  EXPECT_LE(p.distortion, 0.08);
 }
 
 // The bumpy disk with its bump scaled by `height`, as a mesh.

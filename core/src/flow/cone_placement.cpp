@@ -84,9 +84,13 @@ class Search {
     bool angles_ok = false;
   };
   State evaluate(std::vector<int> cones) {
+    LinearConeModel::Solution solution = model_.held(cones);
+    return state_of(std::move(cones), std::move(solution));
+  }
+  State state_of(std::vector<int> cones, LinearConeModel::Solution solution) const {
     State s;
     s.cones = std::move(cones);
-    s.solution = model_.held(s.cones);
+    s.solution = std::move(solution);
     if (!s.solution.ok) return s;
     s.d = s.solution.d;
     s.angles_ok = (s.solution.k.array() <= 2 * kPi - o_.min_cone_angle).all();
@@ -107,16 +111,14 @@ class Search {
     if (m < kIncrementalFrom || !s.solution.ok) return evaluate(std::move(cones));
     if (!system_.valid() || system_.cones() != s.cones) system_.reset(s.cones);
     if (!system_.valid()) return evaluate(std::move(cones));
-    State t;
-    t.cones = std::move(cones);
-    t.solution = v < 0 ? system_.without(moved) : system_.with(v, moved);
-    if (!t.solution.ok) return t;
-    t.d = t.solution.d;
-    t.angles_ok = (t.solution.k.array() <= 2 * kPi - o_.min_cone_angle).all();
-    return t;
+    LinearConeModel::Solution solution = v < 0 ? system_.without(moved) : system_.with(v, moved);
+    // A set the held system finds singular is factored afresh: the verdict is held()'s.
+    if (!solution.ok) return evaluate(std::move(cones));
+    return state_of(std::move(cones), std::move(solution));
   }
-  // The held system follows the search to t, a step from s as `step` took it.
-  void follow(const State& s, const State& t, int v, int moved = -1) {
+  // The held system follows the search to t, a step from s as `step` took it; t then has the
+  // system's solution (after a fresh factorization, without the steps' rounding).
+  void follow(const State& s, State& t, int v, int moved = -1) {
     if (s.cones.size() < kIncrementalFrom || !system_.valid() || system_.cones() != s.cones) return;
     if (v < 0) {
       system_.remove(moved);
@@ -124,6 +126,7 @@ class Search {
       system_.add(v, moved);
     }
     if (system_.cones() != t.cones) system_.reset(t.cones);
+    if (system_.valid()) t = state_of(t.cones, system_.solution());
   }
   bool done(const State& s) const { return s.solution.ok && s.angles_ok && s.d <= bound(); }
   double bound() const { return o_.distortion_bound; }

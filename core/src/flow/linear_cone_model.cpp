@@ -159,39 +159,45 @@ double LinearConeModel::distortion(const std::vector<int>& cones, const Eigen::V
 }
 
 LinearConeModel::Solution LinearConeModel::held(const std::vector<int>& cones) {
-  const int m = static_cast<int>(cones.size());
-  const bool closed = mesh_.is_closed();
   Solution s;
-  s.k.resize(m);
-  if (m == 0) {
+  if (cones.empty()) {
     // Closed: a flat metric without cones only on a torus; with boundary, the free-boundary
     // model itself.
-    s.ok = !closed || mesh_.euler_characteristic() == 0;
+    s.ok = !mesh_.is_closed() || mesh_.euler_characteristic() == 0;
     s.d = distortion(cones, s.k);
     return s;
   }
+  const auto [a, rhs] = system(cones);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+  // A singular system (no flat metric with u = 0 at these cones) shows as a vanishing reciprocal
+  // condition number; the cones of a real search are far from it.
+  if (!(lu.rcond() > kSingular)) return s;
+  return solution(cones, lu.solve(rhs));
+}
+
+std::pair<Eigen::MatrixXd, Eigen::VectorXd> LinearConeModel::system(const std::vector<int>& cones) {
   solve_columns(cones);
+  const int m = static_cast<int>(cones.size());
+  const bool closed = mesh_.is_closed();
   const int rows = m + (closed ? 1 : 0);
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, rows);
   Eigen::VectorXd rhs(rows);
   for (int j = 0; j < m; ++j) {
-    const int sj = slot_of_[cones[j]];
-    for (int i = 0; i < m; ++i) a(i, j) = columns_(cones[i], sj);
+    for (int i = 0; i < m; ++i) a(i, j) = entry(cones[i], cones[j]);
     rhs[j] = -g_[cones[j]];
-    if (closed) a(j, m) = 1;
+    if (closed) a(j, m) = a(m, j) = 1;
   }
-  if (closed) {
-    a.row(m).head(m).setOnes();
-    rhs[m] = 2 * kPi * mesh_.euler_characteristic();
-  }
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
-  // A singular system (no flat metric with u = 0 at these cones) shows as a vanishing reciprocal
-  // condition number; the cones of a real search are far from it.
-  if (!(lu.rcond() > 1e-12)) return s;
-  const Eigen::VectorXd x = lu.solve(rhs);
+  if (closed) rhs[m] = 2 * kPi * mesh_.euler_characteristic();
+  return {a, rhs};
+}
+
+LinearConeModel::Solution LinearConeModel::solution(const std::vector<int>& cones,
+                                                    const Eigen::VectorXd& x) const {
+  Solution s;
+  const long m = static_cast<long>(cones.size());
   if (!x.allFinite()) return s;
   s.k = x.head(m);
-  s.c = closed ? x[m] : 0;
+  s.c = mesh_.is_closed() ? x[m] : 0;
   s.d = distortion(cones, s.k);
   s.ok = true;
   return s;
@@ -234,18 +240,13 @@ Eigen::VectorXd LinearConeModel::prescribed(const std::vector<int>& cones,
   return u;
 }
 
-}  // namespace ricci
-
-namespace ricci {
-
 namespace {
 
 // Steps a held system takes between factorizations: each adds rounding of the order of its
 // condition number times machine epsilon; a factorization costs about |C| steps.
 constexpr int kStepsBetweenFactorizations = 32;
 
-// Index order of a bordered system of m cones whose cone entries are `cones` positions, with c
-// (closed) last.
+// The indices 0 .. size - 1 but i.
 std::vector<int> all_but(int size, int i) {
   std::vector<int> keep;
   keep.reserve(static_cast<size_t>(size));
@@ -255,53 +256,37 @@ std::vector<int> all_but(int size, int i) {
   return keep;
 }
 
-}  // namespace
-
-Eigen::VectorXd HeldSystem::rhs(const std::vector<int>& cones) const {
-  const int m = static_cast<int>(cones.size());
-  Eigen::VectorXd b(m + (model_.closed() ? 1 : 0));
-  for (int j = 0; j < m; ++j) b[j] = -model_.g()[cones[j]];
-  if (model_.closed()) b[m] = 2 * kPi * model_.euler_characteristic();
-  return b;
+// A pivot s of a Schur step whose other terms are d and d - s vanishes, relative to them, where
+// the larger system is singular.
+bool pivot_ok(double s, double d) {
+  return std::abs(s) > kSingular * (std::abs(d) + std::abs(d - s));
 }
+
+}  // namespace
 
 bool HeldSystem::reset(const std::vector<int>& cones) {
   cones_ = cones;
   updates_ = 0;
   valid_ = false;
-  const int m = static_cast<int>(cones.size());
-  if (m == 0) return false;
-  model_.solve_columns(cones);
-  const bool closed = model_.closed();
-  const int rows = m + (closed ? 1 : 0);
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, rows);
-  for (int j = 0; j < m; ++j) {
-    for (int i = 0; i < m; ++i) a(i, j) = model_.entry(cones[i], cones[j]);
-    if (closed) a(j, m) = a(m, j) = 1;
-  }
+  if (cones.empty()) return false;
+  const auto [a, rhs] = model_.system(cones);
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
-  if (!(lu.rcond() > 1e-12)) return false;  // as LinearConeModel::held
+  if (!(lu.rcond() > kSingular)) return false;  // as LinearConeModel::held
   inverse_ = lu.inverse();
-  x_ = lu.solve(rhs(cones));
+  x_ = lu.solve(rhs);
   valid_ = x_.allFinite();
   return valid_;
 }
 
-LinearConeModel::Solution HeldSystem::solution_of(const std::vector<int>& cones,
-                                                  const Eigen::VectorXd& x) const {
-  LinearConeModel::Solution s;
-  const long m = static_cast<long>(cones.size());
-  if (!x.allFinite()) return s;
-  s.k = x.head(m);
-  s.c = model_.closed() ? x[m] : 0;
-  s.d = model_.distortion(cones, s.k);
-  s.ok = true;
-  return s;
-}
-
 LinearConeModel::Solution HeldSystem::solution() const {
   if (!valid_) return {};
-  return solution_of(cones_, x_);
+  return model_.solution(cones_, x_);
+}
+
+bool HeldSystem::droppable(int i) const {
+  // Without cone i the system's pivot there is 1 / P(i, i), against its entry R(e_c)[c].
+  const double p = inverse_(i, i);
+  return valid_ && p != 0 && pivot_ok(1 / p, model_.entry(cones_[i], cones_[i]));
 }
 
 void HeldSystem::drop_index(int i, Eigen::MatrixXd& inverse, Eigen::VectorXd& x) const {
@@ -318,71 +303,59 @@ void HeldSystem::drop_index(int i, Eigen::MatrixXd& inverse, Eigen::VectorXd& x)
 }
 
 LinearConeModel::Solution HeldSystem::without(int i) const {
-  if (!valid_ || !(std::abs(inverse_(i, i)) > 0)) return {};
+  if (!droppable(i)) return {};
   const std::vector<int> keep = all_but(static_cast<int>(x_.size()), i);
   const Eigen::VectorXd x = x_(keep) - inverse_(keep, i) * (x_[i] / inverse_(i, i));
   std::vector<int> cones = cones_;
   cones.erase(cones.begin() + i);
-  return solution_of(cones, x);
+  return model_.solution(cones, x);
 }
 
-namespace {
-
-// A bordered step: the system A (inverse B, solution xb) with a row r, a column a and a corner d
-// appended, its right-hand side b_v: the solution is (xb - B a y, y) with y = (b_v - r.xb) / s,
-// s = d - r.B a; false where s vanishes (the larger system is singular).
-struct Bordered {
-  Eigen::VectorXd ba;  // B a
-  double s = 0, y = 0;
-  bool ok = false;
-};
-
-Bordered border(const Eigen::MatrixXd& b_inverse, const Eigen::VectorXd& xb,
-                const Eigen::RowVectorXd& r, const Eigen::VectorXd& a, double d, double bv) {
-  Bordered out;
-  out.ba = b_inverse * a;
-  const double rba = r.dot(out.ba);
-  out.s = d - rba;
-  if (!(std::abs(out.s) > 1e-12 * (std::abs(d) + std::abs(rba)))) return out;
-  out.y = (bv - r.dot(xb)) / out.s;
-  out.ok = std::isfinite(out.y);
-  return out;
-}
-
-}  // namespace
-
-LinearConeModel::Solution HeldSystem::with(int v, int moved) const {
-  if (!valid_) return {};
-  Eigen::MatrixXd b_inverse = inverse_;
-  Eigen::VectorXd xb = x_;
-  std::vector<int> base = cones_;
-  if (moved >= 0) {
-    if (!(std::abs(inverse_(moved, moved)) > 0)) return {};
-    drop_index(moved, b_inverse, xb);
-    base.erase(base.begin() + moved);
-  }
+HeldSystem::Grown HeldSystem::grow(const Eigen::MatrixXd& inverse, const Eigen::VectorXd& x,
+                                   const std::vector<int>& base, int v, int at) {
+  // The system A (inverse B, solution x) bordered by v's row r, column a and corner d, its
+  // right-hand side b_v: the solution is (x - B a y, y), y = (b_v - r.x) / s, s = d - r.B a.
   model_.solve_columns({v});
   const int mb = static_cast<int>(base.size());
-  const int rb = static_cast<int>(xb.size());
-  Eigen::VectorXd a = Eigen::VectorXd::Ones(rb);
-  Eigen::RowVectorXd r = Eigen::RowVectorXd::Ones(rb);
-  for (int j = 0; j < mb; ++j) a[j] = model_.entry(base[j], v), r[j] = model_.entry(v, base[j]);
-  const Bordered step = border(b_inverse, xb, r, a, model_.entry(v, v), -model_.g()[v]);
-  if (!step.ok) return {};
-  const Eigen::VectorXd y = xb - step.ba * step.y;
-  // The cones in their order: v at the moved one's place, or last; c last.
-  const int at = moved >= 0 ? moved : mb;
-  std::vector<int> cones = base;
-  cones.insert(cones.begin() + at, v);
-  Eigen::VectorXd x(rb + 1);
-  x.head(at) = y.head(at);
-  x[at] = step.y;
-  x.segment(at + 1, rb - at) = y.tail(rb - at);
-  return solution_of(cones, x);
+  const int rb = static_cast<int>(x.size());
+  Eigen::VectorXd a = Eigen::VectorXd::Ones(rb);  // the constant's entries stay 1
+  Grown g;
+  g.r = Eigen::RowVectorXd::Ones(rb);
+  for (int j = 0; j < mb; ++j) a[j] = model_.entry(base[j], v), g.r[j] = model_.entry(v, base[j]);
+  const double d = model_.entry(v, v);
+  g.ba = inverse * a;
+  g.s = d - g.r.dot(g.ba);
+  if (!pivot_ok(g.s, d)) return g;
+  const double y = (-model_.g()[v] - g.r.dot(x)) / g.s;
+  if (!std::isfinite(y)) return g;
+  // The grown solution, v's entry moved to index `at` among the cones (the constant last).
+  const Eigen::VectorXd rest = x - g.ba * y;
+  g.order.clear();  // grown index -> the bordered system's (rest, then v)
+  for (int j = 0; j <= rb; ++j) g.order.push_back(j < at ? j : j == at ? rb : j - 1);
+  Eigen::VectorXd bordered(rb + 1);
+  bordered << rest, y;
+  g.x = bordered(g.order);
+  g.cones = base;
+  g.cones.insert(g.cones.begin() + at, v);
+  g.ok = true;
+  return g;
+}
+
+LinearConeModel::Solution HeldSystem::with(int v, int moved) {
+  if (!valid_ || (moved >= 0 && !droppable(moved))) return {};
+  Eigen::MatrixXd inverse = inverse_;
+  Eigen::VectorXd x = x_;
+  std::vector<int> base = cones_;
+  if (moved >= 0) {
+    drop_index(moved, inverse, x);
+    base.erase(base.begin() + moved);
+  }
+  const Grown g = grow(inverse, x, base, v, moved >= 0 ? moved : static_cast<int>(base.size()));
+  return g.ok ? model_.solution(g.cones, g.x) : LinearConeModel::Solution{};
 }
 
 void HeldSystem::remove(int i) {
-  if (!valid_ || !(std::abs(inverse_(i, i)) > 0) || ++updates_ > kStepsBetweenFactorizations) {
+  if (!droppable(i) || ++updates_ > kStepsBetweenFactorizations) {
     std::vector<int> cones = cones_;
     cones.erase(cones.begin() + i);
     reset(cones);
@@ -399,50 +372,31 @@ void HeldSystem::add(int v, int moved) {
   } else {
     after.push_back(v);
   }
-  if (!valid_ || ++updates_ > kStepsBetweenFactorizations ||
-      (moved >= 0 && !(std::abs(inverse_(moved, moved)) > 0))) {
+  if (!valid_ || ++updates_ > kStepsBetweenFactorizations || (moved >= 0 && !droppable(moved))) {
     reset(after);
     return;
   }
-  if (moved >= 0) drop_index(moved, inverse_, x_);
   std::vector<int> base = cones_;
-  if (moved >= 0) base.erase(base.begin() + moved);
-  model_.solve_columns({v});
-  const int mb = static_cast<int>(base.size());
-  const int rb = static_cast<int>(x_.size());
-  Eigen::VectorXd a = Eigen::VectorXd::Ones(rb);
-  Eigen::RowVectorXd r = Eigen::RowVectorXd::Ones(rb);
-  for (int j = 0; j < mb; ++j) a[j] = model_.entry(base[j], v), r[j] = model_.entry(v, base[j]);
-  const Bordered step = border(inverse_, x_, r, a, model_.entry(v, v), -model_.g()[v]);
-  if (!step.ok) {
+  if (moved >= 0) {
+    drop_index(moved, inverse_, x_);
+    base.erase(base.begin() + moved);
+  }
+  const Grown g = grow(inverse_, x_, base, v, moved >= 0 ? moved : static_cast<int>(base.size()));
+  if (!g.ok) {
     reset(after);
     return;
   }
-  // The bordered inverse [B + B a r B / s, -B a / s; -r B / s, 1 / s], its new index moved to
-  // v's place among the cones.
-  const Eigen::RowVectorXd rb_row = r * inverse_;
-  Eigen::MatrixXd grown(rb + 1, rb + 1);
-  grown.topLeftCorner(rb, rb) = inverse_ + step.ba * rb_row / step.s;
-  grown.topRightCorner(rb, 1) = -step.ba / step.s;
-  grown.bottomLeftCorner(1, rb) = -rb_row / step.s;
-  grown(rb, rb) = 1 / step.s;
-  Eigen::VectorXd x(rb + 1);
-  x.head(rb) = x_ - step.ba * step.y;
-  x[rb] = step.y;
-  const int at = moved >= 0 ? moved : mb;
-  std::vector<int> order;  // new index -> grown's
-  for (int j = 0; j < rb + 1; ++j) {
-    if (j < at) {
-      order.push_back(j);
-    } else if (j == at) {
-      order.push_back(rb);
-    } else {
-      order.push_back(j - 1);
-    }
-  }
-  inverse_ = grown(order, order);
-  x_ = x(order);
-  cones_ = after;
+  // The bordered inverse [B + B a r B / s, -B a / s; -r B / s, 1 / s], in the grown order.
+  const long rb = x_.size();
+  const Eigen::RowVectorXd rb_row = g.r * inverse_;
+  Eigen::MatrixXd bordered(rb + 1, rb + 1);
+  bordered.topLeftCorner(rb, rb) = inverse_ + g.ba * rb_row / g.s;
+  bordered.topRightCorner(rb, 1) = -g.ba / g.s;
+  bordered.bottomLeftCorner(1, rb) = -rb_row / g.s;
+  bordered(rb, rb) = 1 / g.s;
+  inverse_ = bordered(g.order, g.order);
+  x_ = g.x;
+  cones_ = g.cones;
 }
 
 }  // namespace ricci

@@ -9,6 +9,7 @@
 // judged without forming u over the vertices, which costs |C| vertex-long passes.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -23,6 +24,10 @@ namespace ricci {
 Eigen::VectorXd normalized_vertex_areas(const CompactMesh& mesh);
 //! sqrt(sum_i A_i (u_i - mean u)^2), the mean A-weighted: D of ricci/flow/cone_placement.h.
 double area_weighted_deviation(const Eigen::VectorXd& area, const Eigen::VectorXd& u);
+
+//! Reciprocal condition number below which a held system counts as singular (no flat metric
+//! with u = 0 at its cones); the cones of a real search are far from it.
+inline constexpr double kSingular = 1e-12;
 
 class LinearConeModel {
  public:
@@ -53,6 +58,11 @@ class LinearConeModel {
 
   //! D of u = g + G k (+ c) for a cone set's curvatures k, from the area-weighted sums: O(|C|^2).
   double distortion(const std::vector<int>& cones, const Eigen::VectorXd& k) const;
+  //! The held system of a cone set (its columns solved): the matrix of R(e_j)[c_i], bordered on
+  //! a closed surface by the constant c (sum k = 2 pi chi), and its right-hand side -g at the
+  //! cones; the solution (k, c) of a solve of it, with its D.
+  std::pair<Eigen::MatrixXd, Eigen::VectorXd> system(const std::vector<int>& cones);
+  Solution solution(const std::vector<int>& cones, const Eigen::VectorXd& x) const;
   //! R(e_column)[row] (column's column solved): the held system's entry.
   double entry(int row, int column) const { return columns_(row, slot_of_[column]); }
   //! g per vertex: u with no cone.
@@ -105,18 +115,28 @@ class HeldSystem {
   LinearConeModel::Solution solution() const;
   //! The set without its i-th cone: O(|C|) (and its D, O(|C|^2)).
   LinearConeModel::Solution without(int i) const;
-  //! The set with v added last; with its i-th cone moved to v (i >= 0). Columns of v solved.
-  LinearConeModel::Solution with(int v, int moved = -1) const;
+  //! The set with v added last; with its i-th cone moved to v (moved = i). Solves v's column.
+  LinearConeModel::Solution with(int v, int moved = -1);
   //! Changes the set as `with` and `without` solve it.
   void add(int v, int moved = -1);
   void remove(int i);
 
  private:
-  // The bordered system's size and right-hand side for the cones.
-  Eigen::VectorXd rhs(const std::vector<int>& cones) const;
-  LinearConeModel::Solution solution_of(const std::vector<int>& cones,
-                                        const Eigen::VectorXd& x) const;
-  // inverse without its index i (Schur complement), and x without it.
+  // The set with v bordered onto the system of `base` (inverse, solution x), v's entry moved to
+  // index `at` among the cones: its cones, solution, and what the inverse's bordering needs.
+  struct Grown {
+    bool ok = false;
+    std::vector<int> cones;
+    Eigen::VectorXd x, ba;  // ba: B a
+    Eigen::RowVectorXd r;
+    double s = 0;
+    std::vector<int> order;  // grown index -> bordered system's (base, then v)
+  };
+  Grown grow(const Eigen::MatrixXd& inverse, const Eigen::VectorXd& x, const std::vector<int>& base,
+             int v, int at);
+  // Whether the set stays regular without its i-th cone.
+  bool droppable(int i) const;
+  // The inverse without its index i (Schur complement), and x without it.
   void drop_index(int i, Eigen::MatrixXd& inverse, Eigen::VectorXd& x) const;
 
   LinearConeModel& model_;

@@ -260,6 +260,19 @@ FlowTotals cost_of(const FlowTotals& attempt) {
   return cost;
 }
 
+// A cone placement's cost added to another's.
+void add_placement_cost(ConePlacement& to, const ConePlacement& from) {
+  to.factorizations += from.factorizations;
+  to.back_solves += from.back_solves;
+  to.seconds += from.seconds;
+}
+
+// What an attempt not delivered cost, its flows and its cone placement, added to these.
+void add_cost(FlowTotals& totals, ConePlacement& placement, const Uniformization& attempt) {
+  totals.add(cost_of(attempt.totals));
+  add_placement_cost(placement, attempt.atlas.placement);
+}
+
 // `instead`, delivered in place of `attempt`, whose cost counts before its own.
 Uniformization delivered_instead(const Uniformization& attempt, Uniformization instead) {
   FlowTotals totals = cost_of(attempt.totals);
@@ -322,20 +335,15 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
   }
   if (!last) return run;
   if (last->result.stop == FlowStop::Cancelled) return std::move(*last);
-  // What the attempts that are not delivered cost: their flows and their placements.
-  const auto add_cost = [&](Uniformization& to, const Uniformization& attempt) {
-    to.totals.add(cost_of(attempt.totals));
-    ConePlacement& p = to.atlas.placement;
-    p.factorizations += attempt.atlas.placement.factorizations;
-    p.back_solves += attempt.atlas.placement.back_solves;
-    p.seconds += attempt.atlas.placement.seconds;
+  const auto add_cost_to = [](Uniformization& to, const Uniformization& attempt) {
+    add_cost(to.totals, to.atlas.placement, attempt);
   };
   if (last->valid()) {
     Uniformization& delivered = *last;
     const FlowTotals own = delivered.totals;
     delivered.totals = FlowTotals();
-    add_cost(delivered, run);
-    for (const Uniformization& f : failed) add_cost(delivered, f);
+    add_cost_to(delivered, run);
+    for (const Uniformization& f : failed) add_cost_to(delivered, f);
     delivered.totals.add(own);
     std::string why = "with the cones for " + attempt(run);
     for (const Uniformization& f : failed) why += "; with those for " + attempt(f);
@@ -347,7 +355,7 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
   failed.push_back(std::move(*last));
   std::string tried;
   for (const Uniformization& f : failed) {
-    add_cost(run, f);
+    add_cost_to(run, f);
     tried += "; with the cones placed again for " + attempt(f);
   }
   (run.converged() ? run.layout_failure : run.result.failure) += tried;
@@ -379,13 +387,7 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
   ConePlacement placed;
   std::ostringstream why;
   why.precision(3);
-  const auto spend = [&](const Uniformization& run) {
-    spent.add(cost_of(run.totals));
-    placed.factorizations += run.atlas.placement.factorizations;
-    placed.back_solves += run.atlas.placement.back_solves;
-    placed.seconds += run.atlas.placement.seconds;
-  };
-  bool retried = false;
+  bool retried = false, replaced = false;
   // Each attempt's bound from the last attempt's, which need not be the best one.
   double bound = best.atlas.bound, linear = best.atlas.placement.distortion;
   double distortion = best.atlas.distortion;
@@ -406,10 +408,11 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
       distortion = again.atlas.distortion, cones = again.atlas.placement.cones.size();
     }
     if (usable && again.atlas.distortion < best.atlas.distortion) {
-      spend(best);
+      add_cost(spent, placed, best);
       best = std::move(again);
+      replaced = true;
     } else {
-      spend(again);
+      add_cost(spent, placed, again);
       if (!usable) break;
     }
   }
@@ -417,14 +420,11 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
   const FlowTotals own = best.totals;
   best.totals = spent;
   best.totals.add(own);
-  ConePlacement& p = best.atlas.placement;
-  p.factorizations += placed.factorizations;
-  p.back_solves += placed.back_solves;
-  p.seconds += placed.seconds;
-  if (best.atlas.bound < asked) {
+  add_placement_cost(best.atlas.placement, placed);
+  if (replaced) {
     if (!best.atlas.bound_instead.empty()) why << "; " << best.atlas.bound_instead;
     best.atlas.bound_instead = why.str();
-    within_bound_asked(request, p);
+    within_bound_asked(request, best.atlas.placement);
   }
   return best;
 }

@@ -1,6 +1,6 @@
-#pragma once
 // What both routes of the common subdivision share: the input's vertices placed first, a face of
 // the flips' triangulation cut into pieces by the input's edges, and points on a laid-out side.
+#pragma once
 
 #include <array>
 #include <vector>

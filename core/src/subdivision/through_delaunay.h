@@ -1,6 +1,6 @@
-#pragma once
 // The common subdivision of Yamabe (E2, S2) with isometric flips first: the input cut by its
 // intrinsic Delaunay triangulation cut by the flow's final triangulation.
+#pragma once
 
 #include <cstddef>
 

@@ -93,9 +93,9 @@ struct AtlasResult {
   //! angles, the linear model's figures NaN.
   ConePlacement placement;
   bool user_cones = false;  //!< the cones are the user's, not placed
-  //! The distortion bound the cones were placed for: the one asked, or a tighter one where with
-  //! the cones of the one asked the flow or the layout failed, or the exact flat metric's D
-  //! delivered faces' D exceeded the bound asked (bound_instead says why).
+  //! The distortion bound the cones were placed for (less the placement's 2 % margin): the one
+  //! asked, or a tighter one where with the cones of the one asked the flow or the layout
+  //! failed, or the delivered faces' D exceeded the bound asked (bound_instead says why).
   double bound = 0;
   std::string bound_instead;
   double bound_asked = 0;  //!< the bound the request asked for
