@@ -221,8 +221,8 @@ TEST(Atlas, ACadPartWhoseFlowStallsWithItsConesGetsThoseOfATighterBound) {
   const std::string report = temp("part.json");
   const Atlas a = run_atlas(part, "--report " + report);
   expect_valid_atlas(a, part, 0.2);
-  EXPECT_NE(a.summary.find("The cones were placed for D <= 0.1, a tighter bound: with the cones "
-                           "for D <= 0.2"),
+  EXPECT_NE(a.summary.find("The cones were placed again, for D <= 0.1: with the cones for D <= "
+                           "0.2"),
             std::string::npos)
       << a.summary;
   const std::string json = slurp(report);

@@ -232,7 +232,7 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
            p.distortion, ")");
     }
     if (!a.bound_instead.empty()) {
-      line("The cones were placed for D <= ", a.bound, ", a tighter bound: ", a.bound_instead);
+      line("The cones were placed again, for D <= ", a.bound, ": ", a.bound_instead);
     }
   }
   if (!run.layout_failure.empty()) line("Invalid layout: ", run.layout_failure);
