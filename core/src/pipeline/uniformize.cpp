@@ -395,17 +395,23 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
     return run.preset == TargetPreset::Atlas && !run.atlas.user_cones && run.valid() &&
            run.atlas.placement.bound_reached && run.atlas.distortion > asked;
   };
-  // What the attempts not delivered cost, in the order they were spent, and why the one
-  // delivered has the cones of a tighter bound.
+  // What the attempts not delivered cost, in the order they were spent, and what each gave.
   FlowTotals spent;
   ConePlacement placed;
-  std::ostringstream why;
-  why.precision(3);
-  bool retried = false, replaced = false;
+  std::vector<std::string> gave;  // per attempt, the first run's first
+  size_t chosen = 0;              // the attempt delivered
+  const auto describe = [](const Uniformization& run) {
+    std::ostringstream s;
+    s.precision(3);
+    if (!run.valid()) return "with the cones for " + attempt(run);
+    s << "with the cones for D <= " << run.atlas.bound << " (" << run.atlas.placement.cones.size()
+      << " cones) the delivered faces' D was " << run.atlas.distortion;
+    return s.str();
+  };
+  gave.push_back(describe(best));
   // Each attempt's bound from the last attempt's, which need not be the best one.
   double bound = best.atlas.bound, linear = best.atlas.placement.distortion;
   double distortion = best.atlas.distortion;
-  size_t cones = best.atlas.placement.cones.size();
   for (int k = 0; k < kDistortionRetries && above(best) && distortion > asked; ++k) {
     UniformizationOptions tighter = request;
     tighter.cone_placement.distortion_bound =
@@ -413,31 +419,33 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
     Uniformization again = atlas_within_bounds(mesh, tighter);
     again.atlas.bound_asked = asked;
     if (again.result.stop == FlowStop::Cancelled) return again;
-    why << (retried ? "; " : "") << "with the cones for D <= " << bound << " (" << cones
-        << " cones) the delivered faces' D was " << distortion;
-    retried = true;
+    gave.push_back(describe(again));
     const bool usable = again.valid() && again.atlas.placement.bound_reached;
     if (usable) {
       bound = again.atlas.bound, linear = again.atlas.placement.distortion;
-      distortion = again.atlas.distortion, cones = again.atlas.placement.cones.size();
+      distortion = again.atlas.distortion;
     }
     if (usable && again.atlas.distortion < best.atlas.distortion) {
       add_cost(spent, placed, best);
       best = std::move(again);
-      replaced = true;
+      chosen = gave.size() - 1;
     } else {
       add_cost(spent, placed, again);
       if (!usable) break;
     }
   }
-  if (!retried) return best;
+  if (gave.size() == 1) return best;
   const FlowTotals own = best.totals;
   best.totals = spent;
   best.totals.add(own);
   add_placement_cost(best.atlas.placement, placed);
-  if (replaced) {
-    if (!best.atlas.bound_instead.empty()) why << "; " << best.atlas.bound_instead;
-    best.atlas.bound_instead = why.str();
+  if (chosen > 0) {
+    std::string why;
+    for (size_t a = 0; a < gave.size(); ++a) {
+      if (a != chosen) why += (why.empty() ? "" : "; ") + gave[a];
+    }
+    if (!best.atlas.bound_instead.empty()) why += "; " + best.atlas.bound_instead;
+    best.atlas.bound_instead = why;
     within_bound_asked(request, best.atlas.placement);
   }
   return best;
