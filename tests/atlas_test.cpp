@@ -173,7 +173,7 @@ void expect_valid_atlas(const Atlas& a, const std::string& input, double bound) 
     ASSERT_NE(d, std::string::npos);
     const double reported = std::stod(a.summary.substr(d + said.size(), 24));
     EXPECT_NEAR(face_distortion(a), reported, 5e-3 * reported);
-    EXPECT_LE(face_distortion(a), 1.25 * bound);
+    EXPECT_LE(face_distortion(a), bound * (1 + 1e-3));
   }
   ASSERT_TRUE(a.ply.has_face("ricci_chart"));
   for (double k : a.ply.face.at("ricci_chart")) EXPECT_GE(k, 0);
@@ -267,7 +267,9 @@ TEST(Atlas, PartsWhoseFacesExceedTheBoundGetTheConesOfATighterOne) {
   // SUMO's tram: 142 small parts, most flowed on their doubles. The linear model's D of their
   // cones is within 0.2, their delivered faces' D was up to 0.53; above the bound the cones are
   // placed again for a bound scaled down by the excess. Every part's D (the report's, one per
-  // part) is then within the bound, or the summary warns of it, part by part.
+  // part) is then within the bound, and none is warned of. Two parts of 26 boundary loops were
+  // at 0.246 while their doubles flowed in the input triangulation's class, whose flat metric at
+  // u = 0 is not the input's (pieces of its obtuse faces drawn at twice their area).
   const std::string tram = std::string(RICCI_REAL_MESH_DIR) + "/sumo-tram.obj";
   const std::string report = temp("tram.json");
   const Atlas a = run_atlas(tram, "--report " + report);
@@ -294,8 +296,8 @@ TEST(Atlas, PartsWhoseFacesExceedTheBoundGetTheConesOfATighterOne) {
     ++warned;
   }
   EXPECT_EQ(warned, above);
-  EXPECT_LE(above, 4);  // 2 measured, flowed on their doubles (0.246)
-  EXPECT_LE(worst, 0.25);
+  EXPECT_EQ(above, 0);
+  EXPECT_LE(worst, 0.2);
   EXPECT_NE(json.find("the delivered faces' D was"), std::string::npos);
 }
 #endif
