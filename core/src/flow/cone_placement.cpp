@@ -100,14 +100,7 @@ class Search {
   // cone (v < 0): from s's held system where s has many cones.
   State step(const State& s, int v, int moved = -1) {
     const size_t m = s.cones.size();
-    std::vector<int> cones = s.cones;
-    if (v < 0) {
-      cones.erase(cones.begin() + moved);
-    } else if (moved >= 0) {
-      cones[static_cast<size_t>(moved)] = v;
-    } else {
-      cones.push_back(v);
-    }
+    std::vector<int> cones = cone_set_step(s.cones, v, moved);
     if (m < kIncrementalFrom || !s.solution.ok) return evaluate(std::move(cones));
     if (!system_.valid() || system_.cones() != s.cones) system_.reset(s.cones);
     if (!system_.valid()) return evaluate(std::move(cones));

@@ -240,6 +240,17 @@ Eigen::VectorXd LinearConeModel::prescribed(const std::vector<int>& cones,
   return u;
 }
 
+std::vector<int> cone_set_step(std::vector<int> cones, int v, int moved) {
+  if (v < 0) {
+    cones.erase(cones.begin() + moved);
+  } else if (moved >= 0) {
+    cones[static_cast<size_t>(moved)] = v;
+  } else {
+    cones.push_back(v);
+  }
+  return cones;
+}
+
 namespace {
 
 // Steps a held system takes between factorizations: each adds rounding of the order of its
@@ -306,9 +317,7 @@ LinearConeModel::Solution HeldSystem::without(int i) const {
   if (!droppable(i)) return {};
   const std::vector<int> keep = all_but(static_cast<int>(x_.size()), i);
   const Eigen::VectorXd x = x_(keep) - inverse_(keep, i) * (x_[i] / inverse_(i, i));
-  std::vector<int> cones = cones_;
-  cones.erase(cones.begin() + i);
-  return model_.solution(cones, x);
+  return model_.solution(cone_set_step(cones_, -1, i), x);
 }
 
 HeldSystem::Grown HeldSystem::grow(const Eigen::MatrixXd& inverse, const Eigen::VectorXd& x,
@@ -356,9 +365,7 @@ LinearConeModel::Solution HeldSystem::with(int v, int moved) {
 
 void HeldSystem::remove(int i) {
   if (!droppable(i) || ++updates_ > kStepsBetweenFactorizations) {
-    std::vector<int> cones = cones_;
-    cones.erase(cones.begin() + i);
-    reset(cones);
+    reset(cone_set_step(cones_, -1, i));
     return;
   }
   drop_index(i, inverse_, x_);
@@ -366,12 +373,7 @@ void HeldSystem::remove(int i) {
 }
 
 void HeldSystem::add(int v, int moved) {
-  std::vector<int> after = cones_;
-  if (moved >= 0) {
-    after[static_cast<size_t>(moved)] = v;
-  } else {
-    after.push_back(v);
-  }
+  const std::vector<int> after = cone_set_step(cones_, v, moved);
   if (!valid_ || ++updates_ > kStepsBetweenFactorizations || (moved >= 0 && !droppable(moved))) {
     reset(after);
     return;

@@ -100,6 +100,10 @@ class LinearConeModel {
   bool factored_ = false;
 };
 
+//! A cone set one step away: with v added last (v >= 0, moved < 0), with its i-th cone moved to
+//! v (moved = i, v >= 0: it keeps its place), or without its i-th cone (v < 0, moved = i).
+std::vector<int> cone_set_step(std::vector<int> cones, int v, int moved);
+
 //! The held system of one cone set (LinearConeModel::held's), kept as its inverse, so that a set
 //! that differs from it by one cone (one added, one left out, one moved elsewhere) is solved in
 //! O(|C|^2) rather than factored in O(|C|^3); the set itself is changed by such steps at that
