@@ -127,6 +127,95 @@ TEST(Charts, AFlatGridCutAcrossIsTwoExactChartsWithoutOverlap) {
   }
 }
 
+// The flat grid cut along x = 0.5 into two charts, developed from its own lengths.
+struct CutGrid {
+  CompactMesh mesh;
+  std::vector<char> cut;
+  Charts charts;
+};
+CutGrid cut_grid(int n) {
+  CutGrid g{square_grid(n), {}, {}};
+  g.cut.assign(g.mesh.num_edges(), 0);
+  for (int e = 0; e < g.mesh.num_edges(); ++e) {
+    const auto [a, b] = g.mesh.edge_vertices(e);
+    g.cut[e] = !g.mesh.is_boundary_edge(e) && std::abs(g.mesh.positions()[a].x() - 0.5) < 1e-12 &&
+               std::abs(g.mesh.positions()[b].x() - 0.5) < 1e-12;
+  }
+  g.charts = lay_out_charts(g.mesh, g.mesh.input_lengths(), g.cut);
+  return g;
+}
+
+// Every corner of vertex v (in every chart) moved by d.
+void move_vertex(const CutGrid& g, int v, const Eigen::Vector2d& d, Charts& charts) {
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      if (g.mesh.faces()[f][c] == v) charts.corners[f][c] += d;
+    }
+  }
+}
+
+TEST(Charts, AHarmonicInsideOfAFlatChartIsItsDevelopment) {
+  // Developed exactly, each chart is an isometric copy of its half of the grid; its inside moved
+  // and then redrawn harmonic goes back there (the cotangent Laplacian is exact on linear maps).
+  const CutGrid g = cut_grid(8);
+  Charts moved = g.charts;
+  int inside = 0;
+  for (int v = 0; v < g.mesh.num_vertices(); ++v) {
+    const Eigen::Vector3d& p = g.mesh.positions()[v];
+    if (g.mesh.is_boundary_vertex(v) || std::abs(p.x() - 0.5) < 1e-12) continue;
+    move_vertex(g, v, Eigen::Vector2d(0.02 * std::sin(7.0 * v), 0.02 * std::cos(5.0 * v)), moved);
+    ++inside;
+  }
+  ASSERT_GT(inside, 20);
+  const int redrawn = draw_harmonic_insides(g.mesh, g.mesh.positions(), g.cut,
+                                            std::vector<char>(moved.num_charts, 1), moved);
+  EXPECT_EQ(redrawn, 2);
+  double error = 0;
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      error = std::max(error, (moved.corners[f][c] - g.charts.corners[f][c]).norm());
+    }
+  }
+  EXPECT_LT(error, 1e-12);
+  // Only the charts asked for are redrawn.
+  Charts one = g.charts;
+  move_vertex(g, 10, Eigen::Vector2d(0.01, 0), one);
+  const Charts before = one;
+  std::vector<char> which(one.num_charts, 0);
+  which[one.chart[0]] = 1;
+  draw_harmonic_insides(g.mesh, g.mesh.positions(), g.cut, which, one);
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    if (one.chart[f] == one.chart[0]) continue;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(one.corners[f][c], before.corners[f][c]);
+  }
+}
+
+TEST(Charts, AChartWhoseHarmonicInsideWouldTurnKeepsItsDrawing) {
+  // A border corner pulled far across its chart: the harmonic inside of that border turns faces
+  // over, so the chart stays as it was drawn; the other chart is redrawn.
+  const CutGrid g = cut_grid(8);
+  Charts pulled = g.charts;
+  int corner = -1;  // a vertex on the outer border, not on the cut: (0, 0.5)
+  for (int v = 0; v < g.mesh.num_vertices(); ++v) {
+    const Eigen::Vector3d& p = g.mesh.positions()[v];
+    if (std::abs(p.x()) < 1e-12 && std::abs(p.y() - 0.5) < 1e-12) corner = v;
+  }
+  ASSERT_GE(corner, 0);
+  move_vertex(g, corner, Eigen::Vector2d(3.0, 0.1), pulled);
+  const Charts before = pulled;
+  const int redrawn = draw_harmonic_insides(g.mesh, g.mesh.positions(), g.cut,
+                                            std::vector<char>(pulled.num_charts, 1), pulled);
+  EXPECT_EQ(redrawn, 1);
+  int chart = -1;
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    for (int v : g.mesh.faces()[f]) chart = v == corner ? pulled.chart[f] : chart;
+  }
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    if (pulled.chart[f] != chart) continue;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(pulled.corners[f][c], before.corners[f][c]);
+  }
+}
+
 // A flat strip of n x 1 squares whose metric wraps round more than a full turn: its lengths are
 // those of an annular sector of angle `turn` (radii 1 and 2), so its layout overlaps itself once
 // turn > 2 pi.

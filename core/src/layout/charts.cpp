@@ -105,6 +105,22 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& leng
   return lay_out_charts(mesh, sides, cut);
 }
 
+std::vector<int> chart_wedges(const Triangulation& mesh, const std::vector<char>& cut) {
+  const int nf = mesh.num_faces();
+  detail::UnionFind wedges(3 * nf);
+  for (int h = 0; h < 3 * nf; ++h) {
+    const int t = mesh.twin(h);
+    if (t < h || cut[mesh.face_edge(h / 3, h % 3)]) continue;
+    for (int v : {mesh.halfedge_tail(h), mesh.halfedge_head(h)}) {
+      wedges.unite(3 * (h / 3) + detail::corner_of(mesh, h / 3, v),
+                   3 * (t / 3) + detail::corner_of(mesh, t / 3, v));
+    }
+  }
+  std::vector<int> wedge(3 * nf);
+  for (int k = 0; k < 3 * nf; ++k) wedge[k] = wedges.find(k);
+  return wedge;
+}
+
 Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<double, 3>>& sides,
                       const std::vector<char>& cut) {
   const int nf = mesh.num_faces();
@@ -151,26 +167,15 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<do
       reach_from(g);
     }
   }
-  // Each wedge (corners of a vertex joined across uncut edges) at the mean of its corners.
-  detail::UnionFind wedges(3 * nf);
-  for (int h = 0; h < 3 * nf; ++h) {
-    const int t = mesh.twin(h);
-    if (t < h || cut[mesh.face_edge(h / 3, h % 3)]) continue;
-    for (int v : {mesh.halfedge_tail(h), mesh.halfedge_head(h)}) {
-      wedges.unite(3 * (h / 3) + detail::corner_of(mesh, h / 3, v),
-                   3 * (t / 3) + detail::corner_of(mesh, t / 3, v));
-    }
-  }
+  // Each wedge at the mean of its corners.
+  const std::vector<int> wedge = chart_wedges(mesh, cut);
   std::vector<Eigen::Vector2d> sum(3 * nf, Eigen::Vector2d::Zero());
   std::vector<int> count(3 * nf, 0);
   for (int k = 0; k < 3 * nf; ++k) {
-    sum[wedges.find(k)] += p[k / 3][k % 3];
-    ++count[wedges.find(k)];
+    sum[wedge[k]] += p[k / 3][k % 3];
+    ++count[wedge[k]];
   }
-  for (int k = 0; k < 3 * nf; ++k) {
-    const int w = wedges.find(k);
-    p[k / 3][k % 3] = sum[w] / count[w];
-  }
+  for (int k = 0; k < 3 * nf; ++k) p[k / 3][k % 3] = sum[wedge[k]] / count[wedge[k]];
   for (int h = 0; h < 3 * nf; ++h) {
     const double l = sides[h / 3][h % 3];
     const double drawn = (p[h / 3][(h % 3 + 1) % 3] - p[h / 3][(h % 3 + 2) % 3]).norm();

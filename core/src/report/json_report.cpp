@@ -146,6 +146,7 @@ std::string layout_json(const Uniformization& run) {
       << ", \"back_solves\": " << p.back_solves << ", \"relocations\": " << p.relocations
       << ", \"dropped\": " << p.dropped << ", \"seconds\": " << number(p.seconds) << "}"
       << ", \"charts\": " << a.num_charts << ", \"splits\": " << a.splits
+      << ", \"harmonic_charts\": " << a.harmonic_charts
       << ", \"seam_length\": " << number(a.seam_length) << ", \"seam_edges\": " << a.seam_edges
       << ", \"overlapping_faces\": " << a.overlapping_faces
       << ", \"utilization\": " << number(a.utilization) << "}";

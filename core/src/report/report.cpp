@@ -221,8 +221,13 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
             << p.distortion << "; without cones " << p.distortion_without_cones
             << "), max |u - mean u| " << p.max_deviation;
     }
+    std::ostringstream harmonic;
+    if (a.harmonic_charts > 0) {
+      harmonic << "; " << a.harmonic_charts << " of the common subdivision drawn harmonic inside "
+               << "their border";
+    }
     line("Atlas: ", cones.str(), "; ", a.num_charts, " charts (", a.splits,
-         " splits of overlapping ones), seams ", a.seam_length, " sqrt(area), ",
+         " splits of overlapping ones", harmonic.str(), "), seams ", a.seam_length, " sqrt(area), ",
          a.overlapping_faces, " overlapping faces; packed: utilization ", a.utilization);
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
     // The linear model's D is a model's: the exact flat metric of its cones can exceed the bound.

@@ -36,6 +36,19 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& leng
 Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<double, 3>>& sides,
                       const std::vector<char>& cut);
 
+//! Per face corner (3 f + c), its wedge: a representative of the corners of its vertex that are
+//! joined across uncut edges (the corners one position of a chart stands for).
+std::vector<int> chart_wedges(const Triangulation& mesh, const std::vector<char>& cut);
+
+//! Redraws the inside of every chart whose flag in `which` is set as the harmonic map of its
+//! border as drawn: the wedges of the border (at a seam or a boundary edge) stay, the others go
+//! where the cotangent Laplacian of the faces' 3D shapes (`positions`) vanishes, the map of least
+//! conformal energy with that border. A chart keeps its drawing where the redrawn one turns a face
+//! over or overlaps itself, or a face of it has no 3D area. Returns the charts redrawn.
+int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Vector3d>& positions,
+                          const std::vector<char>& cut, const std::vector<char>& which,
+                          Charts& charts);
+
 //! Pairs of faces of one chart whose interiors overlap (beyond a relative tolerance of 1e-9 of
 //! the chart's size): the whole chart tested, not only neighbours, through a hierarchy of the
 //! faces' bounding boxes. Each pair once, smaller face first; at most max_pairs of them

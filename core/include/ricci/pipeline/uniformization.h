@@ -114,6 +114,8 @@ struct AtlasResult {
   //! Charts split because they overlapped themselves, and the splits.
   int charts_split = 0, splits = 0;
   int halvings = 0;  //!< long charts halved across their long axis (for the packing)
+  //! Charts of a common subdivision whose inside is drawn as the harmonic map of their border.
+  int harmonic_charts = 0;
   //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
   std::vector<std::array<Eigen::Vector2d, 3>> texture;
   double utilization = 0;

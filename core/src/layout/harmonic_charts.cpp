@@ -1,0 +1,116 @@
+// The inside of a chart redrawn as the harmonic map of its border (ricci/layout/charts.h).
+//
+// A common subdivision's pieces are drawn one by one from the flowed metric, and their new
+// vertices sit where the flow's crossings put them; with the chart's border kept, the map of least
+// conformal energy (sum over the faces of their cotangent-weighted squared sides, less the drawn
+// area, which the border fixes) is the one whose wedges off the border are each the
+// cotangent-weighted mean of their neighbours. The cotangent Laplacian is the Dirichlet energy of
+// piecewise linear functions: positive semi-definite on every mesh, definite once the border is
+// held, so one Cholesky factorization serves every chart redrawn.
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+#include <Eigen/Sparse>
+
+#include "ricci/layout/charts.h"
+#include "ricci/linear/linear_solver.h"
+
+namespace ricci {
+
+namespace {
+
+double signed_area(const std::array<Eigen::Vector2d, 3>& t) {
+  const Eigen::Vector2d a = t[1] - t[0], b = t[2] - t[0];
+  return 0.5 * (a.x() * b.y() - a.y() * b.x());
+}
+
+}  // namespace
+
+int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Vector3d>& positions,
+                          const std::vector<char>& cut, const std::vector<char>& which,
+                          Charts& charts) {
+  const int nf = mesh.num_faces();
+  const std::vector<int> wedge = chart_wedges(mesh, cut);
+  std::vector<char> redrawn(charts.num_charts, 0);
+  for (int k = 0; k < charts.num_charts; ++k) redrawn[k] = which[k];
+  // The cotangent of each corner's 3D angle; a face of no 3D area leaves its chart as drawn.
+  std::vector<std::array<double, 3>> cot(nf);
+  for (int f = 0; f < nf; ++f) {
+    const auto& t = mesh.faces()[f];
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d a = positions[t[(c + 1) % 3]] - positions[t[c]];
+      const Eigen::Vector3d b = positions[t[(c + 2) % 3]] - positions[t[c]];
+      const double twice_area = a.cross(b).norm();
+      cot[f][c] = a.dot(b) / twice_area;
+      if (!(twice_area > 0) || !std::isfinite(cot[f][c])) redrawn[charts.chart[f]] = 0;
+    }
+  }
+  // The border's wedges: those at a seam or a boundary edge.
+  std::vector<char> border(3 * nf, 0);
+  for (int f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int h = 3 * f + c;  // the side opposite corner c: its two ends are on it
+      if (mesh.twin(h) >= 0 && !cut[mesh.face_edge(f, c)]) continue;
+      border[wedge[3 * f + (c + 1) % 3]] = border[wedge[3 * f + (c + 2) % 3]] = 1;
+    }
+  }
+  std::vector<int> unknown(3 * nf, -1);
+  int n = 0;
+  for (int k = 0; k < 3 * nf; ++k) {
+    if (redrawn[charts.chart[k / 3]] && wedge[k] == k && !border[k]) unknown[k] = n++;
+  }
+  if (n == 0) return 0;
+  // sum over the sides of w (x_i - x_j)^2, w half the cotangent of the angle opposite.
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
+  for (int f = 0; f < nf; ++f) {
+    if (!redrawn[charts.chart[f]]) continue;
+    for (int c = 0; c < 3; ++c) {
+      const double w = 0.5 * cot[f][c];
+      const int p = 3 * f + (c + 1) % 3, q = 3 * f + (c + 2) % 3;
+      const int i = unknown[wedge[p]], j = unknown[wedge[q]];
+      if (i >= 0) entries.emplace_back(i, i, w);
+      if (j >= 0) entries.emplace_back(j, j, w);
+      if (i >= 0 && j >= 0) {
+        entries.emplace_back(i, j, -w), entries.emplace_back(j, i, -w);
+      } else if (i >= 0) {
+        rhs.row(i) += w * charts.corners[f][(c + 2) % 3].transpose();
+      } else if (j >= 0) {
+        rhs.row(j) += w * charts.corners[f][(c + 1) % 3].transpose();
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> laplacian(n, n);
+  laplacian.setFromTriplets(entries.begin(), entries.end());
+  LinearSolver solver(LinearSolverKind::Cholmod);
+  solver.analyze(laplacian);
+  if (!solver.factorize(laplacian)) return 0;
+  const Eigen::MatrixXd x = solver.solve(rhs);
+  if (!x.allFinite()) return 0;
+
+  // Redrawn, then each chart checked: no face turned over, no two overlapping.
+  Charts harmonic = charts;
+  for (int k = 0; k < 3 * nf; ++k) {
+    const int i = unknown[wedge[k]];
+    if (i >= 0) harmonic.corners[k / 3][k % 3] = x.row(i).transpose();
+  }
+  for (int f = 0; f < nf; ++f) {
+    if (redrawn[charts.chart[f]] && !(signed_area(harmonic.corners[f]) > 0)) {
+      redrawn[charts.chart[f]] = 0;
+    }
+  }
+  std::vector<char> unchanged(charts.num_charts, 0);
+  for (int k = 0; k < charts.num_charts; ++k) unchanged[k] = !redrawn[k];
+  for (const auto& [f, g] : overlapping_faces(harmonic, 0, unchanged)) {
+    redrawn[harmonic.chart[f]] = 0;
+  }
+  int count = 0;
+  for (int f = 0; f < nf; ++f) {
+    if (redrawn[charts.chart[f]]) charts.corners[f] = harmonic.corners[f];
+  }
+  for (int k = 0; k < charts.num_charts; ++k) count += redrawn[k];
+  return count;
+}
+
+}  // namespace ricci
