@@ -218,8 +218,8 @@ TEST(Atlas, ClosedGenusZeroRealMeshWithFlipsIsOneValidAtlas) {
   expect_valid_atlas(a, cow, 0.2);
   EXPECT_NE(a.summary.find("Atlas: "), std::string::npos) << a.summary;
   // Its charts' insides drawn harmonic (the pieces as the flow's crossings place them: QC p95
-  // 1.376): QC p95 on the delivered faces at or below BFF's with 57 cones, 1.348 (docs/atlas.md,
-  // measured by scripts/measure_layouts.py).
+  // 1.376): QC p95 on the delivered faces (55 cones) at or below BFF's with 57, 1.348
+  // (docs/atlas.md, measured by scripts/measure_layouts.py).
   EXPECT_NE(a.summary.find("drawn harmonic inside their border"), std::string::npos) << a.summary;
   EXPECT_LE(percentile_95(quasi_conformal(a)), 1.348);
 }
