@@ -25,6 +25,43 @@ double signed_area(const std::array<Eigen::Vector2d, 3>& t) {
   return 0.5 * (a.x() * b.y() - a.y() * b.x());
 }
 
+// The ratio of the singular values of the affine map from a 3D triangle (in a frame of its
+// plane) to a drawn one.
+double quasi_conformal(const std::array<Eigen::Vector3d, 3>& p,
+                       const std::array<Eigen::Vector2d, 3>& q) {
+  const Eigen::Vector3d e1 = p[1] - p[0], e2 = p[2] - p[0];
+  const Eigen::Vector3d x = e1.normalized(), y = e1.cross(e2).cross(e1).normalized();
+  Eigen::Matrix2d from, to;
+  from << e1.dot(x), e2.dot(x), e1.dot(y), e2.dot(y);
+  to << q[1] - q[0], q[2] - q[0];
+  const Eigen::Matrix2d j = to * from.inverse();
+  // |conformal part| +- |anti-conformal part| are the singular values of a 2 x 2 matrix.
+  const double conformal = std::hypot(j(0, 0) + j(1, 1), j(1, 0) - j(0, 1)) / 2;
+  const double anti = std::hypot(j(0, 0) - j(1, 1), j(1, 0) + j(0, 1)) / 2;
+  return (conformal + anti) / std::abs(conformal - anti);
+}
+
+// Per chart: the 95th percentile of its faces' quasi-conformal ratios as drawn in `corners`.
+std::vector<double> chart_qc_p95(const Triangulation& mesh,
+                                 const std::vector<Eigen::Vector3d>& positions,
+                                 const Charts& charts, const std::vector<char>& which) {
+  std::vector<std::vector<double>> qc(charts.num_charts);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    if (!which[charts.chart[f]]) continue;
+    const auto& t = mesh.faces()[f];
+    qc[charts.chart[f]].push_back(
+        quasi_conformal({positions[t[0]], positions[t[1]], positions[t[2]]}, charts.corners[f]));
+  }
+  std::vector<double> p95(charts.num_charts, 0);
+  for (int k = 0; k < charts.num_charts; ++k) {
+    if (qc[k].empty()) continue;
+    const size_t i = static_cast<size_t>(0.95 * static_cast<double>(qc[k].size() - 1));
+    std::nth_element(qc[k].begin(), qc[k].begin() + static_cast<long>(i), qc[k].end());
+    p95[k] = qc[k][i];
+  }
+  return p95;
+}
+
 }  // namespace
 
 int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Vector3d>& positions,
@@ -104,6 +141,14 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
   for (int k = 0; k < charts.num_charts; ++k) unchanged[k] = !redrawn[k];
   for (const auto& [f, g] : overlapping_faces(harmonic, 0, unchanged)) {
     redrawn[harmonic.chart[f]] = 0;
+  }
+  // And the redrawn chart is kept where it is more nearly conformal on the whole, not only in
+  // energy: its 95th percentile of QC no higher (on 230 real and CGAL surfaces, 9 rose without
+  // this, bouncy-pie.ply's 1.61 to 1.80).
+  const std::vector<double> before = chart_qc_p95(mesh, positions, charts, redrawn);
+  const std::vector<double> after = chart_qc_p95(mesh, positions, harmonic, redrawn);
+  for (int k = 0; k < charts.num_charts; ++k) {
+    if (redrawn[k] && !(after[k] <= before[k])) redrawn[k] = 0;
   }
   int count = 0;
   for (int f = 0; f < nf; ++f) {
