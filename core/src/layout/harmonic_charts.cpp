@@ -15,6 +15,7 @@
 
 #include "ricci/layout/charts.h"
 #include "ricci/linear/linear_solver.h"
+#include "ricci/mesh/geometry.h"
 
 namespace ricci {
 
@@ -25,22 +26,6 @@ double signed_area(const std::array<Eigen::Vector2d, 3>& t) {
   return 0.5 * (a.x() * b.y() - a.y() * b.x());
 }
 
-// The ratio of the singular values of the affine map from a 3D triangle (in a frame of its
-// plane) to a drawn one.
-double quasi_conformal(const std::array<Eigen::Vector3d, 3>& p,
-                       const std::array<Eigen::Vector2d, 3>& q) {
-  const Eigen::Vector3d e1 = p[1] - p[0], e2 = p[2] - p[0];
-  const Eigen::Vector3d x = e1.normalized(), y = e1.cross(e2).cross(e1).normalized();
-  Eigen::Matrix2d from, to;
-  from << e1.dot(x), e2.dot(x), e1.dot(y), e2.dot(y);
-  to << q[1] - q[0], q[2] - q[0];
-  const Eigen::Matrix2d j = to * from.inverse();
-  // |conformal part| +- |anti-conformal part| are the singular values of a 2 x 2 matrix.
-  const double conformal = std::hypot(j(0, 0) + j(1, 1), j(1, 0) - j(0, 1)) / 2;
-  const double anti = std::hypot(j(0, 0) - j(1, 1), j(1, 0) + j(0, 1)) / 2;
-  return (conformal + anti) / std::abs(conformal - anti);
-}
-
 // Per chart: the 95th percentile of its faces' quasi-conformal ratios as drawn in `corners`.
 std::vector<double> chart_qc_p95(const Triangulation& mesh,
                                  const std::vector<Eigen::Vector3d>& positions,
@@ -49,8 +34,13 @@ std::vector<double> chart_qc_p95(const Triangulation& mesh,
   for (int f = 0; f < mesh.num_faces(); ++f) {
     if (!which[charts.chart[f]]) continue;
     const auto& t = mesh.faces()[f];
-    qc[charts.chart[f]].push_back(
-        quasi_conformal({positions[t[0]], positions[t[1]], positions[t[2]]}, charts.corners[f]));
+    const auto& q = charts.corners[f];
+    std::array<double, 3> from, to;  // side lengths, opposite each corner
+    for (int c = 0; c < 3; ++c) {
+      from[c] = (positions[t[(c + 2) % 3]] - positions[t[(c + 1) % 3]]).norm();
+      to[c] = (q[(c + 2) % 3] - q[(c + 1) % 3]).norm();
+    }
+    qc[charts.chart[f]].push_back(quasi_conformal_ratio(from, to));
   }
   std::vector<double> p95(charts.num_charts, 0);
   for (int k = 0; k < charts.num_charts; ++k) {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Dense>
+
 #include "ricci/mesh/errors.h"
 
 namespace ricci {
@@ -255,6 +257,30 @@ double triangle_area(Geometry g, const std::array<double, 3>& l,
       return angle[0] + angle[1] + angle[2] - kPi;
   }
   return 0;
+}
+
+namespace {
+
+// Corners 1 and 2 of a plane triangle with corner 0 at the origin and corner 1 on the +x axis.
+Eigen::Matrix2d triangle_frame(const std::array<double, 3>& l) {
+  const double c = l[1], b = l[2];               // |01| = l[2], |02| = l[1]
+  if (!(b > 0)) return Eigen::Matrix2d::Zero();  // collapsed
+  const auto [x, y] = triangle_apex(b, c, l[0]);
+  Eigen::Matrix2d m;
+  m << b, x, 0, y;
+  return m;
+}
+
+}  // namespace
+
+double quasi_conformal_ratio(const std::array<double, 3>& from, const std::array<double, 3>& to) {
+  const Eigen::Matrix2d p = triangle_frame(from), q = triangle_frame(to);
+  if (!(std::abs(p.determinant()) > 0) || !(std::abs(q.determinant()) > 0)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  const Eigen::Matrix2d a = q * p.inverse();
+  const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix2d>(a).singularValues();
+  return s[0] / s[1];
 }
 
 }  // namespace ricci

@@ -13,19 +13,9 @@ namespace ricci {
 
 namespace {
 
-// Corners 1 and 2 of a triangle with corner 0 at the origin and corner 1 on the +x axis.
-Eigen::Matrix2d frame(const std::array<double, 3>& l) {
-  const double c = l[1], b = l[2];               // |01| = l[2], |02| = l[1]
-  if (!(b > 0)) return Eigen::Matrix2d::Zero();  // collapsed
-  const auto [x, y] = triangle_apex(b, c, l[0]);
-  Eigen::Matrix2d m;
-  m << b, x, 0, y;
-  return m;
-}
-
 double triangle_area(const std::array<double, 3>& l) {
-  const Eigen::Matrix2d m = frame(l);
-  return 0.5 * std::abs(m.determinant());
+  if (!(l[2] > 0)) return 0;  // collapsed
+  return 0.5 * l[2] * std::abs(triangle_apex(l[2], l[1], l[0])[1]);
 }
 
 double quantile(std::vector<double> x, double q) {
@@ -40,16 +30,6 @@ std::array<double, 3> side_lengths(const std::array<Eigen::Vector3d, 3>& p) {
 }
 
 }  // namespace
-
-double quasi_conformal_ratio(const std::array<double, 3>& from, const std::array<double, 3>& to) {
-  const Eigen::Matrix2d p = frame(from), q = frame(to);
-  if (!(std::abs(p.determinant()) > 0) || !(std::abs(q.determinant()) > 0)) {
-    return std::numeric_limits<double>::infinity();
-  }
-  const Eigen::Matrix2d a = q * p.inverse();
-  const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix2d>(a).singularValues();
-  return s[0] / s[1];
-}
 
 LayoutQuality measure_layout(const CompactMesh& mesh, Geometry geometry, const FlowResult& result,
                              const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {

@@ -82,4 +82,9 @@ std::array<double, 2> triangle_apex(double c, double b, double a);
 double triangle_area(Geometry g, const std::array<double, 3>& l,
                      const std::array<double, 3>& angle);
 
+//! The quasi-conformal ratio of the affine map between two plane triangles given by their side
+//! lengths (l[k] opposite corner k): the ratio of its singular values; infinity for a degenerate
+//! triangle.
+double quasi_conformal_ratio(const std::array<double, 3>& from, const std::array<double, 3>& to);
+
 }  // namespace ricci

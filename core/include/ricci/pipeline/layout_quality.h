@@ -53,8 +53,4 @@ LayoutQuality measure_layout(const std::vector<std::array<double, 3>>& input_sid
 std::vector<std::array<double, 3>> face_sides(const std::vector<Eigen::Vector3d>& positions,
                                               const std::vector<std::array<int, 3>>& faces);
 
-//! The quasi-conformal ratio of the affine map between two triangles given by their side
-//! lengths (l[k] opposite corner k); infinity for a degenerate triangle.
-double quasi_conformal_ratio(const std::array<double, 3>& from, const std::array<double, 3>& to);
-
 }  // namespace ricci
