@@ -14,14 +14,6 @@ namespace ricci {
 
 namespace {
 
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
-double signed_area(const std::array<Eigen::Vector2d, 3>& t) {
-  return 0.5 * cross(t[1] - t[0], t[2] - t[0]);
-}
-
 // The corner opposite p-q of a triangle with sides a (opposite p), b (opposite q) and c (p-q),
 // counter-clockwise, the triangle scaled so that its side c spans p-q as placed: its shape, and so
 // its orientation, are its own even where p-q was placed by a neighbour whose length of that side
@@ -103,6 +95,11 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& leng
     for (int c = 0; c < 3; ++c) sides[f][c] = lengths[mesh.face_edge(f, c)];
   }
   return lay_out_charts(mesh, sides, cut);
+}
+
+double signed_area(const std::array<Eigen::Vector2d, 3>& t) {
+  const Eigen::Vector2d a = t[1] - t[0], b = t[2] - t[0];
+  return 0.5 * (a.x() * b.y() - a.y() * b.x());
 }
 
 std::vector<int> chart_wedges(const Triangulation& mesh, const std::vector<char>& cut) {

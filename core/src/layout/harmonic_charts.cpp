@@ -21,11 +21,6 @@ namespace ricci {
 
 namespace {
 
-double signed_area(const std::array<Eigen::Vector2d, 3>& t) {
-  const Eigen::Vector2d a = t[1] - t[0], b = t[2] - t[0];
-  return 0.5 * (a.x() * b.y() - a.y() * b.x());
-}
-
 // Per chart: the 95th percentile of its faces' quasi-conformal ratios as drawn in `corners`.
 std::vector<double> chart_qc_p95(const Triangulation& mesh,
                                  const std::vector<Eigen::Vector3d>& positions,

@@ -36,6 +36,9 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& leng
 Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<double, 3>>& sides,
                       const std::vector<char>& cut);
 
+//! The signed area of a drawn face: positive where its corners run counter-clockwise.
+double signed_area(const std::array<Eigen::Vector2d, 3>& t);
+
 //! Per face corner (3 f + c), its wedge: a representative of the corners of its vertex that are
 //! joined across uncut edges (the corners one position of a chart stands for).
 std::vector<int> chart_wedges(const Triangulation& mesh, const std::vector<char>& cut);
@@ -45,7 +48,8 @@ std::vector<int> chart_wedges(const Triangulation& mesh, const std::vector<char>
 //! where the cotangent Laplacian of the faces' 3D shapes (`positions`) vanishes, the map of least
 //! conformal energy with that border. A chart keeps its drawing where the redrawn one turns a face
 //! over, overlaps itself or has a higher 95th percentile of quasi-conformal ratio, or a face of it
-//! has no 3D area. Returns the charts redrawn.
+//! has no 3D area. Returns the charts redrawn. The charts' max_relative_length_error stays the
+//! development's: a redrawn inside leaves the metric's lengths on purpose.
 int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Vector3d>& positions,
                           const std::vector<char>& cut, const std::vector<char>& which,
                           Charts& charts);
