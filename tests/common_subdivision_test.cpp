@@ -10,8 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/SVD>
-
+#include "layout_measures.h"
 #include "ricci/io/mesh_io.h"
 #include "ricci/pipeline/uniformize.h"
 #include "ricci/repair/repair.h"
@@ -76,26 +75,6 @@ void expect_input_surface(const CompactMesh& mesh, const CommonSubdivision& s) {
               mesh.positions()[mesh.face_vertex(f, 2)]);
     EXPECT_NEAR(piece_area[f], want, 1e-9 * want + 1e-15) << "input face " << f;
   }
-}
-
-// The quasi-conformal ratio of the affine map between two triangles of R^3 (each in its own plane):
-// the ratio of its singular values.
-double quasi_conformal_ratio(const std::array<Vec3, 3>& from, const std::array<Vec3, 3>& to) {
-  auto frame = [](const std::array<Vec3, 3>& t) {
-    const Vec3 x = (t[1] - t[0]).normalized();
-    const Vec3 y = (t[1] - t[0]).cross(t[2] - t[0]).cross(x).normalized();
-    Eigen::Matrix2d m;
-    m << (t[1] - t[0]).dot(x), (t[2] - t[0]).dot(x), (t[1] - t[0]).dot(y), (t[2] - t[0]).dot(y);
-    return m;
-  };
-  const Eigen::Matrix2d j = frame(to) * frame(from).inverse();
-  const Eigen::JacobiSVD<Eigen::Matrix2d> svd(j);
-  return svd.singularValues()[0] / svd.singularValues()[1];
-}
-
-double percentile(std::vector<double> x, double p) {
-  std::sort(x.begin(), x.end());
-  return x[static_cast<size_t>(p * static_cast<double>(x.size() - 1))];
 }
 
 // Points of the plane inside two of the triangles, sampled on a 400 x 400 grid over their box.
@@ -169,12 +148,12 @@ TEST_P(CommonSubdivisionTest, IsTheInputSurfaceLaidOutWithoutTurnedFaces) {
   // the quadrilateral's picture without its weights, rotor_small had median 9.7, p95 5e4.
   std::vector<double> qc;
   for (size_t f = 0; f < s.faces.size(); ++f) {
-    qc.push_back(quasi_conformal_ratio(
+    qc.push_back(test::quasi_conformal(
         {s.positions[s.faces[f][0]], s.positions[s.faces[f][1]], s.positions[s.faces[f][2]]},
         run.corners[f]));
   }
-  EXPECT_LE(percentile(qc, 0.5), 1.3);
-  EXPECT_LE(percentile(qc, 0.95), 4.0);
+  EXPECT_LE(test::percentile(qc, 0.5), 1.3);
+  EXPECT_LE(test::percentile(qc, 0.95), 4.0);
 
   if (c.geometry != Geometry::Euclidean) return;
   // Plane: corner angles sum to 2 pi - Kbar at interior input vertices, 2 pi at new interior
@@ -255,19 +234,6 @@ TEST(CommonSubdivision, IsometricFlipsOfAFlatMeshDeliverTheIdentity) {
   }
 }
 
-// The quasi-conformal ratio of the affine map from a piece in 3D to its layout triangle in the
-// plane: the ratio of its singular values.
-double quasi_conformal(const std::array<Vec3, 3>& x, const std::array<Vec3, 3>& uv) {
-  const Vec3 e1 = x[1] - x[0], e2 = x[2] - x[0];
-  const Vec3 a = e1.normalized(), b = (e2 - e2.dot(a) * a).normalized();
-  Eigen::Matrix2d from, to;
-  from << e1.dot(a), e2.dot(a), e1.dot(b), e2.dot(b);
-  to << uv[1].x() - uv[0].x(), uv[2].x() - uv[0].x(), uv[1].y() - uv[0].y(), uv[2].y() - uv[0].y();
-  const Eigen::Vector2d sigma =
-      Eigen::JacobiSVD<Eigen::Matrix2d>(to * from.inverse()).singularValues();
-  return sigma[0] / sigma[1];
-}
-
 // The flow flipped the input isometrically to its Delaunay triangulation, then by Ptolemy flips
 // away from it, each more than `more_than` times, and delivered a subdivision.
 void expect_flips_of_both_kinds(const Uniformization& run, int more_than) {
@@ -299,7 +265,7 @@ TEST(CommonSubdivision, PiecesFollowTheInputsDelaunayTriangulation) {
   for (size_t f = 0; f < s.faces.size(); ++f) {
     const std::array<Vec3, 3> x = {s.positions[s.faces[f][0]], s.positions[s.faces[f][1]],
                                    s.positions[s.faces[f][2]]};
-    const double q = quasi_conformal(x, s.corners[f]);
+    const double q = test::quasi_conformal(x, s.corners[f]);
     if (std::isfinite(q)) ratio.push_back(q);
   }
   ASSERT_GT(ratio.size(), s.faces.size() * 99 / 100);
@@ -333,13 +299,13 @@ TEST(CommonSubdivision, SpherePiecesFollowTheInputsDelaunayTriangulation) {
   for (size_t f = 0; f < s.faces.size(); ++f) {
     for (const Vec3& p : run.corners[f]) ASSERT_NEAR(p.norm(), 1.0, 1e-12) << "piece " << f;
     turned += !(turn(Geometry::Spherical, run.corners[f]) > 0);
-    ratio.push_back(quasi_conformal_ratio(
+    ratio.push_back(test::quasi_conformal(
         {s.positions[s.faces[f][0]], s.positions[s.faces[f][1]], s.positions[s.faces[f][2]]},
         run.corners[f]));
   }
   EXPECT_EQ(turned, 0);
-  EXPECT_LE(percentile(ratio, 0.5), 1.5);
-  EXPECT_LE(percentile(ratio, 0.95), 3.4);
+  EXPECT_LE(test::percentile(ratio, 0.5), 1.5);
+  EXPECT_LE(test::percentile(ratio, 0.95), 3.4);
 }
 
 // A hyperbolic triangle is drawn with straight sides, but its sides are arcs bowing toward the

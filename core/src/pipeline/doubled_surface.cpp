@@ -115,12 +115,13 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   const ConformalStructure structure = prepare_flow(twice, run.geometry, o.scheme, twice_target);
   FlowOptions flow = o.flow;
   flow.edge_flips = EdgeFlips::Always;  // the half's flow has shown that flips are needed
-  // The atlas in the canonical class: its D is measured on the pieces, and in the input
-  // triangulation's class the flat metric at u = 0 is not the input's where faces are not
-  // Delaunay (sumo-tram.obj's parts of 26 boundary loops: pieces of faces of 140 to 160 degrees
-  // drawn at twice their area, D 0.13 with u within 0.02 of 0). The other targets keep the
-  // input's class, whose flips mirror each other across the boundary (FlowOptions).
-  flow.delaunay_class = run.preset == TargetPreset::Atlas;
+  // In the class the options ask for, by default the canonical one (that of the input metric's
+  // intrinsic Delaunay triangulation), as on closed surfaces: the metric and its u are the
+  // double's, so the halves stay mirror images. In the input triangulation's class the flat
+  // metric at u = 0 is not the input's where faces are not Delaunay: the atlas's D, measured on
+  // the pieces, suffered (sumo-tram.obj's parts of 26 boundary loops: pieces of faces of 140 to
+  // 160 degrees drawn at twice their area, D 0.13 with u within 0.02 of 0), and so did the maps'
+  // conformality (dart-drchubo-lhr.stl's disk: QC p95 2.36 there, 1.05 in the canonical class).
   RicciFlowSolver solver(twice, structure, flow);
 
   Uniformization on_double;  // its totals are the double's flows only

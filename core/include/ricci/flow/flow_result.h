@@ -50,8 +50,7 @@ struct FlowOptions {
   EdgeFlips edge_flips = EdgeFlips::WhenNeeded;
   //! Yamabe in E2 and S2: when flips begin on the input's triangulation, flip it first to the
   //! intrinsic Delaunay triangulation of the input's lambda-lengths (EdgeFlip::isometric), whose
-  //! class is the canonical one; false keeps the input triangulation's class (the surface doubled
-  //! along its boundary, whose two halves' flips must mirror each other, keeps it).
+  //! class is the canonical one; false keeps the input triangulation's class.
   bool delaunay_class = true;
   //! S2 on a closed genus-0 surface (run_ricci_flow, compute_ricci_flow): first walk to the
   //! stereographic lift of the flattened punctured mesh (spherical_start.h).
