@@ -448,8 +448,11 @@ TEST(Atlas, ObjOutputHasTextureCoordinatesPerCorner) {
   }
   int on_seams = 0;
   for (const auto& [x, list] : texture_vertices) on_seams += list.size() > 1;
-  EXPECT_EQ(v, static_cast<int>(input.positions.size()));
-  EXPECT_EQ(f, static_cast<int>(input.triangles.size()));
+  // The input's vertices and faces, or a subdivision of them where the flow's class (that of the
+  // intrinsic Delaunay triangulation) has edges across the input's: knot1.off's 3,200 vertices
+  // and 14 new ones on its edges.
+  EXPECT_GE(v, static_cast<int>(input.positions.size()));
+  EXPECT_GE(f, static_cast<int>(input.triangles.size()));
   EXPECT_GT(vt, v);  // a torus's seams give their vertices a texture vertex per side
   EXPECT_GT(on_seams, 0);
   EXPECT_EQ(vt - v, [&] {

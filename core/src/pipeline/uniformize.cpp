@@ -131,7 +131,11 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
   bool by_one_solve = false;
   {
     // Its factorizations are freed before the flow on the double and the layout, which need none.
-    RicciFlowSolver solver(mesh, run.structure, o.flow, o.vertex_order);
+    FlowOptions flow = o.flow;
+    if (run.preset == TargetPreset::Atlas && flow.edge_flips == EdgeFlips::WhenNeeded) {
+      flow.edge_flips = EdgeFlips::Always;
+    }
+    RicciFlowSolver solver(mesh, run.structure, flow, o.vertex_order);
     if (run.preset == TargetPreset::UnitDisk) {
       by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
     } else {
