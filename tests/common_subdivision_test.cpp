@@ -274,6 +274,48 @@ TEST(CommonSubdivision, PiecesFollowTheInputsDelaunayTriangulation) {
   EXPECT_LE(ratio[ratio.size() * 95 / 100], 5.0);
 }
 
+// Glest's recognizer (gltron, GPL-2+), its 44-face disk with u = 0 on the boundary: the flow
+// flips 74 edges in the canonical class and none of the input's faces turns over when drawn by its
+// corners, but so drawn they are far from conformal (QC p95 26.3); the pieces are delivered.
+TEST(CommonSubdivision, PiecesAreDeliveredWhereTheInputsOwnFacesAreFarFromConformal) {
+  const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/gltron-recognizer-quad.obj");
+  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  ASSERT_GT(repaired.components.size(), 13u);
+  const CompactMesh& mesh = repaired.components[13].mesh;
+  ASSERT_EQ(mesh.num_faces(), 44) << "this mesh no longer shows the case";
+  UniformizationOptions o;
+  o.preset = TargetPreset::FreeBoundary;
+  const Uniformization run = uniformize(mesh, o);
+  ASSERT_TRUE(run.valid()) << run.result.failure << run.layout_failure;
+  ASSERT_FALSE(run.result.flip_sequence.empty());
+  EXPECT_EQ(run.input_faces_turned_over, 0);
+  ASSERT_TRUE(run.subdivision.has_value());
+  const CommonSubdivision& s = *run.subdivision;
+  expect_input_surface(mesh, s);
+  std::vector<double> pieces, own;
+  int turned = 0;
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    pieces.push_back(test::quasi_conformal(
+        {s.positions[s.faces[f][0]], s.positions[s.faces[f][1]], s.positions[s.faces[f][2]]},
+        run.corners[f]));
+    turned += !(turn(Geometry::Euclidean, run.corners[f]) > 0);
+  }
+  EXPECT_EQ(turned, 0);
+  // The input's own faces drawn by their vertices' delivered positions (the input's vertices come
+  // first in the subdivision).
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    own.push_back(test::quasi_conformal(
+        {mesh.positions()[mesh.face_vertex(f, 0)], mesh.positions()[mesh.face_vertex(f, 1)],
+         mesh.positions()[mesh.face_vertex(f, 2)]},
+        {run.position[mesh.face_vertex(f, 0)], run.position[mesh.face_vertex(f, 1)],
+         run.position[mesh.face_vertex(f, 2)]}));
+  }
+  const double pieces_p95 = test::percentile(pieces, 0.95), own_p95 = test::percentile(own, 0.95);
+  EXPECT_LE(pieces_p95, 8.0);  // measured 7.24; CEPS's 6.0 on its 344 pieces
+  EXPECT_GT(own_p95, 2 * pieces_p95);
+  EXPECT_GT(run.input_faces_qc_p95, 1.1 * pieces_p95);
+}
+
 // The same on the sphere: the spherical Yamabe flow's chords scale as Euclidean Yamabe lengths, so
 // the input is first flipped to its intrinsic Delaunay triangulation there too, and the pieces are
 // cut by it; a face of the final triangulation is drawn on the plane of its chords and projected

@@ -94,6 +94,9 @@ std::string layout_json(const Uniformization& run) {
     << "}";
   if (run.preset == TargetPreset::UnitDisk) j << ", \"circle_error\": " << number(run.circle_error);
   j << ", \"input_faces_turned_over\": " << run.input_faces_turned_over;
+  if (std::isfinite(run.input_faces_qc_p95)) {
+    j << ", \"input_faces_qc_p95\": " << number(run.input_faces_qc_p95);
+  }
   if (run.subdivision) {
     const CommonSubdivision& sub = *run.subdivision;
     j << ", \"common_subdivision\": {\"vertices\": " << sub.positions.size()

@@ -165,6 +165,16 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
            " new: on input edges, inside input faces where the input's Delaunay triangulation "
            "crosses the final one, and any rim splits below), ",
            sub.faces.size(), " faces (", sub.seconds, " s)");
+    } else if (std::isfinite(run.input_faces_qc_p95)) {
+      line(
+          "Common subdivision: the input's faces drawn by their corners on the flipped "
+          "triangulation turn none over, but are farther from conformal (quasi-conformal ratio "
+          "95% ",
+          run.input_faces_qc_p95,
+          ") than the pieces of the input and the final triangulation cut together, so the "
+          "input is cut along its edges: ",
+          sub.positions.size(), " vertices (", sub.positions.size() - mesh.num_vertices(),
+          " new), ", sub.faces.size(), " faces (", sub.seconds, " s)");
     }
     if (sub.disk_splits > 0) {
       line("Poincare disk drawing: ", sub.disk_splits,

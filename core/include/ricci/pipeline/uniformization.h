@@ -5,6 +5,7 @@
 
 #include <array>
 #include <complex>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -148,12 +149,16 @@ struct Uniformization {
   //! chart its corners are in; empty for one chart.
   std::vector<int> face_chart;
   //! The mesh delivered instead of the input's: when the flow flipped edges and the input's faces
-  //! drawn by their corners would turn over (common_subdivision.h); when the Poincare disk's
+  //! drawn by their corners would turn over (common_subdivision.h) or be farther from conformal
+  //! than its pieces; when the Poincare disk's
   //! drawing split sides (disk_drawing.h) or needs charts (Layout::chart). `position` and
   //! `corners` are then its.
   std::optional<CommonSubdivision> subdivision;
   //! Input faces that turned over when drawn by their corners on the flipped triangulation.
   int input_faces_turned_over = 0;
+  //! Where none turned over but the subdivision is delivered as the more conformal map: the
+  //! quasi-conformal ratio p95 of the input's faces so drawn (NaN otherwise).
+  double input_faces_qc_p95 = std::numeric_limits<double>::quiet_NaN();
   //! Sphere: the centring Moebius map was not applied because it would turn faces over.
   bool centring_skipped = false;
   //! The flow ran on the surface doubled along its boundary (doubled_surface.h), because on the
