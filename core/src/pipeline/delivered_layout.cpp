@@ -32,6 +32,22 @@ std::vector<std::complex<double>> torus_periods(const Layout& layout) {
   return periods;
 }
 
+// The common subdivision of the flipped triangulation, where the input's own faces drawn by
+// their corners turn none over but are farther from conformal than its pieces.
+std::optional<CommonSubdivision> more_conformal_pieces(
+    const CompactMesh& mesh, const std::vector<std::array<Eigen::Vector3d, 3>>& corners,
+    Uniformization& run) {
+  try {
+    CommonSubdivision pieces = common_subdivision(mesh, run.structure, run.result, run.layout);
+    if (pieces_more_conformal(mesh, corners, pieces, run)) return pieces;
+  } catch (const LayoutError&) {
+    // The input's own faces stay: they are a map.
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 // Flips happened and none of the input's faces turns over when drawn by its corners: that
 // drawing is a map, but not the discrete conformal map, which is projective on the pieces of the
 // input and final triangulations cut together. The input's own faces are kept where they are
@@ -41,26 +57,19 @@ std::vector<std::complex<double>> torus_periods(const Layout& layout) {
 // 6.0); sumo-tram.obj's two 112-face parts: 9.57 against 3.83.
 constexpr double kOwnFacesQcAllowance = 1.1;
 
-std::optional<CommonSubdivision> more_conformal_pieces(
-    const CompactMesh& mesh, const std::vector<std::array<Eigen::Vector3d, 3>>& corners,
-    Uniformization& run) {
-  try {
-    CommonSubdivision pieces = common_subdivision(mesh, run.structure, run.result, run.layout);
-    const LayoutQuality own = measure_layout(mesh, run.geometry, run.result, corners);
-    const LayoutQuality cut = measure_layout(face_sides(pieces.positions, pieces.faces),
-                                             run.geometry, run.result, pieces.corners);
-    if (own.quasi_conformal_p95 > kOwnFacesQcAllowance * cut.quasi_conformal_p95 &&
-        cut.collapsed_faces <= own.collapsed_faces && cut.flipped_faces == 0) {
-      run.input_faces_qc_p95 = own.quasi_conformal_p95;
-      return pieces;
-    }
-  } catch (const LayoutError&) {
-    // The input's own faces stay: they are a map.
+bool pieces_more_conformal(const CompactMesh& mesh,
+                           const std::vector<std::array<Eigen::Vector3d, 3>>& corners,
+                           const CommonSubdivision& pieces, Uniformization& run) {
+  const LayoutQuality own = measure_layout(mesh, run.geometry, run.result, corners);
+  const LayoutQuality cut = measure_layout(face_sides(pieces.positions, pieces.faces), run.geometry,
+                                           run.result, pieces.corners);
+  if (own.quasi_conformal_p95 > kOwnFacesQcAllowance * cut.quasi_conformal_p95 &&
+      cut.collapsed_faces <= own.collapsed_faces && cut.flipped_faces == 0) {
+    run.input_faces_qc_p95 = own.quasi_conformal_p95;
+    return true;
   }
-  return std::nullopt;
+  return false;
 }
-
-}  // namespace
 
 // The delivered mesh's positions and corners from the layout's (`position` per vertex of the
 // delivered mesh for per-vertex layouts, `corners` per input face otherwise): the sphere centred,

@@ -22,6 +22,14 @@ void place_delivered(const CompactMesh& mesh, const UniformizationOptions& o, in
                      std::vector<Eigen::Vector3d> position,
                      std::vector<std::array<Eigen::Vector3d, 3>> corners, Uniformization& run);
 
+//! Where the flow flipped edges and none of the input's faces turns over when drawn by its
+//! `corners`: whether they are farther from conformal than `pieces`, the common subdivision (QC
+//! p95 above 1.1 times the pieces', which add no collapsed face); then run.input_faces_qc_p95 is
+//! set and the pieces are to be delivered.
+bool pieces_more_conformal(const CompactMesh& mesh,
+                           const std::vector<std::array<Eigen::Vector3d, 3>>& corners,
+                           const CommonSubdivision& pieces, Uniformization& run);
+
 //! Lays out run.result (H2 in charts of `chart_radius`) and fills run's layout kind, layout,
 //! positions, corners, subdivision, face charts and torus periods; the unit disk normalized, the
 //! sphere centred (where centring turns no more faces over than it leaves).

@@ -10,6 +10,7 @@
 
 #include "layout/layout_methods.h"
 #include "pipeline/circle_domain.h"
+#include "pipeline/delivered_layout.h"
 #include "ricci/flow/presets.h"
 #include "ricci/flow/ricci_flow.h"
 #include "ricci/flow/scheme.h"
@@ -196,13 +197,15 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     return;
   }
   run.layout_kind = LayoutKind::Plane;
-  // The half's own faces drawn by their corners: delivered instead when none turns over.
-  for (const auto& t : half.faces()) {
-    std::array<Eigen::Vector3d, 3> p;
-    for (int c = 0; c < 3; ++c) p[c] = sub.vertex_layout[t[c]];
-    run.input_faces_turned_over += !(orientation(Geometry::Euclidean, p) > 0);
+  // The half's own faces drawn by their corners: delivered instead when none turns over and they
+  // are about as conformal as the pieces (pieces_more_conformal).
+  std::vector<std::array<Eigen::Vector3d, 3>> own(half.num_faces());
+  for (int f = 0; f < half.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) own[f][c] = sub.vertex_layout[half.face_vertex(f, c)];
+    run.input_faces_turned_over += !(orientation(Geometry::Euclidean, own[f]) > 0);
   }
-  if (run.input_faces_turned_over == 0 || o.keep_input_triangulation) {
+  if (o.keep_input_triangulation ||
+      (run.input_faces_turned_over == 0 && !pieces_more_conformal(half, own, sub, run))) {
     run.position.assign(sub.vertex_layout.begin(), sub.vertex_layout.begin() + half.num_vertices());
   } else {
     run.position = sub.vertex_layout;
