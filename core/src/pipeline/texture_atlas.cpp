@@ -1,6 +1,7 @@
 #include "pipeline/texture_atlas.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -129,6 +130,14 @@ std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> triangles_by_chart(cons
   return by_chart;
 }
 
+// Seconds since `from`, and `from` moved to now.
+double lap(std::chrono::steady_clock::time_point& from) {
+  const auto now = std::chrono::steady_clock::now();
+  const double s = std::chrono::duration<double>(now - from).count();
+  from = now;
+  return s;
+}
+
 // Branches a cone of angle theta needs so that no wedge of it reaches a full turn.
 int branches_for(double theta) {
   return std::max(1, static_cast<int>(std::floor(theta / (2 * kPi))) + 1);
@@ -239,6 +248,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       sub ? on_input_edges(mesh, delivered, *sub) : std::vector<char>{};
 
   // === Seams and charts; charts whose faces overlap split between the sheets, until none does
+  atlas.seconds = {};
+  auto clock = std::chrono::steady_clock::now();
   std::vector<char> seam = cut_through_cones(delivered, length3d, cones, branches, allowed).cut;
   Charts charts = lay_out_charts(delivered, flat, seam);
   std::vector<std::pair<int, int>> overlaps = overlapping_faces(charts);
@@ -308,7 +319,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   // Long charts (a tube's strip) fill a square poorly: each is halved across its long axis (as
   // two sheets from its two ends), where that packs the square fuller by a tenth and leaves no
   // overlap.
+  atlas.seconds.charts += lap(clock);
   Packing packing = pack_charts(triangles_by_chart(charts), o.packing);
+  atlas.seconds.packing += lap(clock);
   for (int round = 0; round < kMaxHalvings && overlaps.empty(); ++round) {
     std::vector<char> halved = seam;
     std::vector<int> part = charts.chart;
@@ -317,11 +330,17 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       count += separate_sheets(delivered, part, charts.num_charts + count, f, g, group, centroid,
                                halved) > 0;
     }
-    if (count == 0) break;
+    if (count == 0) {
+      atlas.seconds.charts += lap(clock);
+      break;
+    }
     connect_cut(delivered, length3d, halved, allowed);
     Charts shorter = lay_out_charts(delivered, flat, halved);
-    if (!overlapping_faces(shorter).empty()) break;
+    const bool overlap = !overlapping_faces(shorter).empty();
+    atlas.seconds.charts += lap(clock);
+    if (overlap) break;
     Packing fuller = pack_charts(triangles_by_chart(shorter), o.packing);
+    atlas.seconds.packing += lap(clock);
     if (!(fuller.utilization > 1.1 * packing.utilization)) break;
     seam = std::move(halved);
     charts = std::move(shorter);
@@ -336,7 +355,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   if (sub && overlaps.empty()) {
     atlas.harmonic_charts = draw_harmonic_insides(delivered, positions, seam,
                                                   std::vector<char>(charts.num_charts, 1), charts);
+    atlas.seconds.harmonic += lap(clock);
     if (atlas.harmonic_charts > 0) packing = pack_charts(triangles_by_chart(charts), o.packing);
+    atlas.seconds.packing += lap(clock);
   }
   std::vector<char> overlapping(delivered.num_faces(), 0);
   for (const auto& [f, g] : overlaps) overlapping[f] = overlapping[g] = 1;

@@ -152,7 +152,10 @@ std::string layout_json(const Uniformization& run) {
       << ", \"harmonic_charts\": " << a.harmonic_charts
       << ", \"seam_length\": " << number(a.seam_length) << ", \"seam_edges\": " << a.seam_edges
       << ", \"overlapping_faces\": " << a.overlapping_faces
-      << ", \"utilization\": " << number(a.utilization) << "}";
+      << ", \"utilization\": " << number(a.utilization)
+      << ", \"seconds\": {\"charts\": " << number(a.seconds.charts)
+      << ", \"harmonic\": " << number(a.seconds.harmonic)
+      << ", \"packing\": " << number(a.seconds.packing) << "}}";
   }
   // E2: z -> a z + b; H2: z -> (a z + b) / (conj(b) z + conj(a)); a and b as [re, im].
   j << ", \"deck_transformations\": [";
