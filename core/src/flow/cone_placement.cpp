@@ -304,10 +304,14 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   // a vertex), the best of several peaks; else the argmax alone: the sweeps then cost what the
   // greedy does, and the cones they leave give fewer overlapping charts (a genus-4 flange: 23
   // charts against 39 without sweeps).
+  // A cone tried again with no cone moved since it was last tried finds what it found then: the
+  // sweeps stop once every cone has been tried in a row without a move.
   const int candidates = search.done(state) ? 1 : kRelocationCandidates;
+  size_t tried_since_move = 0;
   for (int sweep = 0; sweep < o.relocation_sweeps && !state.cones.empty(); ++sweep) {
     int moved = 0;
-    for (size_t i = 0; i < state.cones.size(); ++i) {
+    for (size_t i = 0; i < state.cones.size(); ++i, ++tried_since_move) {
+      if (tried_since_move >= state.cones.size()) break;
       const int at = static_cast<int>(i);
       const Search::State rest = search.step(state, -1, at);
       if (!rest.solution.ok) continue;
@@ -326,11 +330,12 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
         search.follow(state, best, best_v, at);
         state = std::move(best);
         ++moved;
+        tried_since_move = 0;
       }
       search.keep_columns(state.cones);
     }
     result.relocations += moved;
-    if (moved == 0) break;
+    if (tried_since_move >= state.cones.size()) break;
   }
 
   // === The weakest cones dropped while the bound and the floor hold.

@@ -33,23 +33,35 @@ HessianAssembler::HessianAssembler(const Triangulation& mesh, std::vector<int> f
   const int n = static_cast<int>(
       std::count_if(free_index_.begin(), free_index_.end(), [](int i) { return i >= 0; }));
   // The pattern in compressed columns directly (it is rebuilt at every change of connectivity,
-  // dozens of times in a flow with flips): each face's (row, column) pairs bucketed by column,
-  // then each column's rows sorted and made unique (every face at a vertex gives its diagonal
-  // entry, both faces of an edge give its pair).
-  std::vector<int> start(n + 1, 0);
-  const auto rows_of_face = [&](int f, auto&& visit) {
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) {
-        const int r = free_index_[mesh.face_vertex(f, a)], c = free_index_[mesh.face_vertex(f, b)];
-        if (r >= 0 && c >= 0) visit(r, c);
-      }
-    }
+  // dozens of times in a flow with flips): column c has its diagonal and a row per edge at c's
+  // vertex (loops and parallel edges of an intrinsic triangulation give one entry), each column
+  // sorted and made unique; then each edge's two entries and each face's nine are looked up.
+  const int num_edges = mesh.num_edges();
+  const auto free_ends = [&](int e) {
+    const auto [a, b] = mesh.edge_vertices(e);
+    return std::array<int, 2>{free_index_[a], free_index_[b]};
   };
-  for (int f = 0; f < mesh.num_faces(); ++f) rows_of_face(f, [&](int, int c) { ++start[c + 1]; });
+  std::vector<char> in_face(n, 0);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int i = free_index_[mesh.face_vertex(f, c)];
+      if (i >= 0) in_face[i] = 1;
+    }
+  }
+  std::vector<int> start(n + 1, 0);
+  for (int c = 0; c < n; ++c) start[c + 1] = in_face[c];
+  for (int e = 0; e < num_edges; ++e) {
+    const auto [i, j] = free_ends(e);
+    if (i >= 0 && j >= 0) ++start[i + 1], ++start[j + 1];
+  }
   for (int c = 0; c < n; ++c) start[c + 1] += start[c];
   std::vector<int> rows(static_cast<size_t>(start[n])), fill(start.begin(), start.end() - 1);
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    rows_of_face(f, [&](int r, int c) { rows[fill[c]++] = r; });
+  for (int c = 0; c < n; ++c) {
+    if (in_face[c]) rows[fill[c]++] = c;
+  }
+  for (int e = 0; e < num_edges; ++e) {
+    const auto [i, j] = free_ends(e);
+    if (i >= 0 && j >= 0) rows[fill[i]++] = j, rows[fill[j]++] = i;
   }
   matrix_.resize(n, n);
   std::vector<int> outer(n + 1, 0);
@@ -65,16 +77,29 @@ HessianAssembler::HessianAssembler(const Triangulation& mesh, std::vector<int> f
   std::copy(outer.begin(), outer.end(), matrix_.outerIndexPtr());
   std::copy(rows.begin(), rows.begin() + kept, matrix_.innerIndexPtr());
   std::fill(matrix_.valuePtr(), matrix_.valuePtr() + kept, 0.0);
-  slots_.assign(mesh.num_faces(), {});
   const int* inner = matrix_.innerIndexPtr();
+  const auto slot_of = [&](int r, int c) {
+    return static_cast<int>(std::lower_bound(inner + outer[c], inner + outer[c + 1], r) - inner);
+  };
+  // Per edge: the entry of its first vertex's row in its second vertex's column, and the other.
+  std::vector<std::array<int, 2>> edge_slots(num_edges, {-1, -1});
+  for (int e = 0; e < num_edges; ++e) {
+    const auto [i, j] = free_ends(e);
+    if (i >= 0 && j >= 0) edge_slots[e] = {slot_of(i, j), slot_of(j, i)};
+  }
+  slots_.assign(mesh.num_faces(), {});
   for (int f = 0; f < mesh.num_faces(); ++f) {
     for (int a = 0; a < 3; ++a) {
       for (int b = 0; b < 3; ++b) {
-        const int r = free_index_[mesh.face_vertex(f, a)], c = free_index_[mesh.face_vertex(f, b)];
         int slot = -1;
+        const int r = free_index_[mesh.face_vertex(f, a)], c = free_index_[mesh.face_vertex(f, b)];
         if (r >= 0 && c >= 0) {
-          const int* found = std::lower_bound(inner + outer[c], inner + outer[c + 1], r);
-          slot = static_cast<int>(found - inner);
+          if (a == b) {
+            slot = slot_of(c, c);
+          } else {
+            const int e = mesh.face_edge(f, 3 - a - b);  // the side from corner a to corner b
+            slot = edge_slots[e][mesh.face_vertex(f, b) == mesh.edge_vertices(e)[1] ? 0 : 1];
+          }
         }
         slots_[f][3 * a + b] = slot;
       }

@@ -88,14 +88,24 @@ int LinearConeModel::store(int v, const Eigen::VectorXd& column) {
   vertex_of_slot_[s] = v;
   slot_of_[v] = s;
   const Eigen::VectorXd weighted = area_.cwiseProduct(column);
+  // Its products with the other columns when a set first pairs them (gram): a search pairs a
+  // column with the few cones it is tried beside, not with every column kept. Stale slots too: a
+  // stale entry is rewritten when its slot is reused.
   const int used = static_cast<int>(vertex_of_slot_.size());
-  // Against every slot in use, stale ones too: a stale entry is rewritten when its slot is reused.
-  const Eigen::VectorXd row = columns_.leftCols(used).transpose() * weighted;
-  gram_.block(s, 0, 1, used) = row.transpose();
-  gram_.block(0, s, used, 1) = row;
+  gram_.block(s, 0, 1, used).setConstant(kNotYet);
+  gram_.block(0, s, used, 1).setConstant(kNotYet);
   sum_[s] = weighted.sum();
   with_g_[s] = weighted.dot(g_);
   return s;
+}
+
+double LinearConeModel::gram(int a, int b) const {
+  double& entry = gram_(a, b);
+  if (std::isnan(entry)) {
+    entry = (columns_.col(a).array() * area_.array() * columns_.col(b).array()).sum();
+    gram_(b, a) = entry;
+  }
+  return entry;
 }
 
 void LinearConeModel::solve_columns(const std::vector<int>& vertices) {
@@ -135,8 +145,7 @@ void LinearConeModel::keep_only(const std::vector<int>& vertices) {
 }
 
 // D^2 = var(g) + 2 sum_j k_j cov(col_j, g) + sum_ij k_i k_j cov(col_i, col_j), the area-weighted
-// (co)variances: the constant c drops out. The double sum reads the gram matrix a column at a
-// time (it is called for every set a search tries).
+// (co)variances: the constant c drops out.
 double LinearConeModel::distortion(const std::vector<int>& cones, const Eigen::VectorXd& k) const {
   const size_t m = cones.size();
   std::vector<int> slot(m);
@@ -148,9 +157,8 @@ double LinearConeModel::distortion(const std::vector<int>& cones, const Eigen::V
   }
   double quadratic = 0;
   for (size_t j = 0; j < m; ++j) {
-    const double* column = gram_.col(slot[j]).data();
     double dot = 0;
-    for (size_t i = 0; i < m; ++i) dot += k[static_cast<long>(i)] * column[slot[i]];
+    for (size_t i = 0; i < m; ++i) dot += k[static_cast<long>(i)] * gram(slot[i], slot[j]);
     quadratic += k[static_cast<long>(j)] * dot;
   }
   const double d2 =

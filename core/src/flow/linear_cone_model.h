@@ -4,11 +4,13 @@
 // closed surface all but one, pinned); g = R(-K0); and the columns R(e_v) of the vertices tried as
 // cones, each one back-solve, kept side by side in one dense block.
 //
-// Beside each column the model keeps its area-weighted sums with every other kept column and with
-// g, so that the distortion D of any cone set is a (|C| x |C|) quadratic form: a cone set is
-// judged without forming u over the vertices, which costs |C| vertex-long passes.
+// Beside each column the model keeps its area-weighted sums with g and, once a set pairs them,
+// with the other columns, so that the distortion D of any cone set is a (|C| x |C|) quadratic
+// form: a cone set is judged without forming u over the vertices, which costs |C| vertex-long
+// passes.
 #pragma once
 
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -91,9 +93,13 @@ class LinearConeModel {
   // Columns R(e_v) side by side; slot_of_[v] is v's, -1 without one.
   Eigen::MatrixXd columns_;
   std::vector<int> slot_of_, vertex_of_slot_, free_slots_;
+  // sum A col_a col_b, computed when first asked for (gram_ holds kNotYet until then).
+  double gram(int a, int b) const;
+  static constexpr double kNotYet = std::numeric_limits<double>::quiet_NaN();
+
   // Area-weighted sums: gram_(i, j) = sum A col_i col_j, sum_(i) = sum A col_i,
   // with_g_(i) = sum A col_i g; and for g alone.
-  Eigen::MatrixXd gram_;
+  mutable Eigen::MatrixXd gram_;
   Eigen::VectorXd sum_, with_g_;
   double g_sum_ = 0, g_square_ = 0;
   int back_solves_ = 0;
