@@ -60,14 +60,24 @@ std::vector<int> free_vertex_index(int num_vertices, Geometry geometry,
 
 void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& free_index,
                              bool unflipped) {
-  assembler_ = std::make_unique<HessianAssembler>(mesh, free_index);
+  // The assembler (its pattern) is built when a step first needs H: the walk to a start changes
+  // the connectivity at most of its steps and solves none (tr12j's atlas: 33 changes, 6 analyses).
+  assembler_.reset();
+  mesh_ = &mesh;
   free_index_ = free_index;
+  num_free_ = static_cast<int>(
+      std::count_if(free_index_.begin(), free_index_.end(), [](int i) { return i >= 0; }));
   unflipped_ = unflipped;
   analyzed_ = false;
   normal_pattern_ = false;
   held_ = Held::None;
   krylov_rate_ = 0;
   stale_fell_short_ = false;
+}
+
+HessianAssembler& StepSolver::assembler() {
+  if (!assembler_) assembler_ = std::make_unique<HessianAssembler>(*mesh_, free_index_);
+  return *assembler_;
 }
 
 std::vector<int> StepSolver::rows_in_order() const {
@@ -84,7 +94,7 @@ bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, b
                            double lm_weight, Eigen::VectorXd& rhs, FlowTimes& times,
                            bool assembled) {
   auto t = Clock::now();
-  const SparseMatrix& h = assembled ? assembler_->matrix() : assembler_->assemble(state);
+  const SparseMatrix& h = assembled ? assembler().matrix() : assembler().assemble(state);
   rhs = r;
   const SparseMatrix* system = &h;
   double shift = 0;
@@ -161,7 +171,7 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
        size <= kReuseFactorBelowResidual * factor_residual_)) {
     assembled = true;
     auto t = Clock::now();
-    const SparseMatrix& h = assembler_->assemble(state);
+    const SparseMatrix& h = assembler().assemble(state);
     times.assembly += seconds_since(t);
     // S2: the Levenberg-Marquardt system (H^2 + mu I) du = H r, with H^2 applied, not formed.
     const double mu = spherical ? lm_weight * r.norm() : 0;
@@ -194,7 +204,7 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
 StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eigen::VectorXd& r,
                                              const Coupling& coupling, double damping, double rtol,
                                              Eigen::VectorXd& du, FlowTimes& times) {
-  const SparseMatrix& h = assembler_->matrix();
+  const SparseMatrix& h = assembler().matrix();
   const auto damped = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
     return (1 + damping) * (h * x) - coupling(x);
   };
@@ -204,7 +214,7 @@ StepSolver::Krylov StepSolver::solve_coupled(const MetricState& state, const Eig
   const bool assembled = reuse_factor(Held::Hessian, rtol, kReuseFactorBelow);
   if (assembled) {
     const auto t = Clock::now();
-    assembler_->assemble(state);
+    assembler().assemble(state);
     times.assembly += seconds_since(t);
     const MinresResult m =
         precondition_with_factor(damped, r, rtol, kStaleKrylovIterations, du, times);

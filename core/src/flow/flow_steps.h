@@ -74,7 +74,7 @@ class StepSolver {
   void use_vertex_order(VertexOrder order) { order_ = std::move(order); }
   //! The length of the step the line search took along the last direction.
   void note_step(double alpha) { last_step_full_ = alpha == 1; }
-  int num_free() const { return assembler_->num_free(); }
+  int num_free() const { return num_free_; }
 
   //! False when no shift makes the system factorizable, or the step is not finite. Once the line
   //! search has taken a full step, the last factorization of the step's system on this pattern
@@ -130,8 +130,12 @@ class StepSolver {
 
   // The free vertices' rows in the vertex order, or none (empty).
   std::vector<int> rows_in_order() const;
+  // The pattern's assembler, built on first use.
+  HessianAssembler& assembler();
   std::unique_ptr<HessianAssembler> assembler_;
+  const Triangulation* mesh_ = nullptr;
   std::vector<int> free_index_;
+  int num_free_ = 0;
   bool unflipped_ = true;
   VertexOrder order_;
   LinearSolver solver_;
