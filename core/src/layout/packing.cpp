@@ -169,15 +169,99 @@ Raster rasterize(const Triangles& chart, const Eigen::Matrix2d& rotation, double
   return r;
 }
 
-bool fits(const Mask& atlas, const Mask& chart, int x, int y) {
-  if (x + chart.width() > atlas.width() || y + chart.height() > atlas.height()) return false;
-  for (int r = 0; r < chart.height(); ++r) {
-    const std::uint64_t* bits = chart.row(r);
-    for (int w = 0; w * 64 < chart.width(); ++w) {
-      if (bits[w] & atlas.window(y + r, x + 64 * w)) return false;
+// Bits as a row of cells: bit i of word i / 64 is cell i.
+using Bits = std::vector<std::uint64_t>;
+
+// out[i] = in[i + s] (cells past the end read as 0).
+void shift_down(const Bits& in, int s, Bits& out) {
+  const int n = static_cast<int>(in.size()), w = s / 64, b = s % 64;
+  for (int i = 0; i < n; ++i) {
+    const std::uint64_t low = i + w < n ? in[i + w] : 0;
+    const std::uint64_t high = i + w + 1 < n ? in[i + w + 1] : 0;
+    out[i] = b == 0 ? low : (low >> b) | (high << (64 - b));
+  }
+}
+
+// The runs of set cells of each row of a mask: (row, first cell, length).
+std::vector<std::array<int, 3>> runs_of(const Mask& m) {
+  std::vector<std::array<int, 3>> runs;
+  for (int r = 0; r < m.height(); ++r) {
+    for (int c = 0; c < m.width();) {
+      if (!m.get(c, r)) {
+        ++c;
+        continue;
+      }
+      int end = c;
+      while (end < m.width() && m.get(end, r)) ++end;
+      runs.push_back({r, c, end - c});
+      c = end;
     }
   }
-  return true;
+  return runs;
+}
+
+// Where a chart's mask fits in the atlas with its lower-left cell at row y: bit x of `valid` for
+// every x at which no set cell of the chart meets a set cell of the atlas (x up to the atlas's
+// width less the chart's). Every row of cells at once, a word at a time: for a run of `length`
+// set cells from cell a of chart row r, the cells x at which atlas row y + r is free over
+// [x + a, x + a + length) are the free cells' runs of that length (by doubling shifts), moved down
+// by a. False when none fits.
+class FitRows {
+ public:
+  explicit FitRows(int atlas_width) : words_((atlas_width + 63) / 64), width_(atlas_width) {
+    free_.resize(words_), run_.resize(words_), shifted_.resize(words_), valid_.resize(words_);
+  }
+  const Bits& valid() const { return valid_; }
+  bool at(const Mask& atlas, int width, const std::vector<std::array<int, 3>>& runs, int y) {
+    const int last = width_ - width;  // the largest x
+    if (last < 0) return false;
+    std::fill(valid_.begin(), valid_.end(), ~std::uint64_t{0});
+    keep_below(valid_, last + 1);
+    int row = -1;
+    for (const auto& [r, a, length] : runs) {
+      if (r != row) {
+        row = r;
+        const std::uint64_t* bits = atlas.row(y + r);
+        for (int i = 0; i < words_; ++i) free_[i] = ~bits[i];
+        keep_below(free_, width_);
+      }
+      run_ = free_;
+      for (int have = 1; have < length;) {
+        const int step = std::min(have, length - have);
+        shift_down(run_, step, shifted_);
+        for (int i = 0; i < words_; ++i) run_[i] &= shifted_[i];
+        have += step;
+      }
+      shift_down(run_, a, shifted_);
+      std::uint64_t any = 0;
+      for (int i = 0; i < words_; ++i) any |= valid_[i] &= shifted_[i];
+      if (any == 0) return false;
+    }
+    return true;
+  }
+
+ private:
+  // Clears the cells from `end` on.
+  static void keep_below(Bits& bits, int end) {
+    for (int i = 0; i < static_cast<int>(bits.size()); ++i) {
+      const int first = 64 * i;
+      if (first >= end) {
+        bits[i] = 0;
+      } else if (end - first < 64) {
+        bits[i] &= (std::uint64_t{1} << (end - first)) - 1;
+      }
+    }
+  }
+  int words_, width_;
+  Bits free_, run_, shifted_, valid_;
+};
+
+// The lowest set cell, or -1.
+int lowest(const Bits& bits) {
+  for (size_t i = 0; i < bits.size(); ++i) {
+    if (bits[i]) return static_cast<int>(64 * i) + __builtin_ctzll(bits[i]);
+  }
+  return -1;
 }
 
 void place(Mask& atlas, const Mask& chart, int x, int y) {
@@ -212,22 +296,31 @@ Placed pack_rasters(const std::vector<std::array<Raster, 2>>& rasters,
   }
   Mask atlas(side, side);
   for (size_t k : order) {
+    const std::array<std::vector<std::array<int, 3>>, 2> runs{runs_of(rasters[k][0].mask),
+                                                              runs_of(rasters[k][1].mask)};
     while (true) {
+      // Least growth of the square's side, then of the used area, then bottom-left (ties to the
+      // upright turn, then the lowest row, then the leftmost cell). At one row the score grows
+      // with x, so the row's leftmost fit is its best; over the rows, the score of x = 0 grows
+      // with y, and bounds the rows above from below.
+      const auto score = [&](int x, int y, const Mask& m) {
+        const int ex = std::max(p.extent.x(), x + m.width());
+        const int ey = std::max(p.extent.y(), y + m.height());
+        return (static_cast<std::int64_t>(std::max(ex, ey)) << 40) +
+               (static_cast<std::int64_t>(ex) * ey << 8) + y;
+      };
       std::int64_t best = std::numeric_limits<std::int64_t>::max();
+      FitRows fit(atlas.width());
       for (int turn = 0; turn < 2; ++turn) {
         const Mask& m = rasters[k][turn].mask;
         for (int y = 0; y + m.height() <= atlas.height(); ++y) {
-          for (int x = 0; x + m.width() <= atlas.width(); ++x) {
-            const int ex = std::max(p.extent.x(), x + m.width());
-            const int ey = std::max(p.extent.y(), y + m.height());
-            // Least growth of the square's side, then of the used area, then bottom-left.
-            const long score =
-                (static_cast<long>(std::max(ex, ey)) << 40) + (static_cast<long>(ex) * ey << 8) + y;
-            if (score >= best || !fits(atlas, m, x, y)) continue;
-            best = score;
-            p.raster[k] = &rasters[k][turn];
-            p.at[k] = Eigen::Vector2i(x, y);
-          }
+          if (score(0, y, m) >= best) break;
+          if (!fit.at(atlas, m.width(), runs[turn], y)) continue;
+          const int x = lowest(fit.valid());
+          if (x < 0 || score(x, y, m) >= best) continue;
+          best = score(x, y, m);
+          p.raster[k] = &rasters[k][turn];
+          p.at[k] = Eigen::Vector2i(x, y);
         }
       }
       if (best < std::numeric_limits<std::int64_t>::max()) break;
