@@ -43,9 +43,12 @@ class EdgeGraph {
   double length(int e) const { return lengths_[e]; }
 
   // Dijkstra from `sources`, not across edges where `blocked` is set, and not on from vertices
-  // where `stop` is set (they are reached, not passed; either mask may be empty).
+  // where `stop` is set (they are reached, not passed; either mask may be empty). With `until`,
+  // the search ends at the first vertex it settles for which until(v) holds (the nearest such),
+  // whose index it returns in `found` (-1: none).
   ShortestPaths from(const std::vector<int>& sources, const std::vector<char>& blocked = {},
-                     const std::vector<char>& stop = {}) const {
+                     const std::vector<char>& stop = {}, const std::function<bool(int)>& until = {},
+                     int* found = nullptr) const {
     const int nv = mesh_.num_vertices();
     ShortestPaths p{std::vector<double>(nv, kInfinity), std::vector<int>(nv, -1),
                     std::vector<int>(nv, -1)};
@@ -59,6 +62,10 @@ class EdgeGraph {
       const auto [d, v] = queue.top();
       queue.pop();
       if (d > p.distance[v]) continue;
+      if (until && until(v)) {
+        *found = v;
+        return p;
+      }
       if (!stop.empty() && stop[v] && p.source[v] != v) continue;
       for (int e : adjacent_[v]) {
         if (!blocked.empty() && blocked[e]) continue;
@@ -228,12 +235,10 @@ void add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, std::v
   std::vector<char> on_cut(mesh.num_vertices(), 0);
   for (int v = 0; v < mesh.num_vertices(); ++v) on_cut[v] = degree[v] > 0;
   // The path ends at the first cut vertex it meets: it never runs along the cut or the boundary.
-  const ShortestPaths p = graph.from({c}, cut, on_cut);
+  // The search stops at the nearest vertex of the cut that may end it.
   int end = -1;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (degree[v] == 0 || near[v] || !(p.distance[v] < kInfinity)) continue;
-    if (end < 0 || p.distance[v] < p.distance[end]) end = v;
-  }
+  const ShortestPaths p = graph.from(
+      {c}, cut, on_cut, [&](int v) { return degree[v] > 0 && !near[v]; }, &end);
   if (end >= 0) graph.mark_path(p, end, cut);
 }
 

@@ -336,7 +336,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     }
     connect_cut(delivered, length3d, halved, allowed);
     Charts shorter = lay_out_charts(delivered, flat, halved);
-    const bool overlap = !overlapping_faces(shorter).empty();
+    // The charts no halving touched are laid out as before, without overlap.
+    const bool overlap =
+        !overlapping_faces(shorter, 0, unchanged_clean_charts(shorter, charts, {})).empty();
     atlas.seconds.charts += lap(clock);
     if (overlap) break;
     Packing fuller = pack_charts(triangles_by_chart(shorter), o.packing);
