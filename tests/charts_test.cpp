@@ -270,6 +270,67 @@ TEST(Charts, OverlapsAreFoundAcrossTheWholeChartAndOnlyWhereTheyAre) {
   for (const auto& [f, g] : pairs) EXPECT_GT(g / 2 - f / 2, 40) << f << " " << g;
 }
 
+TEST(Charts, AChartIsEmbeddedForCertainOnlyWhereItsBorderIsSimple) {
+  // The strip of 1.8 turns is a disk drawn without overlap: its border is a simple polygon. Of 2.4
+  // turns its ends overlap and its border crosses itself; of 2 turns exactly its ends meet, the
+  // border touches itself, and the whole test decides.
+  for (const double turns : {0.9, 1.2, 1.0}) {
+    const Strip strip = sector_strip(60, 2 * turns * kPi);
+    const std::vector<char> none(strip.mesh.num_edges(), 0);
+    const Charts charts = lay_out_charts(strip.mesh, strip.lengths, none);
+    ASSERT_EQ(charts.num_charts, 1);
+    const std::vector<char> embedded = embedded_charts(strip.mesh, none, charts);
+    EXPECT_EQ(embedded, std::vector<char>{turns < 1}) << turns;
+    if (embedded[0]) {
+      EXPECT_TRUE(overlapping_faces(charts).empty());
+    }
+  }
+  // The grid cut across: two disks, both embedded. Cut along a slit from its border into its
+  // middle: one disk, without overlap, but the slit's two sides lie on one segment, its border
+  // touches itself, and the whole test decides.
+  const CompactMesh grid = square_grid(8);
+  std::vector<char> across(grid.num_edges(), 0), slit(grid.num_edges(), 0);
+  for (int e = 0; e < grid.num_edges(); ++e) {
+    const auto [a, b] = grid.edge_vertices(e);
+    const Eigen::Vector3d &p = grid.positions()[a], &q = grid.positions()[b];
+    const bool on_middle = std::abs(p.x() - 0.5) < 1e-12 && std::abs(q.x() - 0.5) < 1e-12;
+    across[e] = !grid.is_boundary_edge(e) && on_middle;
+    slit[e] = across[e] && std::max(p.y(), q.y()) <= 0.5 + 1e-12;
+  }
+  EXPECT_EQ(embedded_charts(grid, across, lay_out_charts(grid, grid.input_lengths(), across)),
+            (std::vector<char>{1, 1}));
+  const Charts slit_open = lay_out_charts(grid, grid.input_lengths(), slit);
+  EXPECT_EQ(slit_open.num_charts, 1);
+  EXPECT_EQ(embedded_charts(grid, slit, slit_open), std::vector<char>{0});
+  EXPECT_TRUE(overlapping_faces(slit_open).empty());
+  // Not a disk: the grid's middle square's faces taken out leave an annulus, tested whole.
+  std::vector<std::array<int, 3>> ring;
+  for (int f = 0; f < grid.num_faces(); ++f) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int v : grid.faces()[f]) c += grid.positions()[v] / 3;
+    if (std::abs(c.x() - 0.5) > 0.25 || std::abs(c.y() - 0.5) > 0.25)
+      ring.push_back(grid.faces()[f]);
+  }
+  std::vector<int> index(grid.num_vertices(), -1);
+  int used = 0;
+  for (auto& t : ring) {
+    for (int& v : t) v = index[v] >= 0 ? index[v] : (index[v] = used++);
+  }
+  std::vector<Eigen::Vector3d> at(used);
+  for (int v = 0; v < grid.num_vertices(); ++v) {
+    if (index[v] >= 0) at[index[v]] = grid.positions()[v];
+  }
+  const Triangulation annulus = Triangulation::from_faces(used, ring);
+  std::vector<double> lengths(annulus.num_edges());
+  for (int e = 0; e < annulus.num_edges(); ++e) {
+    const auto [a, b] = annulus.edge_vertices(e);
+    lengths[e] = (at[a] - at[b]).norm();
+  }
+  const std::vector<char> none(annulus.num_edges(), 0);
+  EXPECT_EQ(embedded_charts(annulus, none, lay_out_charts(annulus, lengths, none)),
+            std::vector<char>{0});
+}
+
 TEST(Charts, SeparatingTheSheetsLeavesNoOverlap) {
   const Strip strip = sector_strip(60, 2.4 * kPi);
   std::vector<char> cut(strip.mesh.num_edges(), 0);

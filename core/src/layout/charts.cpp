@@ -318,6 +318,134 @@ std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t 
   return pairs;
 }
 
+namespace {
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// The distance between segments a-b and c-d (0 where they cross or touch).
+double segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                        const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
+  const double abc = cross2(b - a, c - a), abd = cross2(b - a, d - a);
+  const double cda = cross2(d - c, a - c), cdb = cross2(d - c, b - c);
+  if (((abc > 0 && abd < 0) || (abc < 0 && abd > 0)) &&
+      ((cda > 0 && cdb < 0) || (cda < 0 && cdb > 0))) {
+    return 0;
+  }
+  const auto to_segment = [](const Eigen::Vector2d& q, const Eigen::Vector2d& p0,
+                             const Eigen::Vector2d& p1) {
+    const Eigen::Vector2d e = p1 - p0;
+    const double length2 = e.squaredNorm();
+    const double t = length2 > 0 ? std::clamp((q - p0).dot(e) / length2, 0.0, 1.0) : 0.0;
+    return (q - (p0 + t * e)).norm();
+  };
+  return std::min(
+      {to_segment(a, c, d), to_segment(b, c, d), to_segment(c, a, b), to_segment(d, a, b)});
+}
+
+}  // namespace
+
+std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<char>& cut,
+                                  const Charts& charts) {
+  const int nf = mesh.num_faces();
+  const int nc = charts.num_charts;
+  const auto& p = charts.corners;
+  std::vector<char> embedded(nc, 1);
+  const std::vector<int> wedge = chart_wedges(mesh, cut);
+  // Per wedge: its angle sum, and its border halfedges out and in; per chart, its counts.
+  std::vector<double> angle_sum(3 * nf, 0.0);
+  std::vector<int> out_of(3 * nf, -1), ins(3 * nf, 0), outs(3 * nf, 0);
+  std::vector<long> faces(nc, 0), wedges(nc, 0), border(nc, 0);
+  for (int f = 0; f < nf; ++f) {
+    const int k = charts.chart[f];
+    ++faces[k];
+    if (!(signed_area(p[f]) > 0)) embedded[k] = 0;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector2d u = p[f][(c + 1) % 3] - p[f][c], v = p[f][(c + 2) % 3] - p[f][c];
+      angle_sum[wedge[3 * f + c]] += std::atan2(std::abs(cross2(u, v)), u.dot(v));
+      if (wedge[3 * f + c] == 3 * f + c) ++wedges[k];
+      const int t = mesh.twin(3 * f + c);
+      if (t >= 0 && !cut[mesh.face_edge(f, c)]) continue;
+      // Halfedge 3 f + c runs from corner c + 1 to corner c + 2: a border halfedge.
+      ++border[k];
+      const int tail = wedge[3 * f + (c + 1) % 3], head = wedge[3 * f + (c + 2) % 3];
+      ++outs[tail], ++ins[head];
+      out_of[tail] = 3 * f + c;
+    }
+  }
+  // A disk (Euler characteristic 1) whose wedges each have one border halfedge out and one in
+  // where they have any, and whose inner wedges turn once.
+  std::vector<char> on_border(3 * nf, 0);
+  for (int f = 0; f < nf; ++f) {
+    const int k = charts.chart[f];
+    if (!embedded[k]) continue;
+    for (int c = 0; c < 3; ++c) {
+      const int w = wedge[3 * f + c];
+      if (w != 3 * f + c) continue;
+      if (outs[w] != ins[w] || outs[w] > 1) {
+        embedded[k] = 0;
+      } else if (outs[w] == 0 && std::abs(angle_sum[w] - 2 * kPi) > 0.5) {
+        embedded[k] = 0;
+      }
+      on_border[w] = outs[w] == 1;
+    }
+  }
+  for (int k = 0; k < nc; ++k) {
+    const long edges = (3 * faces[k] + border[k]) / 2;
+    if (wedges[k] - edges + faces[k] != 1 || border[k] < 3) embedded[k] = 0;
+  }
+  // The border, one loop, as a simple polygon: no two sides that do not follow one another come
+  // within a margin far above the overlap test's tolerance (a chart near that is tested whole).
+  std::vector<char> visited(3 * nf, 0);
+  std::vector<int> first_of(nc, -1);
+  for (int w = 0; w < 3 * nf; ++w) {
+    if (on_border[w] && first_of[charts.chart[out_of[w] / 3]] < 0) {
+      first_of[charts.chart[out_of[w] / 3]] = w;
+    }
+  }
+  const auto tail_position = [&](int h) { return p[h / 3][(h % 3 + 1) % 3]; };
+  const auto head_position = [&](int h) { return p[h / 3][(h % 3 + 2) % 3]; };
+  for (int k = 0; k < nc; ++k) {
+    if (!embedded[k] || first_of[k] < 0) continue;
+    std::vector<int> loop;  // border halfedges in order
+    for (int w = first_of[k]; !visited[w];) {
+      visited[w] = 1;
+      const int h = out_of[w];
+      loop.push_back(h);
+      w = wedge[3 * (h / 3) + (h % 3 + 2) % 3];
+    }
+    if (static_cast<long>(loop.size()) != border[k]) {  // more than one loop
+      embedded[k] = 0;
+      continue;
+    }
+    Box whole;
+    for (int h : loop) whole.add(tail_position(h));
+    const double margin = 1e-7 * (whole.hi - whole.lo).maxCoeff();
+    const int n = static_cast<int>(loop.size());
+    std::vector<Box> box(n);
+    std::vector<int> sides(n);
+    for (int i = 0; i < n; ++i) {
+      box[i].add(tail_position(loop[i]));
+      box[i].add(head_position(loop[i]));
+      box[i].lo.array() -= margin, box[i].hi.array() += margin;
+      sides[i] = i;
+    }
+    const BoxTree tree(box, sides);
+    for (int i = 0; i < n && embedded[k]; ++i) {
+      tree.visit(box[i], [&](int j) {
+        if (j <= i || j == i + 1 || (i == 0 && j == n - 1)) return;
+        const int a = loop[i], b = loop[j];
+        if (segment_distance(tail_position(a), head_position(a), tail_position(b),
+                             head_position(b)) <= margin) {
+          embedded[k] = 0;
+        }
+      });
+    }
+  }
+  return embedded;
+}
+
 double overlap_depth(const Charts& charts, int f, int g) {
   const auto longest = [&](int face) {
     const auto& q = charts.corners[face];

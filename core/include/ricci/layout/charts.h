@@ -62,6 +62,17 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
 std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs = 0,
                                                    const std::vector<char>& known_clean = {});
 
+//! Per chart: 1 where its layout is an embedding for certain, so that overlapping_faces would find
+//! no pair in it: the chart is a disk (Euler characteristic 1, one border loop through wedges
+//! that each have one border side out and one in), every face counter-clockwise, every inner
+//! wedge's angles summing to 2 pi (one turn), and its border a simple polygon, no two sides that
+//! do not follow one another nearer than 1e-7 of its size (a locally injective map of a disk
+//! whose border is a simple closed curve is injective). Linear in the chart's faces plus its
+//! border's sides times their log, where the whole test pairs every face with its neighbours in
+//! a hierarchy. `cut` as for lay_out_charts, and the charts laid out with it.
+std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<char>& cut,
+                                  const Charts& charts);
+
 //! How deep faces f and g of a layout overlap, relative to the smaller: how far their interiors
 //! reach into each other (the least over the six side directions) over the shorter of their
 //! longest sides; <= 0 where they do not overlap. Pieces of a common subdivision that disagree on
