@@ -102,7 +102,9 @@ int LinearConeModel::store(int v, const Eigen::VectorXd& column) {
 double LinearConeModel::gram(int a, int b) const {
   double& entry = gram_(a, b);
   if (std::isnan(entry)) {
-    entry = (columns_.col(a).array() * area_.array() * columns_.col(b).array()).sum();
+    // In one order whichever pair is asked first: the same rounding for (a, b) and (b, a).
+    const int first = std::min(a, b), second = std::max(a, b);
+    entry = (columns_.col(first).array() * area_.array() * columns_.col(second).array()).sum();
     gram_(b, a) = entry;
   }
   return entry;
