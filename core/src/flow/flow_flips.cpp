@@ -95,6 +95,9 @@ void detail::FlowState::start_flipping(int iteration, const std::string& why) {
 // are on. Without them, the walk ends where no step of 1e-6 of the way is valid, or after three
 // steps in a row of at most 1/64 of the way; when needed, that is remembered, and the walk made
 // again with flips once Newton gets stuck on this triangulation.
+// The walk's step halves while alpha > 1e-6: the last halving tried is the 19th.
+constexpr int kLastHalving = 19;
+
 void detail::FlowState::walk_to(const Eigen::VectorXd& start) {
   if (!start.allFinite()) return;
   const Eigen::VectorXd origin = u;
@@ -102,12 +105,20 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start) {
   for (int step = 0; step < 200; ++step) {
     const Eigen::VectorXd d = start - u;
     double alpha = 1;
-    MetricState trial;
+    MetricState trial = evaluate_lengths(triangulation, structure, u + d);
     bool found = false;
     // Most trials are cut (the cow's atlas at 8 cones: 27 steps of up to 17 halvings each), and
-    // their triangle inequalities decide it without the angles.
-    for (; alpha > 1e-6; alpha *= 0.5) {
-      trial = evaluate_lengths(triangulation, structure, u + alpha * d);
+    // their triangle inequalities decide it without the angles. The halvings that some face
+    // fails alone are skipped, each face tried alone (first_halving_admitted); from there the
+    // halvings are tried on the whole mesh as before.
+    bool evaluated = true;  // trial holds the lengths at alpha
+    if (!lengths_admit_triangles(triangulation, structure.geometry, trial)) {
+      const int skip = first_halving_admitted(triangulation, structure, u, d, trial, kLastHalving);
+      alpha = std::ldexp(1.0, -skip);
+      evaluated = false;
+    }
+    for (; alpha > 1e-6; alpha *= 0.5, evaluated = false) {
+      if (!evaluated) trial = evaluate_lengths(triangulation, structure, u + alpha * d);
       if (!lengths_admit_triangles(triangulation, structure.geometry, trial)) continue;
       evaluate_angles(triangulation, structure.geometry, trial);
       if (trial.valid()) {

@@ -55,6 +55,45 @@ bool lengths_admit_triangles(const Triangulation& mesh, Geometry geometry,
   return invalid[0] + invalid[1] == 0;
 }
 
+int first_halving_admitted(const Triangulation& mesh, const ConformalStructure& structure,
+                           const Eigen::VectorXd& u, const Eigen::VectorXd& d,
+                           const MetricState& at_whole_step, int last) {
+  const Geometry g = structure.geometry;
+  if (g != Geometry::Euclidean) return 0;
+  // Face f at u + alpha d could be admitted: its triangle inequalities hold to a relative slack
+  // of 1e-9, far above where this evaluation (its exponentials taken one by one) and
+  // evaluate_lengths's (taken a vector at a time) can differ; an edge without a length counts as
+  // admitted. So no halving that the whole test admits is judged otherwise here.
+  const auto admitted = [&](int f, double alpha) {
+    std::array<double, 3> l{};
+    for (int c = 0; c < 3; ++c) {
+      const int e = mesh.face_edge(f, c);
+      const auto [i, j] = mesh.edge_vertices(e);
+      const EdgeLength el = edge_length_of_exponentials(
+          g, std::exp(u[i] + alpha * d[i]), std::exp(u[j] + alpha * d[j]), structure.eps[i],
+          structure.eps[j], structure.eta[e]);
+      if (!el.valid) return true;
+      l[c] = el.length;
+    }
+    const double slack = 1 + 1e-9;
+    return l[0] <= (l[1] + l[2]) * slack && l[1] <= (l[2] + l[0]) * slack &&
+           l[2] <= (l[0] + l[1]) * slack;
+  };
+  int most = 0;  // the largest first admitted halving of the faces so far
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    bool whole = true;
+    for (int c = 0; c < 3; ++c) whole = whole && at_whole_step.edges[mesh.face_edge(f, c)].valid;
+    if (whole && is_valid_triangle(g, face_lengths(mesh, at_whole_step, f))) continue;
+    // Admitted at `most` halvings: its first is no later. Else its first, from the start.
+    if (most > 0 && admitted(f, std::ldexp(1.0, -most))) continue;
+    int k = 1;
+    while (k <= last && !admitted(f, std::ldexp(1.0, -k))) ++k;
+    most = std::max(most, k);
+    if (most > last) break;
+  }
+  return most;
+}
+
 void evaluate_angles(const Triangulation& mesh, Geometry geometry, MetricState& state) {
   state.faces.resize(mesh.num_faces());
   int invalid_faces[2] = {0, 0}, first_invalid[2] = {-1, -1};

@@ -35,6 +35,15 @@ MetricState evaluate_lengths(const Triangulation& mesh, const ConformalStructure
 //! (their arc tangents cost most of a metric). False: the metric is not valid.
 bool lengths_admit_triangles(const Triangulation& mesh, Geometry geometry,
                              const MetricState& state);
+//! In the plane, a k in 0 .. last + 1 no larger than the least k for which the lengths at
+//! u + 2^-k d admit triangles (lengths_admit_triangles; last + 1: none up to last): the largest,
+//! over the faces that fail at u + d (`at_whole_step`, evaluate_lengths there), of the first
+//! halving at which that face alone could be admitted (to a slack above round-off). A walk's
+//! halvings then cost their failing faces, not the mesh, until the whole test takes over at k.
+//! 0 in the other geometries.
+int first_halving_admitted(const Triangulation& mesh, const ConformalStructure& structure,
+                           const Eigen::VectorXd& u, const Eigen::VectorXd& d,
+                           const MetricState& at_whole_step, int last);
 //! The corner angles of `state`'s lengths: the second half of evaluate_metric.
 void evaluate_angles(const Triangulation& mesh, Geometry geometry, MetricState& state);
 
