@@ -113,8 +113,10 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start) {
     // halvings are tried on the whole mesh as before.
     bool evaluated = true;  // trial holds the lengths at alpha
     if (!lengths_admit_triangles(triangulation, structure.geometry, trial)) {
+      // The whole step failed: at least one halving (first_halving_admitted is 0 outside the
+      // plane).
       const int skip = first_halving_admitted(triangulation, structure, u, d, trial, kLastHalving);
-      alpha = std::ldexp(1.0, -skip);
+      alpha = std::ldexp(1.0, -std::max(skip, 1));
       evaluated = false;
     }
     for (; alpha > 1e-6; alpha *= 0.5, evaluated = false) {

@@ -446,6 +446,16 @@ std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<c
   return embedded;
 }
 
+std::vector<std::pair<int, int>> overlapping_faces(const Triangulation& mesh,
+                                                   const std::vector<char>& cut,
+                                                   const Charts& charts,
+                                                   std::vector<char> known_clean) {
+  const std::vector<char> embedded = embedded_charts(mesh, cut, charts);
+  if (known_clean.empty()) known_clean.assign(embedded.size(), 0);
+  for (size_t k = 0; k < known_clean.size(); ++k) known_clean[k] = known_clean[k] || embedded[k];
+  return overlapping_faces(charts, 0, known_clean);
+}
+
 double overlap_depth(const Charts& charts, int f, int g) {
   const auto longest = [&](int face) {
     const auto& q = charts.corners[face];

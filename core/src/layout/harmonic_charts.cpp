@@ -122,10 +122,9 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
       redrawn[charts.chart[f]] = 0;
     }
   }
-  // Only the charts redrawn are tested, and of them only those not embedded for certain.
-  std::vector<char> skip = embedded_charts(mesh, cut, harmonic);
-  for (int k = 0; k < charts.num_charts; ++k) skip[k] = skip[k] || !redrawn[k];
-  for (const auto& [f, g] : overlapping_faces(harmonic, 0, skip)) {
+  std::vector<char> unchanged(charts.num_charts, 0);
+  for (int k = 0; k < charts.num_charts; ++k) unchanged[k] = !redrawn[k];
+  for (const auto& [f, g] : overlapping_faces(mesh, cut, harmonic, unchanged)) {
     redrawn[harmonic.chart[f]] = 0;
   }
   // And the redrawn chart is kept where it is more nearly conformal on the whole, not only in

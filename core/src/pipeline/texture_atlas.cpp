@@ -252,16 +252,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   auto clock = std::chrono::steady_clock::now();
   std::vector<char> seam = cut_through_cones(delivered, length3d, cones, branches, allowed).cut;
   Charts charts = lay_out_charts(delivered, flat, seam);
-  // Overlapping pairs of faces, in the charts not known to be clean (`clean`, empty: none) and
-  // not embedded for certain by their borders.
-  const auto overlaps_in = [&](const Charts& laid_out, const std::vector<char>& cut,
-                               std::vector<char> clean) {
-    const std::vector<char> embedded = embedded_charts(delivered, cut, laid_out);
-    if (clean.empty()) clean.assign(embedded.size(), 0);
-    for (size_t k = 0; k < clean.size(); ++k) clean[k] = clean[k] || embedded[k];
-    return overlapping_faces(laid_out, 0, clean);
-  };
-  std::vector<std::pair<int, int>> overlaps = overlaps_in(charts, seam, {});
+  std::vector<std::pair<int, int>> overlaps = overlapping_faces(delivered, seam, charts);
   const std::vector<int> group = sub ? sub->input_face : std::vector<int>{};
   std::vector<Eigen::Vector3d> centroid(sub ? mesh.num_faces() : delivered.num_faces(),
                                         Eigen::Vector3d::Zero());
@@ -322,7 +313,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     }
     connect_cut(delivered, length3d, seam, allowed);
     Charts parted = lay_out_charts(delivered, flat, seam);
-    overlaps = overlaps_in(parted, seam, unchanged_clean_charts(parted, charts, overlaps));
+    overlaps = overlapping_faces(delivered, seam, parted,
+                                 unchanged_clean_charts(parted, charts, overlaps));
     charts = std::move(parted);
   }
   // Long charts (a tube's strip) fill a square poorly: each is halved across its long axis (as
@@ -347,7 +339,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     Charts shorter = lay_out_charts(delivered, flat, halved);
     // The charts no halving touched are laid out as before, without overlap.
     const bool overlap =
-        !overlaps_in(shorter, halved, unchanged_clean_charts(shorter, charts, {})).empty();
+        !overlapping_faces(delivered, halved, shorter, unchanged_clean_charts(shorter, charts, {}))
+             .empty();
     atlas.seconds.charts += lap(clock);
     if (overlap) break;
     Packing fuller = pack_charts(triangles_by_chart(shorter), o.packing);

@@ -73,6 +73,13 @@ std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t 
 std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<char>& cut,
                                   const Charts& charts);
 
+//! overlapping_faces for charts laid out with `cut`, of which those embedded for certain
+//! (embedded_charts) are not tested either: the same pairs, found sooner.
+std::vector<std::pair<int, int>> overlapping_faces(const Triangulation& mesh,
+                                                   const std::vector<char>& cut,
+                                                   const Charts& charts,
+                                                   std::vector<char> known_clean = {});
+
 //! How deep faces f and g of a layout overlap, relative to the smaller: how far their interiors
 //! reach into each other (the least over the six side directions) over the shorter of their
 //! longest sides; <= 0 where they do not overlap. Pieces of a common subdivision that disagree on
