@@ -1,6 +1,7 @@
 // Development of a metric into its model, triangle by triangle (H2 and S2 layouts).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <queue>
 
 #include <Eigen/Geometry>
@@ -73,10 +74,6 @@ int deepest_face(const Triangulation& mesh, const std::vector<char>& cut) {
   return last;
 }
 
-double disk_distance(Complex a, Complex b) {
-  return std::acosh(1 + 2 * std::norm(a - b) / ((1 - std::norm(a)) * (1 - std::norm(b))));
-}
-
 // Breadth-first from the placed seed across uncut edges, each face from the two corners it shares
 // with a placed face. In charts (H2): a face that would be placed beyond the chart radius from its
 // chart's centre goes into a chart of the same parent whose centre is within half of it, or
@@ -86,17 +83,12 @@ void develop_faces(const Triangulation& mesh, Geometry geometry, const std::vect
                    const std::vector<std::array<double, 3>>& angles, int seed, bool in_charts,
                    Layout& layout) {
   const int nf = mesh.num_faces();
-  const double rim = std::tanh(layout.chart_radius / 2);
   auto& p = layout.corners;
-  std::vector<Complex> centre;  // per chart, in its parent's coordinates
-  std::vector<std::vector<int>> children;
+  std::optional<ChartGrowth> charts;
   if (in_charts) {
+    charts.emplace(layout, layout.chart_radius);
     layout.chart.assign(nf, -1);
     layout.chart[seed] = 0;
-    layout.chart_parent = {-1};
-    layout.chart_from_parent = {DiskIsometry{Geometry::Hyperbolic, 1.0, 0.0}};
-    centre = {0.0};
-    children.resize(1);
   }
   std::vector<char> placed(nf, 0);
   placed[seed] = 1;
@@ -112,32 +104,15 @@ void develop_faces(const Triangulation& mesh, Geometry geometry, const std::vect
       const double side = lengths[mesh.face_edge(g, c2)];
       Eigen::Vector3d a = p[f][(c + 2) % 3], b = p[f][(c + 1) % 3];
       Eigen::Vector3d x = place_third(geometry, a, b, side, angles[g][c1]);
-      if (in_charts) {
-        int k = layout.chart[f];
-        if (x.norm() > rim) {
-          int j = -1;
-          for (int child : children[static_cast<size_t>(k)]) {
-            if (disk_distance(centre[static_cast<size_t>(child)], to_complex(x)) <
-                layout.chart_radius / 2) {
-              j = child;
-              break;
-            }
-          }
-          if (j < 0) {
-            j = static_cast<int>(centre.size());
-            centre.push_back(to_complex(x));
-            children[static_cast<size_t>(k)].push_back(j);
-            children.emplace_back();
-            layout.chart_parent.push_back(k);
-            layout.chart_from_parent.push_back(DiskIsometry::moving_to_origin(centre.back()));
-          }
+      if (charts) {
+        const int k = layout.chart[f], j = charts->chart_for(k, to_complex(x));
+        if (j != k) {
           const DiskIsometry& move = layout.chart_from_parent[static_cast<size_t>(j)];
           a = from_complex(move(to_complex(a)));
           b = from_complex(move(to_complex(b)));
           x = place_third(geometry, a, b, side, angles[g][c1]);
-          k = j;
         }
-        layout.chart[g] = k;
+        layout.chart[g] = j;
       }
       p[g][c1] = a;
       p[g][c2] = b;
@@ -148,7 +123,34 @@ void develop_faces(const Triangulation& mesh, Geometry geometry, const std::vect
   }
 }
 
+double disk_distance(Complex a, Complex b) {
+  return std::acosh(1 + 2 * std::norm(a - b) / ((1 - std::norm(a)) * (1 - std::norm(b))));
+}
+
 }  // namespace
+
+ChartGrowth::ChartGrowth(Layout& layout, double chart_radius)
+    : layout_(layout), rim_(std::tanh(chart_radius / 2)), centre_{0.0}, children_(1) {
+  layout_.chart_radius = chart_radius;
+  layout_.chart_parent = {-1};
+  layout_.chart_from_parent = {DiskIsometry{Geometry::Hyperbolic, 1.0, 0.0}};
+}
+
+int ChartGrowth::chart_for(int k, Complex z) {
+  if (std::abs(z) <= rim_) return k;
+  for (int child : children_[static_cast<size_t>(k)]) {
+    if (disk_distance(centre_[static_cast<size_t>(child)], z) < layout_.chart_radius / 2) {
+      return child;
+    }
+  }
+  const int j = static_cast<int>(centre_.size());
+  centre_.push_back(z);
+  children_[static_cast<size_t>(k)].push_back(j);
+  children_.emplace_back();
+  layout_.chart_parent.push_back(k);
+  layout_.chart_from_parent.push_back(DiskIsometry::moving_to_origin(z));
+  return j;
+}
 
 Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
                double chart_radius) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <complex>
 #include <vector>
 
 #include "layout/corners.h"
@@ -24,6 +25,24 @@ Layout plane_layout(const Triangulation& mesh, const std::vector<double>& length
 //! caller glues them (glue_along_cut) once its corners are final. H2 charts: of `chart_radius`.
 Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
                double chart_radius = kChartRadius);
+
+//! H2 charts grown as a development goes out (Layout::chart): a face of chart k whose new corner
+//! would lie beyond chart_radius from k's centre goes into a chart of k whose centre is within
+//! half of it, or a new one centred where the corner would go.
+class ChartGrowth {
+ public:
+  //! Starts `layout`'s charts (chart_radius, chart_parent, chart_from_parent) with chart 0.
+  ChartGrowth(Layout& layout, double chart_radius);
+  //! The chart for a face of chart k whose new corner lies at z in k's coordinates: k, or a child
+  //! of k (layout.chart_from_parent[result] moves k's coordinates into it).
+  int chart_for(int k, std::complex<double> z);
+
+ private:
+  Layout& layout_;
+  double rim_;                                // tanh(chart_radius / 2)
+  std::vector<std::complex<double>> centre_;  // per chart, in its parent's coordinates
+  std::vector<std::vector<int>> children_;
+};
 
 //! Fills the deck transformations (E2, H2), the closure error and the flipped-face count of a
 //! layout whose corners and cut are set.

@@ -185,6 +185,7 @@ class Splitter {
       sub_.corners.push_back({at, p[d], p[o]});
       sub_.input_face.push_back(sub_.input_face[f]);
       sub_.final_face.push_back(sub_.final_face[f]);
+      if (!sub_.chart.empty()) sub_.chart.push_back(sub_.chart[f]);
       if (model) {
         // On the model's geodesic at the fraction of its length at which the vertex divides the
         // side in 3D: the copies of a side across a cut are isometric there, so the new vertex's

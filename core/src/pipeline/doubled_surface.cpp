@@ -104,7 +104,8 @@ HalfSubdivision subdivide_half(const CompactMesh& half, const CompactMesh& twice
   const Geometry g = structure.geometry;
   const Triangulation& flowed = result_triangulation(twice, result);
   const Layout frames = face_by_face_layout(flowed, g, result.edge_lengths);
-  return half_subdivision(half, common_subdivision(twice, structure, result, frames), frames);
+  return half_subdivision(half, common_subdivision(twice, structure, result, frames), flowed,
+                          frames);
 }
 
 }  // namespace
@@ -184,6 +185,13 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     // (the cut's deck transformations and relation error are not computed for it).
     run.layout_kind = LayoutKind::PoincareDisk;
     run.layout.relation_error = std::nan("");
+    run.layout.reach = last->charts.reach;
+    if (!last->charts.chart.empty()) {
+      run.layout.chart = std::move(last->charts.chart);
+      run.layout.chart_parent = std::move(last->charts.chart_parent);
+      run.layout.chart_from_parent = std::move(last->charts.chart_from_parent);
+      run.layout.chart_radius = last->charts.chart_radius;
+    }
     run.layout.corners = sub.corners;
     run.subdivision = std::move(sub);
     return;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 #include <utility>
@@ -74,7 +76,7 @@ std::pair<std::vector<int>, std::vector<int>> sweep(const std::vector<std::array
 }  // namespace
 
 HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice,
-                                 const Layout& frames) {
+                                 const Triangulation& final_mesh, const Layout& frames) {
   const Geometry geometry = frames.geometry;
   const int n = half.num_vertices(), nf = half.num_faces();
   HalfSubdivision out;
@@ -129,10 +131,14 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
     }
   }
 
-  // Development: each piece placed by the isometry that puts the side it shares with a placed
-  // piece onto that piece's side (its own corners are an isometric copy, in its final face's
-  // frame), breadth-first from a central piece (the middle of the longest of two sweeps), so that
-  // in the Poincare disk no piece lies farther out than the surface's radius.
+  // Development, breadth-first from a central piece (the middle of the longest of two sweeps, so
+  // that in the Poincare disk no piece lies farther out than the surface's radius). Each piece is
+  // placed by an isometry of its final face's frame (its own corners there are an isometric copy):
+  // within a final face its parent's, across a side of the final triangulation the one that puts
+  // that side's two ends where the parent's isometry puts them. Mapping a final side, not the
+  // pieces' shared side, keeps directions as exact as the final triangle's: a sliver's short side
+  // turned the pieces developed from it by its round-off over its length, which the long pieces
+  // beyond it carried out to their far corners (dart-wam6.STL's disk: angle sums off by 7e-5).
   const int np = static_cast<int>(pieces.size());
   if (np == 0) throw LayoutError("doubled surface: no piece lies in the surface's faces");
   const PieceSides sides(sub.faces);
@@ -148,32 +154,93 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
   if (static_cast<int>(order.size()) != np) {
     throw LayoutError("doubled surface: the pieces in the surface's faces are not connected");
   }
+  // Poincare disk: as one chart, then, where that reaches beyond kOneChartRadius, in charts.
   std::vector<std::array<Eigen::Vector3d, 3>> placed(np);
-  placed[start] = twice.corners[pieces[start]];
-  for (size_t i = 1; i < order.size(); ++i) {
-    const int q = order[i], p = parent[q];
-    int qc = -1, pa = -1, pb = -1;  // q's corner off the shared side; p's corners on it
-    for (int c = 0; c < 3; ++c) {
-      bool shared = false;
-      for (int d = 0; d < 3; ++d) shared = shared || sub.faces[p][d] == sub.faces[q][c];
-      if (!shared) qc = c;
+  Layout& charts = out.charts;
+  charts.geometry = geometry;
+  const auto develop = [&](bool in_charts) {
+    std::vector<DiskIsometry> isometry(np, DiskIsometry{geometry, 1.0, 0.0});
+    std::optional<ChartGrowth> growth;
+    if (in_charts) {
+      growth.emplace(charts, kChartRadius);
+      charts.chart.assign(np, -1);
+      charts.chart[start] = 0;
     }
-    if (qc < 0) throw LayoutError("doubled surface: two pieces on the same three vertices");
-    const int qa = (qc + 1) % 3, qb = (qc + 2) % 3;
-    for (int d = 0; d < 3; ++d) {
-      if (sub.faces[p][d] == sub.faces[q][qa]) pa = d;
-      if (sub.faces[p][d] == sub.faces[q][qb]) pb = d;
+    placed[start] = twice.corners[pieces[start]];
+    for (size_t i = 1; i < order.size(); ++i) {
+      const int q = order[i], p = parent[q];
+      int qc = -1, pa = -1, pb = -1;  // q's corner off the shared side; p's corners on it
+      for (int c = 0; c < 3; ++c) {
+        bool shared = false;
+        for (int d = 0; d < 3; ++d) shared = shared || sub.faces[p][d] == sub.faces[q][c];
+        if (!shared) qc = c;
+      }
+      if (qc < 0) throw LayoutError("doubled surface: two pieces on the same three vertices");
+      const int qa = (qc + 1) % 3, qb = (qc + 2) % 3;
+      for (int d = 0; d < 3; ++d) {
+        if (sub.faces[p][d] == sub.faces[q][qa]) pa = d;
+        if (sub.faces[p][d] == sub.faces[q][qb]) pb = d;
+      }
+      if (pa < 0 || pb < 0) throw LayoutError("doubled surface: two pieces share no side");
+      const auto& own = twice.corners[pieces[q]];
+      // The candidates: the parent's isometry when both lie in one final face, and one per side
+      // of q's final face across which the parent's final face lies (a side may be its own
+      // face's, and two faces may share two sides); the one that puts the shared corners where
+      // the parent has them, by far the nearest.
+      const int fq = twice.final_face[pieces[q]], fp = twice.final_face[pieces[p]];
+      const auto misfit = [&](const DiskIsometry& m) {
+        return std::abs(m(complex_of(own[qa])) - complex_of(placed[p][pa])) +
+               std::abs(m(complex_of(own[qb])) - complex_of(placed[p][pb]));
+      };
+      DiskIsometry best = isometry[p];
+      double best_misfit = fq == fp ? misfit(best) : std::numeric_limits<double>::infinity();
+      for (int c = 0; c < 3; ++c) {
+        const int t = final_mesh.twin(3 * fq + c);
+        if (t < 0 || t / 3 != fp) continue;
+        // Halfedge 3 f + c runs from corner c + 1 to c + 2; its twin's ends are the other way.
+        const int d = t % 3;
+        const auto& mine = frames.corners[fq];
+        const auto& theirs = frames.corners[fp];
+        const DiskIsometry m = DiskIsometry::mapping(geometry, complex_of(mine[(c + 1) % 3]),
+                                                     complex_of(mine[(c + 2) % 3]),
+                                                     isometry[p](complex_of(theirs[(d + 2) % 3])),
+                                                     isometry[p](complex_of(theirs[(d + 1) % 3])));
+        const double e = misfit(m);
+        if (e < best_misfit) best = m, best_misfit = e;
+      }
+      if (!(best_misfit < std::numeric_limits<double>::infinity())) {
+        throw LayoutError("doubled surface: two pieces meet off their final faces' sides");
+      }
+      placed[q][qa] = placed[p][pa];
+      placed[q][qb] = placed[p][pb];
+      if (growth) {
+        // Beyond the chart's rim: the isometry and the shared corners moved into another chart.
+        const int k = charts.chart[p], j = growth->chart_for(k, best(complex_of(own[qc])));
+        if (j != k) {
+          const DiskIsometry& move = charts.chart_from_parent[static_cast<size_t>(j)];
+          best = move * best;
+          for (int c : {qa, qb}) {
+            const std::complex<double> z = move(complex_of(placed[q][c]));
+            placed[q][c] = Eigen::Vector3d(z.real(), z.imag(), 0);
+          }
+        }
+        charts.chart[q] = j;
+      }
+      isometry[q] = best;
+      const std::complex<double> z = best(complex_of(own[qc]));
+      placed[q][qc] = Eigen::Vector3d(z.real(), z.imag(), 0);
     }
-    if (pa < 0 || pb < 0) throw LayoutError("doubled surface: two pieces share no side");
-    const auto& own = twice.corners[pieces[q]];
-    const DiskIsometry move =
-        DiskIsometry::mapping(geometry, complex_of(own[qa]), complex_of(own[qb]),
-                              complex_of(placed[p][pa]), complex_of(placed[p][pb]));
-    const std::complex<double> z = move(complex_of(own[qc]));
-    placed[q][qc] = Eigen::Vector3d(z.real(), z.imag(), 0);
-    placed[q][qa] = placed[p][pa];
-    placed[q][qb] = placed[p][pb];
+  };
+  develop(false);
+  if (geometry == Geometry::Hyperbolic) {
+    double far = 0;
+    for (const auto& piece : placed) {
+      for (const auto& z : piece) far = std::max(far, z.norm());
+    }
+    charts.reach = 2 * std::atanh(std::min(far, 1 - 1e-16));
+    if (charts.reach > kOneChartRadius) develop(true);
   }
+  sub.chart = charts.chart;
 
   // Plane: per vertex the mean of its corners, whose spread is the closure error. Poincare disk:
   // the surface is cut open where the development did not cross, so positions are per corner

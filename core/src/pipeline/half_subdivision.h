@@ -21,6 +21,9 @@ struct HalfSubdivision {
   //! Plane: largest distance between a vertex's position and a piece's corner there; NaN in the
   //! Poincare disk (not measured).
   double closure_error = 0;
+  //! Poincare disk: the reach, and where the pieces reach beyond kOneChartRadius the charts
+  //! (chart per piece, chart_parent, chart_from_parent, chart_radius); no corners.
+  Layout charts;
 };
 
 //! The pieces of the double's common subdivision that lie in the half's faces, renumbered (the
@@ -28,9 +31,9 @@ struct HalfSubdivision {
 //! sides: in the plane from the first piece, glued into one position per vertex; in the Poincare
 //! disk from a central piece, with positions per corner (cut open where the development did not
 //! cross), new vertices on the geodesic sides of their final faces. `twice` must be built on
-//! `frames` (face_by_face_layout).
+//! `frames` (face_by_face_layout of `final_mesh`, the double's final triangulation).
 //! \throws LayoutError when the pieces do not form one surface.
 HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice,
-                                 const Layout& frames);
+                                 const Triangulation& final_mesh, const Layout& frames);
 
 }  // namespace ricci::detail

@@ -170,6 +170,7 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
         detail::has_drawing_turned_faces(run.subdivision->corners)) {
       run.subdivision->disk_splits = detail::split_turned_disk_faces(mesh, *run.subdivision);
     }
+    if (run.subdivision) run.face_chart = run.subdivision->chart;
     detail::place_delivered(mesh, o, outer, std::move(run.position), {}, run);
   } else if (run.result.converged && run.preset == TargetPreset::Atlas) {
     detail::lay_out_atlas(mesh, o, run);

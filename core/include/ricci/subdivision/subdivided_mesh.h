@@ -16,6 +16,9 @@ struct CommonSubdivision {
   std::vector<std::array<int, 3>> faces;   //!< oriented as the input's
   std::vector<int> input_face;             //!< per face: the input face it lies in
   std::vector<int> final_face;             //!< per face: the face of T' it lies in
+  //! Per face: its chart where the layout is in several (Layout::chart) and the faces are not
+  //! those of T' (the half of a doubled surface); empty otherwise.
+  std::vector<int> chart;
   //! Per vertex: an input face holding it and its barycentric coordinates there (for the input's
   //! vertices: a face of theirs, with a unit coordinate).
   std::vector<int> vertex_input_face;
