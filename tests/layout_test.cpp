@@ -4,9 +4,11 @@
 #include "ricci/layout/lay_out.h"
 
 #include <cmath>
+#include <complex>
 
 #include <gtest/gtest.h>
 
+#include "layout/corners.h"
 #include "layout/layout_methods.h"
 #include "ricci/flow/ricci_flow.h"
 #include "ricci/mesh/errors.h"
@@ -14,6 +16,37 @@
 
 namespace ricci {
 namespace {
+
+// A point of a Poincare disk geodesic between two corners at distance 10 from the centre, 1e-3
+// apart: on the geodesic to within a few roundings of its coordinates there (measured in long
+// double, after the Moebius map that takes p to the centre and the geodesic to a ray), and where
+// its hyperboloid weight puts it: sinh d(p, x) / sinh d(x, q) = t / (1 - t).
+TEST(Layout, PointsOfADiskGeodesicStayOnItNearTheRim) {
+  using LongComplex = std::complex<long double>;
+  const auto move = [](LongComplex centre, LongComplex z) {
+    return (z - centre) / (LongComplex(1) - std::conj(centre) * z);
+  };
+  const auto distance = [&](LongComplex a, LongComplex b) {
+    return 2 * std::atanh(std::abs(move(a, b)));
+  };
+  const LongComplex p = std::polar(std::tanh(10.0L / 2), 0.3L);
+  const LongComplex step = std::polar(std::tanh(1e-3L / 2), 1.1L);
+  const LongComplex q = (step + p) / (LongComplex(1) + std::conj(p) * step);
+  const Eigen::Vector3d pd(static_cast<double>(p.real()), static_cast<double>(p.imag()), 0);
+  const Eigen::Vector3d qd(static_cast<double>(q.real()), static_cast<double>(q.imag()), 0);
+  const LongComplex pl(pd.x(), pd.y()), ql(qd.x(), qd.y());
+  for (double t : {0.1, 0.3, 0.5, 0.9}) {
+    const Eigen::Vector3d x = detail::disk_geodesic_point(pd, qd, t);
+    const LongComplex xl(x.x(), x.y());
+    // One rounding of x's coordinates moves it this far in the hyperbolic metric.
+    const long double rounding = 2 * 1.2e-16L / (1 - std::norm(xl));
+    const long double off =
+        distance(pl, xl) * std::abs(std::sin(std::arg(move(pl, xl)) - std::arg(move(pl, ql))));
+    EXPECT_LE(off, 5 * rounding) << "t = " << t;
+    const long double ratio = std::sinh(distance(pl, xl)) / std::sinh(distance(xl, ql));
+    EXPECT_NEAR(static_cast<double>(ratio), t / (1 - t), 1e-7 * t / (1 - t)) << "t = " << t;
+  }
+}
 
 TEST(Layout, FlatInputIsReproducedUpToARigidMotion) {
   const CompactMesh grid = test::square_grid(20);

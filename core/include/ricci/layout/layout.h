@@ -10,10 +10,10 @@
 //     the faces by the corner angles instead (errors add along a path, they do not multiply), and
 //     positions are the sparse least-squares fit to every face's edge vectors, with separate
 //     unknowns on the two sides of a cut (the method DESIGN.md measured as stable).
-//   H2, S2: developed triangle by triangle, breadth-first, each from the two corners it shares
-//     with a placed face; H2 from a central face, cut along shortest paths from it (so no corner
-//     lies far out in the Poincare disk, where double precision runs out), S2 from the face
-//     deepest inside the cut disk.
+//   H2, S2: developed triangle by triangle, nearest to the seed first, each from the two corners
+//     it shares with a placed face; H2 in long double, from a central face, cut along shortest
+//     paths from it (so no corner lies far out in the Poincare disk, where double precision runs
+//     out), S2 from the face deepest inside the cut disk.
 #pragma once
 
 #include <array>
