@@ -8,11 +8,14 @@
 
 #include "layout/corners.h"
 #include "mesh/mesh_checks.h"
+#include "mesh/plane.h"
 #include "ricci/mesh/geometry.h"
 
 namespace ricci {
 
 namespace {
+
+using detail::cross;
 
 // The corner opposite p-q of a triangle with sides a (opposite p), b (opposite q) and c (p-q),
 // counter-clockwise, the triangle scaled so that its side c spans p-q as placed: its shape, and so
@@ -320,15 +323,11 @@ std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t 
 
 namespace {
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 // The distance between segments a-b and c-d (0 where they cross or touch).
 double segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                         const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
-  const double abc = cross2(b - a, c - a), abd = cross2(b - a, d - a);
-  const double cda = cross2(d - c, a - c), cdb = cross2(d - c, b - c);
+  const double abc = cross(b - a, c - a), abd = cross(b - a, d - a);
+  const double cda = cross(d - c, a - c), cdb = cross(d - c, b - c);
   if (((abc > 0 && abd < 0) || (abc < 0 && abd > 0)) &&
       ((cda > 0 && cdb < 0) || (cda < 0 && cdb > 0))) {
     return 0;
@@ -363,7 +362,7 @@ std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<c
     if (!(signed_area(p[f]) > 0)) embedded[k] = 0;
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector2d u = p[f][(c + 1) % 3] - p[f][c], v = p[f][(c + 2) % 3] - p[f][c];
-      angle_sum[wedge[3 * f + c]] += std::atan2(std::abs(cross2(u, v)), u.dot(v));
+      angle_sum[wedge[3 * f + c]] += std::atan2(std::abs(cross(u, v)), u.dot(v));
       if (wedge[3 * f + c] == 3 * f + c) ++wedges[k];
       const int t = mesh.twin(3 * f + c);
       if (t >= 0 && !cut[mesh.face_edge(f, c)]) continue;

@@ -6,18 +6,17 @@
 #include <limits>
 #include <numeric>
 
+#include "mesh/plane.h"
 #include "ricci/mesh/errors.h"
 
 namespace ricci {
 
 namespace {
 
+using detail::cross;
+
 using Triangle = std::array<Eigen::Vector2d, 3>;
 using Triangles = std::vector<Triangle>;
-
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
 
 // Andrew's monotone chain, counter-clockwise.
 std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {

@@ -7,16 +7,13 @@
 
 #include <Eigen/Core>
 
+#include "mesh/plane.h"
 #include "ricci/mesh/errors.h"
 #include "ricci/mesh/geometry.h"
 
 namespace ricci::detail {
 
 namespace {
-
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
 
 // Apex of the triangle on `base` = (p, q) with sides x = |apex - p| and y = |apex - q|, on the
 // left of p -> q when `left`.

@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "mesh/plane.h"
 #include "ricci/mesh/errors.h"
 #include "ricci/mesh/geometry.h"
 #include "subdivision/face_pieces.h"
@@ -30,15 +31,11 @@ namespace {
 // the unit sphere, whose sides are the chords, Euclidean Yamabe lengths); on S2 the points are
 // then projected centrally onto the sphere, which is projective too.
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
 // Center and radius of the circle through a, b, c.
 std::pair<Eigen::Vector2d, double> circumcircle(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                                 const Eigen::Vector2d& c) {
   const Eigen::Vector2d ab = b - a, ac = c - a;
-  const double d = 2 * cross2(ab, ac);
+  const double d = 2 * cross(ab, ac);
   const Eigen::Vector2d o =
       a + Eigen::Vector2d(ac.y() * ab.squaredNorm() - ab.y() * ac.squaredNorm(),
                           ab.x() * ac.squaredNorm() - ac.x() * ab.squaredNorm()) /
@@ -158,7 +155,7 @@ std::vector<std::array<size_t, 3>> ears(const CutPolygon& cell) {
       const Eigen::Vector2d &a = cell.points[left[(i + n - 1) % n]].chart,
                             &b = cell.points[left[i]].chart,
                             &c = cell.points[left[(i + 1) % n]].chart;
-      const double area = cross2(b - a, c - a);
+      const double area = cross(b - a, c - a);
       const double scale = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
       const double quality = scale > 0 ? area / scale : 0;  // 1 / (4 sqrt 3) when equilateral
       if (quality > best_quality) best = i, best_quality = quality;
@@ -456,7 +453,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
       const size_t n = piece.corners.size();
       for (size_t i = 0; i < n; ++i) {
         const Eigen::Vector2d &a = piece.corners[i], d = piece.corners[(i + 1) % n] - a;
-        if (d.squaredNorm() > 0) depth = std::min(depth, cross2(d, centroid - a) / d.norm());
+        if (d.squaredNorm() > 0) depth = std::min(depth, cross(d, centroid - a) / d.norm());
       }
       if (depth > deepest) input_face = piece.input_face, deepest = depth;
     }
@@ -613,7 +610,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
                 r.vertex == ch.end[0].point.vertex || r.vertex == ch.end[1].point.vertex;
             // A point within rounding of the line is on it (an input edge through a crossing of
             // the two triangulations' edges), so that no piece is cut to nothing.
-            d[i] = end ? 0.0 : cross2(dir, r.chart - a0);
+            d[i] = end ? 0.0 : cross(dir, r.chart - a0);
             if (std::abs(d[i]) <= 1e-10 * dir.squaredNorm()) d[i] = 0;
             above = above || d[i] > 0;
             below = below || d[i] < 0;
