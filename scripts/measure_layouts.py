@@ -17,7 +17,13 @@ FILE is a PLY that ricci-flow wrote, or an OBJ with a texture coordinate per fac
   measured in the layout's model (Euclidean angles in the plane, hyperbolic angles between the
   geodesic sides in the Poincare disk, spherical ones on the unit sphere), against 2 pi - Kbar
   (Kbar: ricci_target; 0 at the vertices of a subdivision); the largest error, over all interior
-  vertices and over those the layout cuts open (corners at more than one position).
+  vertices and over those the layout cuts open (corners at more than one position); and over the
+  resolved ones (resolved_angle_error, resolved_vertices): interior vertices whose faces all have
+  nonzero 3D area and angles that double precision resolves in the model -- one rounding of a
+  corner's coordinates (unit round-off times the coordinates' size; in the Poincare disk, 2 / (1 -
+  |z|^2) times that in the hyperbolic metric) turns no side by more than 1e-10 rad (over the
+  face's shortest side). Near the disk's rim a face 1e-9 wide is not resolved: no double
+  coordinates draw its angles to 1e-8.
 
 The layout of a ricci-flow PLY: layout_corners per face corner where the file has them (the
 model's coordinates, in each face's chart), else layout_x/y/z per vertex; the model per face from
@@ -192,8 +198,34 @@ def corner_angle(model, p, q, r):
     return np.abs(np.arctan2(c.imag, c.real))
 
 
-def angle_sums(faces, corners, model, kbar, num_vertices):
-    """(largest error, interior vertices checked, largest error at cut vertices, cut vertices)."""
+UNIT_ROUNDOFF = 2.0 ** -52
+RESOLVED_TURN = 1e-10
+
+
+def resolved_faces(faces, corners, model, surface):
+    """Per face: nonzero 3D area, and one rounding of its corners turns its sides by <= 1e-10."""
+    p, q, r = (corners[:, k].astype(np.longdouble) for k in range(3))
+    if model == DISK:
+        z = [x[:, 0] + 1j * x[:, 1] for x in (p, q, r)]
+        side = np.min([2 * np.arctanh(np.minimum(np.abs((b - a) / (1 - np.conj(a) * b)), 1))
+                       for a, b in ((z[0], z[1]), (z[1], z[2]), (z[2], z[0]))], axis=0)
+        size = np.max([2 / (1 - np.minimum(np.abs(a) ** 2, 1)) for a in z], axis=0)
+    else:
+        side = np.min([np.linalg.norm(b - a, axis=1) for a, b in ((p, q), (q, r), (r, p))], axis=0)
+        size = np.max([np.abs(x).max(axis=1) for x in (p, q, r)], axis=0)
+        if model == SPHERE:
+            size = np.ones_like(size)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        turn = (UNIT_ROUNDOFF * size / side).astype(float)
+    area = np.linalg.norm(np.cross(surface[faces[:, 1]] - surface[faces[:, 0]],
+                                   surface[faces[:, 2]] - surface[faces[:, 0]]), axis=1)
+    return (turn <= RESOLVED_TURN) & (area > 0)
+
+
+def angle_sums(faces, corners, model, kbar, num_vertices, resolved=None):
+    """(largest error, interior vertices checked, largest error at cut vertices, cut vertices,
+    largest error at resolved vertices, resolved vertices): resolved, per face, as
+    resolved_faces."""
     total = np.zeros(num_vertices, dtype=np.longdouble)
     for c in range(3):
         p, q, r = corners[:, c], corners[:, (c + 1) % 3], corners[:, (c + 2) % 3]
@@ -223,7 +255,12 @@ def angle_sums(faces, corners, model, kbar, num_vertices):
     worst = float(error[check].max()) if check.any() else float("nan")
     on_cut = check & cut
     worst_cut = float(error[on_cut].max()) if on_cut.any() else float("nan")
-    return worst, int(check.sum()), worst_cut, int(on_cut.sum())
+    unresolved = np.zeros(num_vertices, dtype=bool)
+    if resolved is not None:
+        unresolved[faces[~resolved].ravel()] = True
+    fine = check & ~unresolved
+    worst_fine = float(error[fine].max()) if fine.any() else float("nan")
+    return worst, int(check.sum()), worst_cut, int(on_cut.sum()), worst_fine, int(fine.sum())
 
 
 def measure_ply(path, atlas=False):
@@ -260,8 +297,8 @@ def measure_ply(path, atlas=False):
     names = {PLANE: "plane", DISK: "poincare-disk", SPHERE: "sphere"}
     row["models"] = ",".join(names[m] for m in sorted(set(model.tolist())) if m in names)
     qc, flipped = [], 0
-    worst = worst_cut = float("nan")
-    checked = checked_cut = 0
+    worst = worst_cut = worst_fine = float("nan")
+    checked = checked_cut = checked_fine = 0
     for m in (PLANE, DISK, SPHERE):
         sel = model == m
         if not sel.any():
@@ -272,10 +309,12 @@ def measure_ply(path, atlas=False):
         # Angle sums per model; a vertex's faces all lie in one component, so in one model.
         kb = kbar.copy()
         kb[np.setdiff1d(np.arange(n), faces[sel].ravel())] = np.nan
-        w, k, wc, kc = angle_sums(faces[sel], t, m, kb, n)
+        w, k, wc, kc, wf, kf = angle_sums(faces[sel], t, m, kb, n,
+                                          resolved_faces(faces[sel], t, m, surface))
         worst = np.nanmax([worst, w]) if k else worst
         worst_cut = np.nanmax([worst_cut, wc]) if kc else worst_cut
-        checked, checked_cut = checked + k, checked_cut + kc
+        worst_fine = np.nanmax([worst_fine, wf]) if kf else worst_fine
+        checked, checked_cut, checked_fine = checked + k, checked_cut + kc, checked_fine + kf
     row.update(summary(np.concatenate(qc), flipped))
     if "texcoord_double" in f and len(f["texcoord_double"]) == len(faces):
         uv = np.array(f["texcoord_double"], dtype=float).reshape(-1, 3, 2)
@@ -283,7 +322,8 @@ def measure_ply(path, atlas=False):
         a, b = drawn[:, 1] - drawn[:, 0], drawn[:, 2] - drawn[:, 0]
         row["texture_flipped"] = int(np.sum(~(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0] > 0)))
     row.update({"angle_error": worst, "interior_vertices": checked, "cut_angle_error": worst_cut,
-                "cut_vertices": checked_cut})
+                "cut_vertices": checked_cut, "resolved_angle_error": worst_fine,
+                "resolved_vertices": checked_fine})
     if atlas:
         row.update(atlas_ply(surface, faces, f, model, corners))
     return row
@@ -483,7 +523,8 @@ def measure_atlas(surface, faces, uv):
 
 
 COLUMNS = ("file", "faces", "models", "flipped", "texture_flipped", "degenerate", "qc_median",
-           "qc_p95", "qc_max", "angle_error", "interior_vertices", "cut_angle_error", "cut_vertices")
+           "qc_p95", "qc_max", "angle_error", "interior_vertices", "cut_angle_error", "cut_vertices",
+           "resolved_angle_error", "resolved_vertices")
 ATLAS_COLUMNS = ("atlas_faces", "atlas_D", "atlas_qc_median", "atlas_qc_p95", "atlas_qc_max",
                  "atlas_flipped", "atlas_uv_degenerate", "atlas_overlap", "atlas_seam",
                  "atlas_seam_edges", "atlas_charts", "atlas_util_square", "atlas_util_bbox",
