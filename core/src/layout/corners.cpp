@@ -36,7 +36,7 @@ void weld_corner_copies(const std::vector<std::array<int, 3>>& faces,
   for (const auto& t : corners) {
     for (const Eigen::Vector3d& p : t) scale = std::max(scale, p.cwiseAbs().maxCoeff());
   }
-  const double tolerance = 1e-10 * scale;
+  const double tolerance = 1e-13 * scale;
   int num_vertices = 0;
   for (const auto& t : faces) num_vertices = std::max({num_vertices, t[0] + 1, t[1] + 1, t[2] + 1});
   std::vector<std::vector<Eigen::Vector3d>> copies(static_cast<size_t>(num_vertices));

@@ -112,11 +112,11 @@ int deepest_face(const Triangulation& mesh, const std::vector<char>& cut) {
 // face was entered by to that of the side it is left by). The paths to a vertex's copies on the
 // two sides of the cut then run close to the geodesics to them: the flow's residual curvature
 // between two paths turns one copy against the other (breadth first, CGAL's refined_elephant.off
-// had its angle sums off 2 pi by 3.6e-8 at its cut, 1.5e-8 so, 1.6e-11 with the residual at
-// 5e-15; polygon_mesh.off 5.0e-8 and 3.0e-9). In charts (H2): a face that would be placed beyond
-// the chart radius from its chart's centre goes into a chart of the same parent (ChartGrowth);
-// its two shared corners are moved into that chart by the transition, its third corner placed
-// there.
+// had its angle sums off 2 pi by 3.6e-8 at its cut, 1.5e-8 so; polygon_mesh.off 5.0e-8 and
+// 3.0e-9; the rest was welding, weld_corner_copies). In charts (H2): a face that would be placed
+// beyond the chart radius from its chart's centre goes into a chart of the same parent
+// (ChartGrowth); its two shared corners are moved into that chart by the transition, its third
+// corner placed there.
 void develop_faces(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
                    const std::vector<std::array<double, 3>>& angles, int seed, bool in_charts,
                    Layout& layout) {
