@@ -168,8 +168,10 @@ double gluing_error(const Delivered& d, int* cut_edges) {
   return worst;
 }
 
-// Angle sums at every interior vertex, those on the cut included.
-constexpr double kAngleSumTolerance = 1e-8;
+// Angle sums at every interior vertex, those on the cut included: within 2e-9 (issue #33 asks
+// 1e-8; measured 2026-12-04 from 5e-13 on the elephant to 7.1e-10 on the CAD part; before the
+// development in long double and the narrower welding, tr12j was at 6.8e-9, polygon_mesh 3.0e-9).
+constexpr double kAngleSumTolerance = 2e-9;
 
 struct Case {
   std::string mesh;  // a real mesh (meshes/real-meshes.tsv) or CGAL's
