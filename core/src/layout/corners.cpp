@@ -77,8 +77,11 @@ Eigen::Vector3d disk_geodesic_point(const Eigen::Vector3d& p, const Eigen::Vecto
   const LongComplex moved = (b - a) / (one - std::conj(a) * b);
   const long double r = std::abs(moved), w = t;
   if (!(r > 0)) return p;
+  // B^2 - A^2 as (B - A)(B + A), B - A = (1 - t)(1 - r^2) + t (1 - r)^2: no cancellation where t
+  // is near 1 on a long side.
   const long double A = 2 * w * r, B = (1 - w) * (1 - r * r) + w * (1 + r * r);
-  const long double half = A / (B + std::sqrt(std::max(B * B - A * A, 0.0L)));
+  const long double below = (1 - w) * (1 - r * r) + w * (1 - r) * (1 - r);
+  const long double half = A / (B + std::sqrt(std::max(below * (B + A), 0.0L)));
   const LongComplex z = moved * (half / r);
   const LongComplex back = (z + a) / (one + std::conj(a) * z);
   return {static_cast<double>(back.real()), static_cast<double>(back.imag()), 0.0};

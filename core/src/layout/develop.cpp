@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <queue>
 #include <utility>
@@ -139,8 +140,11 @@ void develop_faces(const Triangulation& mesh, Geometry geometry, const std::vect
   std::vector<char> placed(nf, 0);
   std::vector<double> distance(nf, 0);
   std::vector<Eigen::Vector3d> entry(nf);
+  // (Beyond about 37, |z| rounds to 1 in the first, one-chart pass: infinite, never NaN, so that
+  // the queue's order stays one.)
   const auto gap = [&](const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
-    return disk ? disk_distance(to_complex(x), to_complex(y)) : (x - y).norm();
+    const double d = disk ? disk_distance(to_complex(x), to_complex(y)) : (x - y).norm();
+    return std::isnan(d) ? std::numeric_limits<double>::infinity() : d;
   };
   using Step = std::pair<double, int>;  // (distance from the seed, halfedge crossed from)
   std::priority_queue<Step, std::vector<Step>, std::greater<>> queue;
@@ -236,7 +240,7 @@ Layout develop(const Triangulation& mesh, Geometry geometry, const std::vector<d
   const int seed =
       geometry == Geometry::Hyperbolic ? layout.cut.root : deepest_face(mesh, layout.cut.cut);
 
-  // --- the seed face, then breadth-first across uncut edges; H2 again in charts where the domain
+  // --- the seed face, then across uncut edges nearest first; H2 again in charts where the domain
   // reaches beyond kOneChartRadius
   const auto edge_length_at = [&](int f, int corner) { return lengths[mesh.face_edge(f, corner)]; };
   auto& p = layout.corners;

@@ -150,14 +150,20 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
     while (parent[path.back()] >= 0) path.push_back(parent[path.back()]);
     start = path[path.size() / 2];
   }
-  const auto [order, parent] = sweep(sub.faces, sides, start);
+  const std::pair<std::vector<int>, std::vector<int>> swept = sweep(sub.faces, sides, start);
+  const std::vector<int>& order = swept.first;  // captured below: no structured binding (C++17)
+  const std::vector<int>& parent = swept.second;
   if (static_cast<int>(order.size()) != np) {
     throw LayoutError("doubled surface: the pieces in the surface's faces are not connected");
   }
-  // Poincare disk: as one chart, then, where that reaches beyond kOneChartRadius, in charts.
+  // Poincare disk: as one chart, then, where that reaches beyond kOneChartRadius, in charts. The
+  // first pass measures the reach and stops at distance 30 (a lower bound then): beyond about 37
+  // |z| rounds to 1, and the isometries to NaN.
   std::vector<std::array<Eigen::Vector3d, 3>> placed(np);
   Layout& charts = out.charts;
   charts.geometry = geometry;
+  const double last_rim = std::tanh(30.0 / 2);
+  double far = 0;
   const auto develop = [&](bool in_charts) {
     std::vector<DiskIsometry> isometry(np, DiskIsometry{geometry, 1.0, 0.0});
     std::optional<ChartGrowth> growth;
@@ -229,14 +235,13 @@ HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivisio
       isometry[q] = best;
       const std::complex<double> z = best(complex_of(own[qc]));
       placed[q][qc] = Eigen::Vector3d(z.real(), z.imag(), 0);
+      if (!in_charts) far = std::max(far, std::abs(z));
+      if (!in_charts && geometry == Geometry::Hyperbolic && std::abs(z) > last_rim) return;
     }
   };
   develop(false);
   if (geometry == Geometry::Hyperbolic) {
-    double far = 0;
-    for (const auto& piece : placed) {
-      for (const auto& z : piece) far = std::max(far, z.norm());
-    }
+    for (const auto& z : placed[start]) far = std::max(far, z.norm());
     charts.reach = 2 * std::atanh(std::min(far, 1 - 1e-16));
     if (charts.reach > kOneChartRadius) develop(true);
   }

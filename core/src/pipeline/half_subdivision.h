@@ -27,10 +27,12 @@ struct HalfSubdivision {
 };
 
 //! The pieces of the double's common subdivision that lie in the half's faces, renumbered (the
-//! half's vertices first, then the new ones in the double's order), developed across their shared
-//! sides: in the plane from the first piece, glued into one position per vertex; in the Poincare
-//! disk from a central piece, with positions per corner (cut open where the development did not
-//! cross), new vertices on the geodesic sides of their final faces. `twice` must be built on
+//! half's vertices first, then the new ones in the double's order), developed piece by piece,
+//! each by its final face's isometry (across a final side, the one that puts the side's ends where
+//! the neighbour's puts them): in the plane from the first piece, glued into one position per
+//! vertex; in the Poincare disk from a central piece, with positions per corner (cut open where
+//! the development did not cross), in charts beyond kOneChartRadius, new vertices on the geodesic
+//! sides of their final faces. `twice` must be built on
 //! `frames` (face_by_face_layout of `final_mesh`, the double's final triangulation).
 //! \throws LayoutError when the pieces do not form one surface.
 HalfSubdivision half_subdivision(const CompactMesh& half, const CommonSubdivision& twice,
