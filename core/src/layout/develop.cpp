@@ -1,4 +1,5 @@
-// Development of a metric into its model, triangle by triangle (H2 and S2 layouts).
+// Development of a metric into its model, triangle by triangle (H2 and S2 layouts, and the first
+// step of E2 ones, plane_layout.cpp).
 #include <algorithm>
 #include <cmath>
 #include <functional>

@@ -133,10 +133,10 @@ double max_relative_length_error(const Triangulation& mesh, const std::vector<do
 Layout plane_layout(const Triangulation& mesh, const std::vector<double>& lengths,
                     LinearSolverKind solver, double max_developed_error) {
   const int nf = mesh.num_faces();
-  // Developed face by face, each wedge at the mean of its corners: exact up to the round-off
-  // accumulated along the breadth-first tree, and no linear solve (on a 267k-face disk 0.3 s
-  // against 1.4 s). Where that round-off exceeds max_developed_error in some edge's length, the
-  // least-squares fit spreads it instead.
+  // Developed face by face (nearest to the seed first, develop()), each wedge at the mean of its
+  // corners: exact up to the round-off accumulated along the development's tree, and no linear
+  // solve (on a 267k-face disk 0.3 s against 1.4 s). Where that round-off exceeds
+  // max_developed_error in some edge's length, the least-squares fit spreads it instead.
   Layout layout = develop(mesh, Geometry::Euclidean, lengths);
   if (nf == 0) return layout;
   int num_wedges = 0;
