@@ -275,8 +275,9 @@ TEST(CommonSubdivision, PiecesFollowTheInputsDelaunayTriangulation) {
 }
 
 // Glest's recognizer (gltron, GPL-2+), its 44-face disk with u = 0 on the boundary: the flow
-// flips 74 edges in the canonical class and none of the input's faces turns over when drawn by its
-// corners, but so drawn they are far from conformal (QC p95 26.3); the pieces are delivered.
+// flips edges in the canonical class (its double's, doubled_surface_test.cpp) and none of the
+// input's faces turns over when drawn by its corners, but so drawn they are far from conformal
+// (QC p95 21.3); the pieces are delivered.
 TEST(CommonSubdivision, PiecesAreDeliveredWhereTheInputsOwnFacesAreFarFromConformal) {
   const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/gltron-recognizer-quad.obj");
   const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
@@ -287,7 +288,7 @@ TEST(CommonSubdivision, PiecesAreDeliveredWhereTheInputsOwnFacesAreFarFromConfor
   o.preset = TargetPreset::FreeBoundary;
   const Uniformization run = uniformize(mesh, o);
   ASSERT_TRUE(run.valid()) << run.result.failure << run.layout_failure;
-  ASSERT_FALSE(run.result.flip_sequence.empty());
+  ASSERT_GT(run.totals.edge_flips, 0);
   EXPECT_EQ(run.input_faces_turned_over, 0);
   ASSERT_TRUE(run.subdivision.has_value());
   const CommonSubdivision& s = *run.subdivision;
@@ -311,7 +312,7 @@ TEST(CommonSubdivision, PiecesAreDeliveredWhereTheInputsOwnFacesAreFarFromConfor
          run.position[mesh.face_vertex(f, 2)]}));
   }
   const double pieces_p95 = test::percentile(pieces, 0.95), own_p95 = test::percentile(own, 0.95);
-  EXPECT_LE(pieces_p95, 8.0);  // measured 7.24; CEPS's 6.0 on its 344 pieces
+  EXPECT_LE(pieces_p95, 6.2);  // measured 5.97 (7.24 in the half's own class); CEPS's 6.0
   EXPECT_GT(own_p95, 2 * pieces_p95);
   EXPECT_GT(run.input_faces_qc_p95, 1.1 * pieces_p95);
 }

@@ -34,6 +34,49 @@ bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& op
           (run.geometry == Geometry::Hyperbolic && kind == LayoutKind::PoincareDisk));
 }
 
+int boundary_edges_not_delaunay_on_double(const CompactMesh& half, const FlowResult& result) {
+  if (result.edge_lengths.empty()) return 0;
+  const Triangulation& t = result_triangulation(half, result);
+  int count = 0;
+  for (int f = 0; f < t.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int e = t.face_edge(f, c);
+      if (!t.is_boundary_edge(e)) continue;
+      // The angle at corner c, opposite e, above a right angle: a^2 + b^2 < c^2, with a margin
+      // of rounding (a cocircular pair of a face and its mirror image is Delaunay either way).
+      const double opposite = result.edge_lengths[e];
+      const double a = result.edge_lengths[t.face_edge(f, (c + 1) % 3)];
+      const double b = result.edge_lengths[t.face_edge(f, (c + 2) % 3)];
+      count += a * a + b * b < opposite * opposite * (1 - 1e-12);
+    }
+  }
+  return count;
+}
+
+std::string class_other_than_doubles(const CompactMesh& half, const UniformizationOptions& options,
+                                     const Uniformization& run) {
+  const FlowResult& r = run.result;
+  if (!r.converged || half.is_closed() || run.geometry != Geometry::Euclidean ||
+      !is_yamabe(run.structure) || r.flip_sequence.empty() ||
+      options.flow.edge_flips == EdgeFlips::Never || !options.flow.delaunay_class ||
+      options.keep_input_triangulation ||
+      planned_layout(half, run.preset, run.geometry) != LayoutKind::Plane) {
+    return "";
+  }
+  // At u = 0 every class's metric is the input's (the flips to either Delaunay triangulation are
+  // isometric): nothing to flow again.
+  if (r.u.size() == 0 || r.u.cwiseAbs().maxCoeff() <= 1e-12) return "";
+  if (!r.input_class_because.empty()) {
+    return "converged only in the input triangulation's class (" + r.input_class_because + ")";
+  }
+  const int obtuse = boundary_edges_not_delaunay_on_double(half, r);
+  if (obtuse == 0) return "";
+  return "converged in the class of its intrinsic Delaunay triangulation, but " +
+         std::to_string(obtuse) +
+         " of its boundary edges face an angle above a right angle there, so that class is not "
+         "its double's";
+}
+
 TargetCurvature doubled_target(const CompactMesh& half, const CompactMesh& twice,
                                const TargetCurvature& target) {
   const int n = half.num_vertices();
@@ -170,6 +213,21 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
 
   run.doubled = true;
   run.doubled_because = run.result.failure;
+  // With u held on the boundary its vertices keep their scale, but where the double's flips
+  // cross it the boundary between them is the canonical metric's geodesic, of another length.
+  if (run.geometry == Geometry::Euclidean && run.preset != TargetPreset::Atlas &&
+      target.num_fixed() > 0 && !last->boundary_lengths.empty()) {
+    double input = 0, delivered = 0;
+    for (int e = 0; e < half.num_edges(); ++e) {
+      if (!half.is_boundary_edge(e)) continue;
+      input += half.input_lengths()[e];
+      delivered += last->boundary_lengths[e];
+    }
+    std::ostringstream s;
+    s << "; with u = 0 at the boundary's vertices the boundary is " << delivered / input
+      << " times its input length in this class";
+    run.doubled_because += s.str();
+  }
   run.result = half_result(half, on_double.result);
   run.boundary_change = on_double.boundary_change;
   // u of the half is measured from the double's scaled input (H2 scales to the area of the

@@ -32,6 +32,23 @@ namespace ricci::detail {
 bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
                         const TargetCurvature& target, const Uniformization& run);
 
+//! The boundary edges of the flowed triangulation (E2) whose opposite angle exceeds a right
+//! angle: on the double such an edge and its mirror image are not Delaunay, so the double's
+//! canonical class (that of its intrinsic Delaunay triangulation at every u) is not the half's.
+//! 0 when the flow did not keep edge lengths.
+int boundary_edges_not_delaunay_on_double(const CompactMesh& half, const FlowResult& result);
+
+//! Why the converged flow of `run` is not in the canonical discrete conformal class of the
+//! surface, its double's, or "" when it is (or the double does not apply: a Yamabe flow in E2
+//! with edge flips, laid out in the plane as one disk, the canonical class asked for, the
+//! input's triangulation not kept). On a surface with boundary the canonical class is that of
+//! its double (Gillespie, Springborn and Crane 2021; CEPS flows there): flips across the
+//! boundary included. The half's own flow reaches it unless it converged only in the input
+//! triangulation's class (the canonical one stalled at the boundary) or has boundary edges that
+//! the double's Delaunay triangulation flips.
+std::string class_other_than_doubles(const CompactMesh& half, const UniformizationOptions& options,
+                                     const Uniformization& run);
+
 //! Kbar on the double: the half's at its vertices and at their copies, twice the half's at its
 //! boundary vertices (a boundary angle sum theta is 2 theta on the double: K = 2 pi - 2 theta
 //! = 2 (pi - theta)); held fixed where the half's is.

@@ -122,38 +122,10 @@ std::pair<TargetPreset, Geometry> resolve_request(const CompactMesh& mesh,
 
 namespace {
 
-// The flow (the disk preset: by one solve when one_solve, else or where that does not converge by
-// the fixed point of repeated flows; the double where the surface's own triangulation stalls at
-// the boundary) and the layout of its result.
-// Returns true when the result is the disk preset's one solve.
-bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, int outer,
-                      const TargetCurvature& target, bool one_solve, Uniformization& run) {
-  bool by_one_solve = false;
-  {
-    // Its factorizations are freed before the flow on the double and the layout, which need none.
-    // The atlas's flat cone metric in the canonical class from the start (the input flipped
-    // isometrically to its intrinsic Delaunay triangulation first, as CEPS does), not only once
-    // the flow needs flips: on faces that are not Delaunay the input class's map is farther from
-    // conformal (eight.off at 14 cones: QC p95 1.427 there, 1.225 in the canonical class).
-    FlowOptions flow = o.flow;
-    if (run.preset == TargetPreset::Atlas && flow.edge_flips == EdgeFlips::WhenNeeded) {
-      flow.edge_flips = EdgeFlips::Always;
-    }
-    RicciFlowSolver solver(mesh, run.structure, flow, o.vertex_order);
-    if (run.preset == TargetPreset::UnitDisk) {
-      by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
-    } else {
-      const std::optional<Eigen::VectorXd> start =
-          run.preset == TargetPreset::Atlas
-              ? std::optional<Eigen::VectorXd>(run.atlas.placement.u)
-              : flow_start(mesh, run.structure, target, o.flow, o.vertex_order);
-      run.result = solver.solve(target, start ? &*start : nullptr);
-      run.totals.add(run.result);
-    }
-  }
-  if (detail::may_flow_on_double(mesh, o, target, run)) {
-    detail::flow_on_double(mesh, o, outer, target, run);
-  }
+// The layout of a flow's result (on the double: of the half's pieces), its quality, and why it
+// is no valid map.
+void lay_out_flow(const CompactMesh& mesh, const UniformizationOptions& o, int outer,
+                  Uniformization& run) {
   const auto measure = [&] {
     if (run.subdivision) {
       run.quality = measure_layout(face_sides(run.subdivision->positions, run.subdivision->faces),
@@ -191,6 +163,60 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
   if (run.result.converged) run.layout_failure = detail::layout_failure(run);
   if (run.result.converged && run.layout_failure.empty()) {
     run.layout_failure = detail::atlas_failure(run);
+  }
+}
+
+// The flow (the disk preset: by one solve when one_solve, else or where that does not converge by
+// the fixed point of repeated flows; the double where the surface's own triangulation stalls at
+// the boundary or its class is not the double's) and the layout of its result.
+// Returns true when the result is the disk preset's one solve.
+bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, int outer,
+                      const TargetCurvature& target, bool one_solve, Uniformization& run) {
+  bool by_one_solve = false;
+  {
+    // Its factorizations are freed before the flow on the double and the layout, which need none.
+    // The atlas's flat cone metric in the canonical class from the start (the input flipped
+    // isometrically to its intrinsic Delaunay triangulation first, as CEPS does), not only once
+    // the flow needs flips: on faces that are not Delaunay the input class's map is farther from
+    // conformal (eight.off at 14 cones: QC p95 1.427 there, 1.225 in the canonical class).
+    FlowOptions flow = o.flow;
+    if (run.preset == TargetPreset::Atlas && flow.edge_flips == EdgeFlips::WhenNeeded) {
+      flow.edge_flips = EdgeFlips::Always;
+    }
+    RicciFlowSolver solver(mesh, run.structure, flow, o.vertex_order);
+    if (run.preset == TargetPreset::UnitDisk) {
+      by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
+    } else {
+      const std::optional<Eigen::VectorXd> start =
+          run.preset == TargetPreset::Atlas
+              ? std::optional<Eigen::VectorXd>(run.atlas.placement.u)
+              : flow_start(mesh, run.structure, target, o.flow, o.vertex_order);
+      run.result = solver.solve(target, start ? &*start : nullptr);
+      run.totals.add(run.result);
+    }
+  }
+  // On a surface with boundary the canonical class is its double's: flowed there where the
+  // half's converged flow is in another (lightcycle-high.obj's 62-face part, free boundary:
+  // quasi-conformal ratio p95 14.6 in the input triangulation's class, 5.06 on the double, CEPS
+  // 5.12). The half's own result is delivered where the double's flow or layout fails.
+  std::optional<Uniformization> half_run;
+  if (detail::may_flow_on_double(mesh, o, target, run)) {
+    detail::flow_on_double(mesh, o, outer, target, run);
+  } else if (std::string why = detail::class_other_than_doubles(mesh, o, run); !why.empty()) {
+    half_run = run;
+    run.result.failure = std::move(why);  // kept as the run's doubled_because
+    detail::flow_on_double(mesh, o, outer, target, run);
+    if (!run.doubled) {
+      half_run->totals = run.totals;
+      run = std::move(*half_run);
+      half_run.reset();
+    }
+  }
+  lay_out_flow(mesh, o, outer, run);
+  if (half_run && !run.layout_failure.empty()) {
+    half_run->totals = run.totals;
+    run = std::move(*half_run);
+    lay_out_flow(mesh, o, outer, run);
   }
   return by_one_solve;
 }

@@ -167,9 +167,11 @@ struct Uniformization {
   //! Sphere: the centring Moebius map was not applied because it would turn faces over.
   bool centring_skipped = false;
   //! The flow ran on the surface doubled along its boundary (doubled_surface.h), because on the
-  //! surface itself triangles at the boundary stalled it; `result` is the half's part of it.
+  //! surface itself triangles at the boundary stalled it, or it converged in a discrete conformal
+  //! class other than the double's, the canonical one; `result` is the half's part of it.
   bool doubled = false;
-  std::string doubled_because;  //!< with `doubled`: why the flow on the surface itself stopped
+  //! With `doubled`: why the flow on the surface itself stopped, or how its class differed.
+  std::string doubled_because;
   //! Why the common subdivision could not be built, or "".
   std::string subdivision_failure;
   //! Flat torus (E2, closed genus 1): two translations spanning the period lattice, from the deck
