@@ -41,11 +41,11 @@ int boundary_edges_not_delaunay_on_double(const CompactMesh& half, const FlowRes
 //! Why the converged flow of `run` is not in the canonical discrete conformal class of the
 //! surface, its double's, or "" when it is (or the double does not apply: a Yamabe flow in E2
 //! with edge flips, laid out in the plane as one disk, the canonical class asked for, the
-//! input's triangulation not kept). On a surface with boundary the canonical class is that of
-//! its double (Gillespie, Springborn and Crane 2021; CEPS flows there): flips across the
-//! boundary included. The half's own flow reaches it unless it converged only in the input
-//! triangulation's class (the canonical one stalled at the boundary) or has boundary edges that
-//! the double's Delaunay triangulation flips.
+//! input's triangulation not kept, not the disk preset, u not 0 everywhere). On a surface with
+//! boundary the canonical class is that of its double (Gillespie, Springborn and Crane 2021; CEPS
+//! flows there): flips across the boundary included. The half's own flow reaches it unless it
+//! converged only in the input triangulation's class (the canonical one stalled at the boundary) or
+//! has boundary edges that the double's Delaunay triangulation flips.
 std::string class_other_than_doubles(const CompactMesh& half, const UniformizationOptions& options,
                                      const Uniformization& run);
 
