@@ -8,12 +8,16 @@
 #include <unordered_map>
 #include <utility>
 
+#include "flow/delaunay.h"
 #include "layout/layout_methods.h"
 #include "pipeline/circle_domain.h"
 #include "pipeline/delivered_layout.h"
+#include "pipeline/texture_atlas.h"
 #include "ricci/flow/presets.h"
 #include "ricci/flow/ricci_flow.h"
 #include "ricci/flow/scheme.h"
+#include "ricci/layout/charts.h"
+#include "ricci/layout/seams.h"
 #include "ricci/mesh/errors.h"
 #include "ricci/mesh/geometry.h"
 
@@ -34,23 +38,30 @@ bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& op
           (run.geometry == Geometry::Hyperbolic && kind == LayoutKind::PoincareDisk));
 }
 
-int boundary_edges_not_delaunay_on_double(const CompactMesh& half, const FlowResult& result) {
-  if (result.edge_lengths.empty()) return 0;
-  const Triangulation& t = result_triangulation(half, result);
+namespace {
+
+// The boundary edges of `t` whose opposite angle, with `lengths` per edge, exceeds a right angle:
+// a^2 + b^2 < c^2, with a margin of rounding (a cocircular pair of a face and its mirror image is
+// Delaunay either way).
+int obtuse_boundary_edges(const Triangulation& t, const std::vector<double>& lengths) {
   int count = 0;
   for (int f = 0; f < t.num_faces(); ++f) {
     for (int c = 0; c < 3; ++c) {
       const int e = t.face_edge(f, c);
       if (!t.is_boundary_edge(e)) continue;
-      // The angle at corner c, opposite e, above a right angle: a^2 + b^2 < c^2, with a margin
-      // of rounding (a cocircular pair of a face and its mirror image is Delaunay either way).
-      const double opposite = result.edge_lengths[e];
-      const double a = result.edge_lengths[t.face_edge(f, (c + 1) % 3)];
-      const double b = result.edge_lengths[t.face_edge(f, (c + 2) % 3)];
-      count += a * a + b * b < opposite * opposite * (1 - 1e-12);
+      const double a = lengths[t.face_edge(f, (c + 1) % 3)];
+      const double b = lengths[t.face_edge(f, (c + 2) % 3)];
+      count += a * a + b * b < lengths[e] * lengths[e] * (1 - 1e-12);
     }
   }
   return count;
+}
+
+}  // namespace
+
+int boundary_edges_not_delaunay_on_double(const CompactMesh& half, const FlowResult& result) {
+  if (result.edge_lengths.empty()) return 0;
+  return obtuse_boundary_edges(result_triangulation(half, result), result.edge_lengths);
 }
 
 std::string class_other_than_doubles(const CompactMesh& half, const UniformizationOptions& options,
@@ -60,7 +71,8 @@ std::string class_other_than_doubles(const CompactMesh& half, const Uniformizati
       !is_yamabe(run.structure) || r.flip_sequence.empty() ||
       options.flow.edge_flips == EdgeFlips::Never || !options.flow.delaunay_class ||
       options.keep_input_triangulation ||
-      planned_layout(half, run.preset, run.geometry) != LayoutKind::Plane) {
+      (planned_layout(half, run.preset, run.geometry) != LayoutKind::Plane &&
+       planned_layout(half, run.preset, run.geometry) != LayoutKind::PlaneCut)) {
     return "";
   }
   // Not for the disk preset: its circles are fitted by repeated flows, which on the double cost
@@ -72,12 +84,22 @@ std::string class_other_than_doubles(const CompactMesh& half, const Uniformizati
   if (!r.input_class_because.empty()) {
     return "converged only in the input triangulation's class (" + r.input_class_because + ")";
   }
-  const int obtuse = boundary_edges_not_delaunay_on_double(half, r);
-  if (obtuse == 0) return "";
-  return "converged in the class of its intrinsic Delaunay triangulation, but " +
-         std::to_string(obtuse) +
-         " of its boundary edges face an angle above a right angle there, so that class is not "
-         "its double's";
+  // The two classes differ where the half's intrinsic Delaunay triangulation of the input metric,
+  // where its class starts, is not the double's, or where its final one is not.
+  IntrinsicTriangulation start(half);
+  ConformalStructure structure = run.structure;
+  make_input_delaunay(start, structure);
+  std::vector<double> input(start.num_edges());
+  for (int e = 0; e < start.num_edges(); ++e) input[e] = std::sqrt(2 * structure.eta[e]);
+  const int at_start = obtuse_boundary_edges(start, input);
+  const int at_end = boundary_edges_not_delaunay_on_double(half, r);
+  if (at_start == 0 && at_end == 0) return "";
+  std::ostringstream s;
+  s << "converged in the class of its intrinsic Delaunay triangulation, but of its boundary edges "
+    << at_start
+    << " face an angle above a right angle in that triangulation of the input metric and " << at_end
+    << " in the final one, so that class is not its double's";
+  return s.str();
 }
 
 TargetCurvature doubled_target(const CompactMesh& half, const CompactMesh& twice,
@@ -154,6 +176,43 @@ HalfSubdivision subdivide_half(const CompactMesh& half, const CompactMesh& twice
                           frames);
 }
 
+// A half of several boundary loops or of genus above 0, flat: cut open on the input's edges
+// through every boundary loop and 2g loops (the atlas's seams without cones), its pieces
+// developed from their own shapes in one chart (the developed half's one position per vertex
+// would not close around a loop).
+// \throws LayoutError when that is not one chart with every piece counter-clockwise.
+std::vector<std::array<Eigen::Vector3d, 3>> cut_open_pieces(const CompactMesh& half,
+                                                            const HalfSubdivision& last) {
+  const CommonSubdivision& sub = last.subdivision;
+  const Triangulation delivered =
+      Triangulation::from_faces(static_cast<int>(sub.positions.size()), sub.faces);
+  std::vector<double> length3d(delivered.num_edges());
+  for (int e = 0; e < delivered.num_edges(); ++e) {
+    const auto [a, b] = delivered.edge_vertices(e);
+    length3d[e] = (sub.positions[a] - sub.positions[b]).norm();
+  }
+  std::vector<std::array<double, 3>> sides(delivered.num_faces());
+  for (int f = 0; f < delivered.num_faces(); ++f) {
+    const auto& p = last.piece_corners[f];
+    for (int c = 0; c < 3; ++c) sides[f][c] = (p[(c + 1) % 3] - p[(c + 2) % 3]).norm();
+  }
+  const CutGraph cut =
+      cut_through_cones(delivered, length3d, {}, {}, on_input_edges(half, delivered, sub));
+  const Charts charts = lay_out_charts(delivered, sides, cut.cut);
+  if (charts.num_charts != 1 || charts.flipped_faces > 0) {
+    throw LayoutError("cut open along its boundary loops, the half's pieces make " +
+                      std::to_string(charts.num_charts) + " charts with " +
+                      std::to_string(charts.flipped_faces) + " pieces turned over");
+  }
+  std::vector<std::array<Eigen::Vector3d, 3>> corners(delivered.num_faces());
+  for (int f = 0; f < delivered.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      corners[f][c] = Eigen::Vector3d(charts.corners[f][c].x(), charts.corners[f][c].y(), 0);
+    }
+  }
+  return corners;
+}
+
 }  // namespace
 
 void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int outer,
@@ -214,6 +273,18 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     return;
   }
 
+  const bool cut_open = run.geometry == Geometry::Euclidean && run.preset != TargetPreset::Atlas &&
+                        planned_layout(half, run.preset, run.geometry) == LayoutKind::PlaneCut;
+  std::vector<std::array<Eigen::Vector3d, 3>> cut_corners;
+  if (cut_open) {
+    try {
+      cut_corners = cut_open_pieces(half, *last);
+    } catch (const LayoutError& e) {
+      run.result.failure += "; on the surface doubled along its boundary the flow converged, but " +
+                            std::string(e.what());
+      return;
+    }
+  }
   run.doubled = true;
   run.doubled_because = run.result.failure;
   // With u held on the boundary its vertices keep their scale, but where the double's flips
@@ -262,6 +333,14 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     // does not close, and the mean of a vertex's corners there turned pieces over (sumo-tram's
     // atlas: 16 pieces, some with a side of 0.01 against 2.3 drawn half that off its line).
     sub.corners = std::move(last->piece_corners);
+    run.subdivision = std::move(sub);
+    return;
+  }
+  if (cut_open) {
+    run.layout_kind = LayoutKind::PlaneCut;
+    run.layout.relation_error = std::nan("");
+    sub.corners = std::move(cut_corners);
+    run.layout.corners = sub.corners;
     run.subdivision = std::move(sub);
     return;
   }

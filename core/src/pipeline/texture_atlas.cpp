@@ -45,38 +45,6 @@ Layout faces_drawn_alone(const Triangulation& flowed, const std::vector<double>&
   return layout;
 }
 
-// Per edge of the delivered triangulation: 1 where it lies on an edge of the user's mesh (both
-// ends on the closure of one input edge).
-std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
-                                 const CommonSubdivision& sub) {
-  std::vector<std::vector<int>> input_edges(delivered.num_vertices());
-  for (int e = 0; e < mesh.num_edges(); ++e) {
-    for (int v : mesh.edge_vertices(e)) input_edges[v].push_back(e);
-  }
-  for (int v = mesh.num_vertices(); v < delivered.num_vertices(); ++v) {
-    const int e = sub.vertex_input_edge[v - mesh.num_vertices()];
-    if (e >= 0) input_edges[v].push_back(e);
-  }
-  for (auto& list : input_edges) std::sort(list.begin(), list.end());
-  std::vector<char> allowed(delivered.num_edges(), 0);
-  for (int e = 0; e < delivered.num_edges(); ++e) {
-    const auto [a, b] = delivered.edge_vertices(e);
-    const auto& x = input_edges[a];
-    const auto& y = input_edges[b];
-    size_t i = 0, j = 0;
-    while (i < x.size() && j < y.size() && !allowed[e]) {
-      if (x[i] == y[j]) {
-        allowed[e] = 1;
-      } else if (x[i] < y[j]) {
-        ++i;
-      } else {
-        ++j;
-      }
-    }
-  }
-  return allowed;
-}
-
 // Per chart longer than `aspect` times its width (by the second moments of its corners), its
 // faces farthest apart along its long axis.
 std::vector<std::pair<int, int>> long_chart_ends(const Charts& charts, double aspect) {
@@ -144,6 +112,36 @@ int branches_for(double theta) {
 }
 
 }  // namespace
+
+std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
+                                 const CommonSubdivision& sub) {
+  std::vector<std::vector<int>> input_edges(delivered.num_vertices());
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    for (int v : mesh.edge_vertices(e)) input_edges[v].push_back(e);
+  }
+  for (int v = mesh.num_vertices(); v < delivered.num_vertices(); ++v) {
+    const int e = sub.vertex_input_edge[v - mesh.num_vertices()];
+    if (e >= 0) input_edges[v].push_back(e);
+  }
+  for (auto& list : input_edges) std::sort(list.begin(), list.end());
+  std::vector<char> allowed(delivered.num_edges(), 0);
+  for (int e = 0; e < delivered.num_edges(); ++e) {
+    const auto [a, b] = delivered.edge_vertices(e);
+    const auto& x = input_edges[a];
+    const auto& y = input_edges[b];
+    size_t i = 0, j = 0;
+    while (i < x.size() && j < y.size() && !allowed[e]) {
+      if (x[i] == y[j]) {
+        allowed[e] = 1;
+      } else if (x[i] < y[j]) {
+        ++i;
+      } else {
+        ++j;
+      }
+    }
+  }
+  return allowed;
+}
 
 double face_distortion(const std::vector<Eigen::Vector3d>& positions,
                        const std::vector<std::array<int, 3>>& faces,

@@ -31,6 +31,11 @@ namespace ricci::detail {
 TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& placement,
                              bool quarter_angles);
 
+//! Per edge of `delivered`, a common subdivision's triangulation of `mesh`: 1 where it lies on an
+//! edge of the user's mesh (both ends on the closure of one input edge).
+std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
+                                 const CommonSubdivision& sub);
+
 //! The atlas layout of a converged flow: run.corners (z = 0), run.face_chart, run.subdivision
 //! where the flow flipped edges, run.atlas; run.layout holds the delivered corners.
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
