@@ -26,10 +26,11 @@ namespace ricci::detail {
 bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
                         const TargetCurvature& target, const Uniformization& run) {
   const LayoutKind kind = planned_layout(half, run.preset, run.geometry);
-  // With u held fixed (free boundary) the boundary lengths are part of the request, and on the
-  // double a flipped boundary edge no longer has its length: not for such targets. The atlas
-  // holds u at its cones and on the boundary only for the distortion's sake: its boundary may
-  // become the geodesics between the boundary's vertices.
+  // With u held fixed (free boundary) a stall in both classes of the surface itself is left as
+  // it is: such targets go to the double only from a converged flow in another class
+  // (class_other_than_doubles), where the boundary between its vertices may change length. The
+  // atlas holds u at its cones and on the boundary only for the distortion's sake: its boundary
+  // may become the geodesics between the boundary's vertices.
   const bool atlas = run.preset == TargetPreset::Atlas;
   return !run.result.converged && run.result.stalled_at_boundary && !half.is_closed() &&
          (target.num_fixed() == 0 || atlas) && options.flow.edge_flips != EdgeFlips::Never &&
@@ -75,6 +76,10 @@ std::string class_other_than_doubles(const CompactMesh& half, const Uniformizati
        planned_layout(half, run.preset, run.geometry) != LayoutKind::PlaneCut)) {
     return "";
   }
+  // Not for the atlas either: on the 44 files of the real-mesh set and CGAL's whose atlas parts
+  // would go to the double, its QC p95 fell on 8 (oblong-shuffled 3.13 to 2.64) and rose on 5
+  // (geomview-hook 2.25 to 2.59), D within 0.01, at up to 3.5 times the time
+  // (pymeshfix-bunny 3.4 to 6.0 s); no atlas failed or overlapped either way.
   // Not for the disk preset: its circles are fitted by repeated flows, which on the double cost
   // up to 20 times the half's (pymeshlab-bunny10k.obj: 0.39 s to 7.8 s, QC p95 1.404 to 1.405).
   if (run.preset == TargetPreset::UnitDisk) return "";
@@ -182,7 +187,8 @@ HalfSubdivision subdivide_half(const CompactMesh& half, const CompactMesh& twice
 // would not close around a loop).
 // \throws LayoutError when that is not one chart with every piece counter-clockwise.
 std::vector<std::array<Eigen::Vector3d, 3>> cut_open_pieces(const CompactMesh& half,
-                                                            const HalfSubdivision& last) {
+                                                            const HalfSubdivision& last,
+                                                            CutGraph& cut) {
   const CommonSubdivision& sub = last.subdivision;
   const Triangulation delivered =
       Triangulation::from_faces(static_cast<int>(sub.positions.size()), sub.faces);
@@ -196,8 +202,7 @@ std::vector<std::array<Eigen::Vector3d, 3>> cut_open_pieces(const CompactMesh& h
     const auto& p = last.piece_corners[f];
     for (int c = 0; c < 3; ++c) sides[f][c] = (p[(c + 1) % 3] - p[(c + 2) % 3]).norm();
   }
-  const CutGraph cut =
-      cut_through_cones(delivered, length3d, {}, {}, on_input_edges(half, delivered, sub));
+  cut = cut_through_cones(delivered, length3d, {}, {}, on_input_edges(half, delivered, sub));
   const Charts charts = lay_out_charts(delivered, sides, cut.cut);
   if (charts.num_charts != 1 || charts.flipped_faces > 0) {
     throw LayoutError("cut open along its boundary loops, the half's pieces make " +
@@ -276,9 +281,10 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   const bool cut_open = run.geometry == Geometry::Euclidean && run.preset != TargetPreset::Atlas &&
                         planned_layout(half, run.preset, run.geometry) == LayoutKind::PlaneCut;
   std::vector<std::array<Eigen::Vector3d, 3>> cut_corners;
+  CutGraph cut;
   if (cut_open) {
     try {
-      cut_corners = cut_open_pieces(half, *last);
+      cut_corners = cut_open_pieces(half, *last, cut);
     } catch (const LayoutError& e) {
       run.result.failure += "; on the surface doubled along its boundary the flow converged, but " +
                             std::string(e.what());
@@ -289,8 +295,12 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
   run.doubled_because = run.result.failure;
   // With u held on the boundary its vertices keep their scale, but where the double's flips
   // cross it the boundary between them is the canonical metric's geodesic, of another length.
-  if (run.geometry == Geometry::Euclidean && run.preset != TargetPreset::Atlas &&
-      target.num_fixed() > 0 && !last->boundary_lengths.empty()) {
+  bool boundary_held = !half.is_closed();
+  for (int v = 0; v < half.num_vertices(); ++v) {
+    if (half.is_boundary_vertex(v) && !target.is_fixed(v)) boundary_held = false;
+  }
+  if (run.geometry == Geometry::Euclidean && run.preset != TargetPreset::Atlas && boundary_held &&
+      !last->boundary_lengths.empty()) {
     double input = 0, delivered = 0;
     for (int e = 0; e < half.num_edges(); ++e) {
       if (!half.is_boundary_edge(e)) continue;
@@ -298,7 +308,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
       delivered += last->boundary_lengths[e];
     }
     std::ostringstream s;
-    s << "; with u = 0 at the boundary's vertices the boundary is " << delivered / input
+    s << "; with u held at the boundary's vertices the boundary is " << delivered / input
       << " times its input length in this class";
     run.doubled_because += s.str();
   }
@@ -337,7 +347,12 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     return;
   }
   if (cut_open) {
+    // The cut is the delivered pieces' (its paths and generators as the report counts them); no
+    // deck transformations are computed, and the per-vertex development's closure error, which
+    // does not close around a loop, is not this layout's.
     run.layout_kind = LayoutKind::PlaneCut;
+    run.layout.cut = std::move(cut);
+    run.layout.closure_error = std::nan("");
     run.layout.relation_error = std::nan("");
     sub.corners = std::move(cut_corners);
     run.layout.corners = sub.corners;

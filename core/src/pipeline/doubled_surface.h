@@ -9,8 +9,10 @@
 // vertices, with angle sums half the double's there.
 //
 // The half's own faces are not triangles of the final metric (that is why the flow needed the
-// double), so what is delivered is always the common subdivision: the pieces of the double's
-// common subdivision that lie in the half's faces, developed in the plane piece by piece.
+// double, or why the half's own class was not the double's), so what is delivered is always the
+// common subdivision: the pieces of the double's common subdivision that lie in the half's faces,
+// developed in the plane piece by piece (cut open on the input's edges where the half is no
+// disk).
 // (Not installed API.)
 #pragma once
 
@@ -39,13 +41,18 @@ bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& op
 int boundary_edges_not_delaunay_on_double(const CompactMesh& half, const FlowResult& result);
 
 //! Why the converged flow of `run` is not in the canonical discrete conformal class of the
-//! surface, its double's, or "" when it is (or the double does not apply: a Yamabe flow in E2
-//! with edge flips, laid out in the plane as one disk, the canonical class asked for, the
-//! input's triangulation not kept, not the disk preset, u not 0 everywhere). On a surface with
-//! boundary the canonical class is that of its double (Gillespie, Springborn and Crane 2021; CEPS
-//! flows there): flips across the boundary included. The half's own flow reaches it unless it
-//! converged only in the input triangulation's class (the canonical one stalled at the boundary) or
-//! has boundary edges that the double's Delaunay triangulation flips.
+//! surface, its double's, or "" when it is or the double is not tried. On a surface with boundary
+//! the canonical class is that of its double (Gillespie, Springborn and Crane 2021; CEPS flows
+//! there), where boundary edges flip too. Tried for a Euclidean Yamabe flow that converged with
+//! edge flips, laid out in the plane (one disk or cut open), the canonical class asked for, the
+//! input's triangulation not kept, not the disk preset (whose circle fit repeats flows) nor the
+//! atlas (measured: no better on the whole, at up to 3.5 times the time), u not 0 everywhere (at u
+//! = 0 every class's metric is the input's); a flow that needed no flip keeps the input's class, as
+//! on closed surfaces. The classes differ where the flow converged only in the input
+//! triangulation's class (the canonical one stalled at the boundary), or where a boundary edge
+//! faces an angle above a right angle in the half's intrinsic Delaunay triangulation of the input
+//! metric (where its class starts) or in its final one: the double's Delaunay triangulation flips
+//! such an edge.
 std::string class_other_than_doubles(const CompactMesh& half, const UniformizationOptions& options,
                                      const Uniformization& run);
 
@@ -67,9 +74,10 @@ Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
                            const std::vector<double>& lengths);
 
 //! The flow of `run` repeated on the double (the disk preset's flows included), and its result
-//! put in `run` for the half: result, totals (the half's stalled flow counted too), the
-//! subdivision and per-vertex positions, `doubled`. Leaves `run` as it was when the flow on
-//! the double does not converge either, except for a note in run.result.failure.
+//! put in `run` for the half: result, totals (the half's own flow counted too), the subdivision
+//! and its layout, `doubled`, and `doubled_because` (run.result.failure as it came in). Leaves
+//! `run` as it was, but for the double's totals and a note in run.result.failure, when the flow
+//! on the double does not converge or its pieces give no layout.
 void flow_on_double(const CompactMesh& half, const UniformizationOptions& options, int outer_loop,
                     const TargetCurvature& target, Uniformization& run);
 

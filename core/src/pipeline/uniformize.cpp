@@ -200,22 +200,40 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
   // quasi-conformal ratio p95 14.6 in the input triangulation's class, 5.06 on the double, CEPS
   // 5.12). The half's own result is delivered where the double's flow or layout fails.
   std::optional<Uniformization> half_run;
+  // The half's own run back, with the double's cost (not its flips or convergence floor: its
+  // result is not delivered) and why it was not.
+  const auto back_to_half = [&](const std::string& why_not) {
+    FlowTotals totals = run.totals;
+    totals.edge_flips = half_run->totals.edge_flips;
+    totals.flips_from_iteration = half_run->totals.flips_from_iteration;
+    totals.without_flips = half_run->totals.without_flips;
+    totals.attainable_residual = half_run->totals.attainable_residual;
+    run = std::move(*half_run);
+    run.totals = totals;
+    run.double_failure = why_not;
+    half_run.reset();
+  };
   if (detail::may_flow_on_double(mesh, o, target, run)) {
     detail::flow_on_double(mesh, o, outer, target, run);
+    lay_out_flow(mesh, o, outer, run);
   } else if (std::string why = detail::class_other_than_doubles(mesh, o, run); !why.empty()) {
     half_run = run;
+    const size_t said = why.size();
     run.result.failure = std::move(why);  // kept as the run's doubled_because
-    detail::flow_on_double(mesh, o, outer, target, run);
-    if (!run.doubled) {
-      half_run->totals = run.totals;
-      run = std::move(*half_run);
-      half_run.reset();
+    try {
+      detail::flow_on_double(mesh, o, outer, target, run);
+      if (run.doubled) lay_out_flow(mesh, o, outer, run);
+      if (!run.doubled) {
+        // flow_on_double's note after the class's: "; on the surface doubled ...".
+        back_to_half(run.result.failure.substr(std::min(said + 2, run.result.failure.size())));
+      } else if (!run.layout_failure.empty()) {
+        back_to_half(run.layout_failure);
+      }
+    } catch (const std::exception& e) {  // the half's converged flow stands
+      back_to_half(e.what());
     }
-  }
-  lay_out_flow(mesh, o, outer, run);
-  if (half_run && !run.layout_failure.empty()) {
-    half_run->totals = run.totals;
-    run = std::move(*half_run);
+    if (!run.doubled) lay_out_flow(mesh, o, outer, run);
+  } else {
     lay_out_flow(mesh, o, outer, run);
   }
   return by_one_solve;

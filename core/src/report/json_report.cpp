@@ -207,6 +207,8 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
     << (run.scheme_instead.empty() ? "null" : quoted(run.scheme_instead)) << ",\n";
   j << "  \"doubled_surface\": " << (run.doubled ? "true" : "false") << ",\n";
   j << "  \"doubled_because\": " << (run.doubled ? quoted(run.doubled_because) : "null") << ",\n";
+  j << "  \"double_failure\": "
+    << (run.double_failure.empty() ? "null" : quoted(run.double_failure)) << ",\n";
   j << "  \"flows\": " << totals.flows << ",\n";
   j << "  \"iterations\": " << totals.newton_iterations << ",\n";
   j << "  \"edge_flips\": " << totals.edge_flips << ",\n";

@@ -144,6 +144,10 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
         "the surface itself the flow ",
         run.doubled_because);
   }
+  if (!run.double_failure.empty()) {
+    line("Its class is not its double's (the canonical one), whose flow gave no map: ",
+         run.double_failure);
+  }
   if (run.preset == TargetPreset::UnitDisk) {
     line("Boundary loops on circles after ", t.flows, " flows: circle error ", run.circle_error);
   }

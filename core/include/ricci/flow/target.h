@@ -24,7 +24,8 @@ struct TargetCurvature {
 
   //! Kbar = 0 at every vertex (closed surfaces: flat torus, hyperbolic metric, round sphere).
   static TargetCurvature zero(const CompactMesh& mesh);
-  //! u fixed on the boundary (boundary lengths kept), Kbar = 0 inside: least area distortion.
+  //! u fixed on the boundary (boundary lengths kept, where no flip crosses it), Kbar = 0 inside:
+  //! least area distortion.
   static TargetCurvature free_boundary(const CompactMesh& mesh);
   //! Explicit Kbar per vertex; NaN entries mean "u fixed at this vertex".
   static TargetCurvature from_values(const CompactMesh& mesh, const Eigen::VectorXd& values);

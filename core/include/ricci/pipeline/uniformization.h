@@ -172,6 +172,9 @@ struct Uniformization {
   bool doubled = false;
   //! With `doubled`: why the flow on the surface itself stopped, or how its class differed.
   std::string doubled_because;
+  //! Where the surface's class was not its double's but the double gave no result, why not (the
+  //! surface's own result is delivered); "" otherwise.
+  std::string double_failure;
   //! Why the common subdivision could not be built, or "".
   std::string subdivision_failure;
   //! Flat torus (E2, closed genus 1): two translations spanning the period lattice, from the deck
