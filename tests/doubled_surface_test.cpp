@@ -196,9 +196,16 @@ TEST(DoubledSurface, FreeBoundaryMapsAreInTheDoublesClass) {
   };
   // And a robot's shoulder (dart-doc, BSD-2-clause), 1,082 faces and 16 boundary loops: laid out
   // cut open, QC p95 2.35 (CEPS 2.46).
-  for (const Part& part : {Part{"gltron-lightcycle.obj", 13, 5.3, LayoutKind::Plane, 1.95923},
-                           Part{"gltron-recognizer-quad.obj", 13, 6.2, LayoutKind::Plane, 1.94961},
-                           Part{"dart-kr5-shoulder.STL", 0, 2.47, LayoutKind::PlaneCut, 1.64180}}) {
+  std::vector<Part> parts = {
+      Part{"gltron-lightcycle.obj", 13, 5.3, LayoutKind::Plane, 1.95923},
+      Part{"gltron-recognizer-quad.obj", 13, 6.2, LayoutKind::Plane, 1.94961},
+      Part{"dart-kr5-shoulder.STL", 0, 2.47, LayoutKind::PlaneCut, 1.64180}};
+#ifndef RICCI_SANITIZED  // 7 s in the Release build
+  // A CAD head of genus 6 with 41 boundary loops (OCCT, LGPL-2.1): its cut leaves 4 charts until
+  // cut edges between them are glued back; QC p95 1.823 as in its own class (CEPS not run).
+  parts.push_back(Part{"occt-head.stl", 0, 1.85, LayoutKind::PlaneCut, std::nan("")});
+#endif
+  for (const Part& part : parts) {
     SCOPED_TRACE(part.file);
     const MeshFile file = read_mesh_file(std::string(RICCI_REAL_MESH_DIR "/") + part.file);
     const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
@@ -294,7 +301,9 @@ TEST(DoubledSurface, FreeBoundaryMapsAreInTheDoublesClass) {
       }
     }
     const double ratio = (boundary2d / std::sqrt(area2d)) / (boundary3d / std::sqrt(area));
-    EXPECT_NEAR(ratio, part.ceps_boundary_ratio, 1e-5 * part.ceps_boundary_ratio);
+    if (!std::isnan(part.ceps_boundary_ratio)) {
+      EXPECT_NEAR(ratio, part.ceps_boundary_ratio, 1e-5 * part.ceps_boundary_ratio);
+    }
   }
 }
 
