@@ -193,16 +193,8 @@ std::vector<std::array<Eigen::Vector3d, 3>> cut_open_pieces(const CompactMesh& h
   const CommonSubdivision& sub = last.subdivision;
   const Triangulation delivered =
       Triangulation::from_faces(static_cast<int>(sub.positions.size()), sub.faces);
-  std::vector<double> length3d(delivered.num_edges());
-  for (int e = 0; e < delivered.num_edges(); ++e) {
-    const auto [a, b] = delivered.edge_vertices(e);
-    length3d[e] = (sub.positions[a] - sub.positions[b]).norm();
-  }
-  std::vector<std::array<double, 3>> sides(delivered.num_faces());
-  for (int f = 0; f < delivered.num_faces(); ++f) {
-    const auto& p = last.piece_corners[f];
-    for (int c = 0; c < 3; ++c) sides[f][c] = (p[(c + 1) % 3] - p[(c + 2) % 3]).norm();
-  }
+  const std::vector<double> length3d = lengths_in_3d(delivered, sub.positions);
+  const std::vector<std::array<double, 3>> sides = drawn_sides(last.piece_corners);
   cut = cut_through_cones(delivered, length3d, {}, {}, on_input_edges(half, delivered, sub));
   Charts charts = lay_out_charts(delivered, sides, cut.cut);
   if (charts.num_charts > 1) {

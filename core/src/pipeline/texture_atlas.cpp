@@ -143,6 +143,26 @@ std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& d
   return allowed;
 }
 
+std::vector<double> lengths_in_3d(const Triangulation& delivered,
+                                  const std::vector<Eigen::Vector3d>& positions) {
+  std::vector<double> length(delivered.num_edges());
+  for (int e = 0; e < delivered.num_edges(); ++e) {
+    const auto [a, b] = delivered.edge_vertices(e);
+    length[e] = (positions[a] - positions[b]).norm();
+  }
+  return length;
+}
+
+std::vector<std::array<double, 3>> drawn_sides(
+    const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
+  std::vector<std::array<double, 3>> sides(corners.size());
+  for (size_t f = 0; f < corners.size(); ++f) {
+    for (int c = 0; c < 3; ++c)
+      sides[f][c] = (corners[f][(c + 1) % 3] - corners[f][(c + 2) % 3]).norm();
+  }
+  return sides;
+}
+
 double face_distortion(const std::vector<Eigen::Vector3d>& positions,
                        const std::vector<std::array<int, 3>>& faces,
                        const std::vector<std::array<Eigen::Vector2d, 3>>& corners) {
@@ -230,16 +250,14 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   const std::vector<Eigen::Vector3d>& positions = sub ? sub->positions : mesh.positions();
   const Triangulation delivered =
       Triangulation::from_faces(static_cast<int>(positions.size()), faces);
-  std::vector<double> length3d(delivered.num_edges());
-  std::vector<std::array<double, 3>> flat(delivered.num_faces());
-  for (int e = 0; e < delivered.num_edges(); ++e) {
-    const auto [a, b] = delivered.edge_vertices(e);
-    length3d[e] = (positions[a] - positions[b]).norm();
-  }
-  for (int f = 0; f < delivered.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      flat[f][c] = sub ? (sub->corners[f][(c + 1) % 3] - sub->corners[f][(c + 2) % 3]).norm()
-                       : lengths[mesh.face_edge(f, c)];
+  const std::vector<double> length3d = lengths_in_3d(delivered, positions);
+  std::vector<std::array<double, 3>> flat;
+  if (sub) {
+    flat = drawn_sides(sub->corners);
+  } else {
+    flat.resize(delivered.num_faces());
+    for (int f = 0; f < delivered.num_faces(); ++f) {
+      for (int c = 0; c < 3; ++c) flat[f][c] = lengths[mesh.face_edge(f, c)];
     }
   }
   const std::vector<char> allowed =

@@ -36,6 +36,14 @@ TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& place
 std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
                                  const CommonSubdivision& sub);
 
+//! Per edge of `delivered`, its length in 3D between `positions` (seams are shortest there).
+std::vector<double> lengths_in_3d(const Triangulation& delivered,
+                                  const std::vector<Eigen::Vector3d>& positions);
+
+//! Per face, its side lengths as `corners` draw it (`[f][c]`: the side opposite corner c).
+std::vector<std::array<double, 3>> drawn_sides(
+    const std::vector<std::array<Eigen::Vector3d, 3>>& corners);
+
 //! The atlas layout of a converged flow: run.corners (z = 0), run.face_chart, run.subdivision
 //! where the flow flipped edges, run.atlas; run.layout holds the delivered corners.
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
