@@ -97,6 +97,22 @@ TEST(Seams, TheCutThroughTheConesOpensEveryTopologyIntoDisks) {
   }
 }
 
+TEST(Seams, ASurfaceWithHandlesAndBoundaryIsCutIntoOneDisk) {
+  // Without cones the cut is the boundary and 2g loops' arcs: one disk. With the boundary loops
+  // capped instead of contracted, a loop running along a cap's rim twice left arcs with both ends
+  // on one boundary loop, which cut regions off (20 pieces on the elephant).
+  for (const char* name : {"double-torus-3-holes.off", "elephant-with-holes.off"}) {
+    SCOPED_TRACE(name);
+    const CompactMesh mesh = cgal_mesh(name);
+    ASSERT_GT(mesh.genus(), 0);
+    ASSERT_GT(mesh.num_boundary_loops(), 0);
+    const CutGraph g = cut_through_cones(mesh, mesh.input_lengths(), {});
+    const Pieces pieces = cut_open(mesh, g.cut);
+    EXPECT_EQ(pieces.count, 1);
+    for (int chi : pieces.euler) EXPECT_EQ(chi, 1);
+  }
+}
+
 TEST(Seams, AConeAskingForBranchesGetsThem) {
   const CompactMesh mesh = cgal_mesh("eight.off");
   const std::vector<int> cones = cone_vertices(place_cones(mesh));

@@ -113,54 +113,86 @@ int central_vertex(const EdgeGraph& graph, int num_vertices) {
   return root;
 }
 
-// The 2g loops of the greedy homology basis (boundary loops capped), marked in `cut`; boundary
-// edges on them are left out (the boundary is open already).
-void mark_homology_loops(const Triangulation& mesh, const EdgeGraph& graph,
-                         const std::vector<double>& lengths, const std::vector<char>& allowed,
-                         std::vector<char>& cut) {
+// The 2g loops of the greedy homology basis, marked in `cut`, on the surface with each boundary
+// loop contracted to one node: closed, of the same genus, where running along a boundary costs
+// nothing (the boundary is open already). A loop through such a node is cut as arcs that end on
+// that boundary loop. (With the boundary loops capped by disks instead, a loop could run along a
+// cap's rim in two places; dropping its boundary edges then left two arcs with both ends on one
+// boundary loop, which cut a region off: dart-wam6.STL's half made 7 charts.)
+void mark_homology_loops(const Triangulation& mesh, const std::vector<double>& lengths,
+                         const std::vector<char>& allowed, std::vector<char>& cut) {
   if (mesh.genus() == 0) return;
-  const ShortestPaths tree = graph.from({central_vertex(graph, mesh.num_vertices())});
+  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  std::vector<int> node(nv);
+  std::iota(node.begin(), node.end(), 0);
+  for (const std::vector<int>& loop : mesh.boundary_loops()) {
+    for (int v : loop) node[v] = loop.front();
+  }
+  // The contracted surface's edges: the allowed inner edges (a boundary edge contracts to a
+  // point). An inner edge with both ends on one boundary loop is a loop at its node.
+  std::vector<char> contracted(mesh.num_edges(), 0);
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    contracted[e] = !mesh.is_boundary_edge(e) && (allowed.empty() || allowed[e]);
+  }
+  std::vector<double> contracted_lengths(mesh.num_edges(), 0.0);
+  std::vector<char> walked(mesh.num_edges(), 0);
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (contracted[e]) contracted_lengths[e] = lengths[e];
+    walked[e] = contracted[e] || mesh.is_boundary_edge(e);
+  }
+  // Shortest paths from a central vertex, every boundary loop's vertices at one distance: the
+  // boundary edges cost nothing.
+  const EdgeGraph graph(mesh, contracted_lengths, walked);
+  const ShortestPaths tree = graph.from({node[central_vertex(graph, nv)]});
+  // The tree's edges as the contracted surface's: a vertex reached along its boundary loop is
+  // its node, reached by the edge that reached the node.
+  std::vector<int> via(nv, -1);
+  for (int v = 0; v < nv; ++v) {
+    if (node[v] == v && tree.via[v] >= 0 && contracted[tree.via[v]]) via[v] = tree.via[v];
+  }
+  for (int v = 0; v < nv; ++v) {
+    // A node first reached along its loop from another of its vertices: that vertex's edge in.
+    if (node[v] != v && tree.via[v] >= 0 && contracted[tree.via[v]] && via[node[v]] < 0 &&
+        tree.via[node[v]] >= 0 && !contracted[tree.via[node[v]]]) {
+      via[node[v]] = tree.via[v];
+    }
+  }
   std::vector<char> in_tree(mesh.num_edges(), 0);
-  for (int e : tree.via) {
-    if (e >= 0) in_tree[e] = 1;
+  for (int v = 0; v < nv; ++v) {
+    if (node[v] == v && via[v] >= 0) in_tree[via[v]] = 1;
   }
-  // Dual nodes: the faces, then one cap per boundary loop.
-  const int nf = mesh.num_faces();
-  std::vector<int> cap_of_vertex(mesh.num_vertices(), -1);
-  for (int l = 0; l < mesh.num_boundary_loops(); ++l) {
-    for (int v : mesh.boundary_loops()[l]) cap_of_vertex[v] = nf + l;
-  }
-  const auto dual_ends = [&](int e) {
-    const auto faces = mesh.edge_faces(e);
-    return std::pair{faces[0], faces[1] >= 0 ? faces[1] : cap_of_vertex[mesh.edge_vertices(e)[0]]};
+  const auto mark_path = [&](int v) {
+    for (int n = node[v]; via[n] >= 0;) {
+      const int e = via[n];
+      cut[e] = 1;
+      const auto [a, b] = mesh.edge_vertices(e);
+      n = node[a] == n ? node[b] : node[a];
+    }
   };
-  // The dual tree takes the edges not allowed first (no seam may run there), then the others by
-  // decreasing loop length, so the edges left close the shortest loops.
+  // The dual tree over the faces takes the edges not allowed first (no seam may run there), then
+  // the others by decreasing loop length, so the edges left close the shortest loops.
   std::vector<int> order;
   for (int e = 0; e < mesh.num_edges(); ++e) {
-    if (!in_tree[e]) order.push_back(e);
+    if (!in_tree[e] && !mesh.is_boundary_edge(e)) order.push_back(e);
   }
   const auto loop_length = [&](int e) {
-    if (!allowed.empty() && !allowed[e]) return kInfinity;
+    if (!contracted[e]) return kInfinity;
     const auto [a, b] = mesh.edge_vertices(e);
     return tree.distance[a] + tree.distance[b] + lengths[e];
   };
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return loop_length(a) > loop_length(b); });
-  detail::UnionFind dual(nf + mesh.num_boundary_loops());
+  detail::UnionFind dual(nf);
   for (int e : order) {
-    const auto [f, g] = dual_ends(e);
+    const auto [f, g] = mesh.edge_faces(e);
     if (dual.find(f) != dual.find(g)) {
       dual.unite(f, g);
       continue;
     }
     const auto [a, b] = mesh.edge_vertices(e);
     cut[e] = 1;
-    graph.mark_path(tree, a, cut);
-    graph.mark_path(tree, b, cut);
-  }
-  for (int e = 0; e < mesh.num_edges(); ++e) {
-    if (mesh.is_boundary_edge(e)) cut[e] = 0;
+    mark_path(a);
+    mark_path(b);
   }
 }
 
@@ -252,7 +284,7 @@ CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>&
   g.cut.assign(mesh.num_edges(), 0);
   if (mesh.num_faces() == 0) return g;
   const EdgeGraph graph(mesh, lengths, allowed);
-  mark_homology_loops(mesh, graph, lengths, allowed, g.cut);
+  mark_homology_loops(mesh, lengths, allowed, g.cut);
   join_terminals(mesh, graph, cones, g.cut);
   std::vector<char> is_cone(mesh.num_vertices(), 0);
   for (int c : cones) is_cone[c] = 1;
