@@ -199,10 +199,13 @@ TEST(DoubledSurface, FreeBoundaryMapsAreInTheDoublesClass) {
   std::vector<Part> parts = {
       Part{"gltron-lightcycle.obj", 13, 5.3, LayoutKind::Plane, 1.95923},
       Part{"gltron-recognizer-quad.obj", 13, 6.2, LayoutKind::Plane, 1.94961},
-      Part{"dart-kr5-shoulder.STL", 0, 2.47, LayoutKind::PlaneCut, 1.64180}};
+      Part{"dart-kr5-shoulder.STL", 0, 2.47, LayoutKind::PlaneCut, 1.64180},
+      // A robot's wrist link (dart-doc, BSD-2-clause), genus 1 with 35 boundary loops: QC
+      // p95 1.953, CEPS's 2.02 (its boundary ratio not recorded).
+      Part{"dart-wam6.STL", 0, 2.02, LayoutKind::PlaneCut, std::nan("")}};
 #ifndef RICCI_SANITIZED  // 7 s in the Release build
-  // A CAD head of genus 6 with 41 boundary loops (OCCT, LGPL-2.1): its cut leaves 4 charts until
-  // cut edges between them are glued back; QC p95 1.823 as in its own class (CEPS not run).
+  // A CAD head of genus 6 with 41 boundary loops (OCCT, LGPL-2.1), cut open in one chart through
+  // its boundary loops and 12 arcs between them; QC p95 1.823 as in its own class (CEPS not run).
   parts.push_back(Part{"occt-head.stl", 0, 1.85, LayoutKind::PlaneCut, std::nan("")});
 #endif
   for (const Part& part : parts) {
@@ -288,6 +291,25 @@ TEST(DoubledSurface, FreeBoundaryMapsAreInTheDoublesClass) {
     for (const auto& t : faces) {
       for (int c = 0; c < 3; ++c) ++uses[std::minmax(t[c], t[(c + 1) % 3])];
     }
+    // Flat inside: the corners' angles at every vertex off the boundary (an edge used once), its
+    // copies across the cut together, sum to 2 pi.
+    std::vector<double> angle_sum(p.size(), 0);
+    std::vector<char> on_boundary(p.size(), 0);
+    for (const auto& [ends, count] : uses) {
+      if (count == 1) on_boundary[ends.first] = on_boundary[ends.second] = 1;
+    }
+    for (size_t f = 0; f < faces.size(); ++f) {
+      const auto& t = run.corners[f];
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::Vector3d a = t[(c + 1) % 3] - t[c], b = t[(c + 2) % 3] - t[c];
+        angle_sum[faces[f][c]] += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+      }
+    }
+    double worst = 0;
+    for (size_t v = 0; v < p.size(); ++v) {
+      if (!on_boundary[v]) worst = std::max(worst, std::abs(angle_sum[v] - 2 * kPi));
+    }
+    EXPECT_LE(worst, 1e-8);
     double boundary3d = 0, boundary2d = 0, area2d = 0;
     for (size_t f = 0; f < faces.size(); ++f) {
       const auto& t = run.corners[f];

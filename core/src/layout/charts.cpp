@@ -121,8 +121,19 @@ std::vector<int> chart_wedges(const Triangulation& mesh, const std::vector<char>
   return wedge;
 }
 
-Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<double, 3>>& sides,
-                      const std::vector<char>& cut) {
+namespace {
+
+// Develops each chart from its deepest face, reaching faces across the longest side that joins
+// them to a placed one first (a maximum spanning tree of the dual graph): a sliver placed from its
+// short side would turn the error of that side's ends into an error of its far corner larger by
+// their ratio, and hand it on to its neighbours. Drawn from a long side instead, it turns over
+// only where its width is below the rounding of its placement (cura-zav-maxpro's atlas: pieces
+// 1e-8 wide and 5e-4 long, 4 turned when drawn breadth first). `draw(g, d, corners)` draws face
+// g's corner d where its corners d+1 and d+2 are placed (d = -1: the seed, all three). Then every
+// wedge goes to the mean of its corners, and the sides are measured against `sides`.
+template <class Draw>
+Charts develop_charts(const Triangulation& mesh, const std::vector<std::array<double, 3>>& sides,
+                      const std::vector<char>& cut, const Draw& draw) {
   const int nf = mesh.num_faces();
   Charts charts;
   charts.chart = chart_of_faces(mesh, cut, charts.num_charts);
@@ -130,25 +141,17 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<do
   const std::vector<int> seeds = deepest_faces(mesh, cut, charts.chart, charts.num_charts);
   std::vector<char> placed(nf, 0);
   auto& p = charts.corners;
-  const auto side = [&](int f, int c) { return sides[f][c]; };
-  // Faces are reached across the longest side first (a maximum spanning tree of the dual graph):
-  // a sliver placed from its short side would turn the error of that side's ends into an error
-  // of its far corner larger by their ratio, and hand it on to its neighbours. Drawn from a long
-  // side instead, it turns over only where its width is below the rounding of its placement
-  // (cura-zav-maxpro's atlas: pieces 1e-8 wide and 5e-4 long, 4 turned when drawn breadth first).
   using Step = std::pair<double, int>;  // (length of the side crossed, halfedge crossed from)
   std::priority_queue<Step> queue;
   const auto reach_from = [&](int f) {
     for (int c = 0; c < 3; ++c) {
       const int t = mesh.twin(3 * f + c);
       if (t >= 0 && !cut[mesh.face_edge(f, c)] && !placed[t / 3])
-        queue.emplace(side(f, c), 3 * f + c);
+        queue.emplace(sides[f][c], 3 * f + c);
     }
   };
   for (int seed : seeds) {
-    p[seed][0] = Eigen::Vector2d::Zero();
-    p[seed][1] = Eigen::Vector2d(side(seed, 2), 0);
-    p[seed][2] = third_corner(p[seed][0], p[seed][1], side(seed, 0), side(seed, 1), side(seed, 2));
+    draw(seed, -1, p[seed]);
     placed[seed] = 1;
     reach_from(seed);
     while (!queue.empty()) {
@@ -158,11 +161,9 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<do
       if (placed[t / 3]) continue;
       // Halfedge 3f + c runs from corner c+1 to c+2; its twin in g from d+1 to d+2 the other way.
       const int g = t / 3, d = t % 3;
-      const Eigen::Vector2d& from = p[f][(c + 2) % 3];  // g's corner d+1
-      const Eigen::Vector2d& to = p[f][(c + 1) % 3];    // g's corner d+2
-      p[g][(d + 1) % 3] = from;
-      p[g][(d + 2) % 3] = to;
-      p[g][d] = third_corner(from, to, side(g, (d + 1) % 3), side(g, (d + 2) % 3), side(g, d));
+      p[g][(d + 1) % 3] = p[f][(c + 2) % 3];
+      p[g][(d + 2) % 3] = p[f][(c + 1) % 3];
+      draw(g, d, p[g]);
       placed[g] = 1;
       reach_from(g);
     }
@@ -184,6 +185,49 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<do
   }
   for (int f = 0; f < nf; ++f) charts.flipped_faces += !(signed_area(p[f]) > 0);
   return charts;
+}
+
+}  // namespace
+
+Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<double, 3>>& sides,
+                      const std::vector<char>& cut) {
+  return develop_charts(mesh, sides, cut, [&](int g, int d, std::array<Eigen::Vector2d, 3>& p) {
+    const auto& l = sides[g];
+    if (d < 0) {
+      p[0] = Eigen::Vector2d::Zero();
+      p[1] = Eigen::Vector2d(l[2], 0);
+      d = 2;
+    }
+    const int i = (d + 1) % 3, j = (d + 2) % 3;
+    p[d] = third_corner(p[i], p[j], l[i], l[j], l[d]);
+  });
+}
+
+Charts lay_out_charts(const Triangulation& mesh,
+                      const std::vector<std::array<Eigen::Vector2d, 3>>& drawn,
+                      const std::vector<char>& cut) {
+  std::vector<std::array<double, 3>> sides(drawn.size());
+  for (size_t f = 0; f < drawn.size(); ++f) {
+    for (int c = 0; c < 3; ++c)
+      sides[f][c] = (drawn[f][(c + 1) % 3] - drawn[f][(c + 2) % 3]).norm();
+  }
+  return develop_charts(mesh, sides, cut, [&](int g, int d, std::array<Eigen::Vector2d, 3>& p) {
+    const auto& q = drawn[g];
+    if (d < 0) {
+      p = q;
+      return;
+    }
+    // The rigid motion that puts g's own side (corners d+1, d+2) onto the
+    // placed one, about the sides' midpoints.
+    const int i = (d + 1) % 3, j = (d + 2) % 3;
+    const Eigen::Vector2d own = q[j] - q[i], placed = p[j] - p[i];
+    const double scale = own.norm() * placed.norm();
+    const double cos = own.dot(placed) / scale;
+    const double sin = cross(own, placed) / scale;
+    const Eigen::Vector2d r = q[d] - (q[i] + q[j]) / 2;
+    p[d] =
+        (p[i] + p[j]) / 2 + Eigen::Vector2d(cos * r.x() - sin * r.y(), sin * r.x() + cos * r.y());
+  });
 }
 
 namespace {

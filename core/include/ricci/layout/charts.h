@@ -35,6 +35,13 @@ Charts lay_out_charts(const Triangulation& mesh, const std::vector<double>& leng
 //! relative length error is measured against them.
 Charts lay_out_charts(const Triangulation& mesh, const std::vector<std::array<double, 3>>& sides,
                       const std::vector<char>& cut);
+//! The same with each face's own drawn corners (`drawn[f]`, anywhere in the plane): each face is
+//! placed by the rigid motion that puts its side shared with the face it is reached from onto that
+//! side as placed, so its angles stay its own; drawn from its side lengths instead, a sliver's
+//! angles move by their rounding over its width. The seed keeps its drawn position.
+Charts lay_out_charts(const Triangulation& mesh,
+                      const std::vector<std::array<Eigen::Vector2d, 3>>& drawn,
+                      const std::vector<char>& cut);
 
 //! The signed area of a drawn face: positive where its corners run counter-clockwise.
 double signed_area(const std::array<Eigen::Vector2d, 3>& t);
