@@ -100,11 +100,13 @@ class Mask {
   std::vector<std::uint64_t> bits_;
 };
 
-// A chart turned by `rotation`, rasterized on cells of `cell` from its lower-left corner, every
-// cell that a triangle meets set, then dilated by `pad` cells.
+// A chart turned by `rotation`, rasterized on cells of `cell` from `origin`, every cell set that
+// the chart comes within `margin` of (in the maximum norm): two charts whose rasters share no cell
+// are then at least twice the margin apart (a point nearer than that to both lies in a cell of
+// both).
 struct Raster {
   Eigen::Matrix2d rotation;
-  Eigen::Vector2d lo;  // of the turned chart
+  Eigen::Vector2d origin;  // the lower-left corner of cell (0, 0), in the turned chart
   Mask mask{1, 1};
 };
 
@@ -124,7 +126,8 @@ bool triangle_meets_box(const Triangle& t, const Eigen::Vector2d& lo, const Eige
   return true;
 }
 
-Raster rasterize(const Triangles& chart, const Eigen::Matrix2d& rotation, double cell, int pad) {
+Raster rasterize(const Triangles& chart, const Eigen::Matrix2d& rotation, double cell,
+                 double margin) {
   Raster r;
   r.rotation = rotation;
   Triangles turned;
@@ -134,34 +137,26 @@ Raster rasterize(const Triangles& chart, const Eigen::Matrix2d& rotation, double
     for (const auto& q : u) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
     turned.push_back(u);
   }
-  r.lo = lo;
-  const int width = static_cast<int>(std::ceil((hi.x() - lo.x()) / cell)) + 1 + 2 * pad;
-  const int height = static_cast<int>(std::ceil((hi.y() - lo.y()) / cell)) + 1 + 2 * pad;
-  Mask core(width, height);
+  r.origin = lo - Eigen::Vector2d::Constant(margin);
+  const int width = static_cast<int>(std::ceil((hi.x() - lo.x() + 2 * margin) / cell)) + 1;
+  const int height = static_cast<int>(std::ceil((hi.y() - lo.y() + 2 * margin) / cell)) + 1;
+  r.mask = Mask(width, height);
+  const Eigen::Vector2d grown = Eigen::Vector2d::Constant(margin);
   for (const Triangle& t : turned) {
     Eigen::Vector2d a = t[0], b = t[0];
     for (const auto& q : t) a = a.cwiseMin(q), b = b.cwiseMax(q);
-    const int x0 = static_cast<int>((a.x() - lo.x()) / cell),
-              x1 = static_cast<int>((b.x() - lo.x()) / cell);
-    const int y0 = static_cast<int>((a.y() - lo.y()) / cell),
-              y1 = static_cast<int>((b.y() - lo.y()) / cell);
+    // The cells whose boxes, grown by the margin, meet the triangle's box.
+    const Eigen::Vector2d from = (a - r.origin - grown) / cell, to = (b - r.origin + grown) / cell;
+    const int x0 = std::max(0, static_cast<int>(std::floor(from.x()))),
+              x1 = std::min(width - 1, static_cast<int>(to.x()));
+    const int y0 = std::max(0, static_cast<int>(std::floor(from.y()))),
+              y1 = std::min(height - 1, static_cast<int>(to.y()));
     for (int y = y0; y <= y1; ++y) {
       for (int x = x0; x <= x1; ++x) {
-        const Eigen::Vector2d c0 = lo + cell * Eigen::Vector2d(x, y);
-        if (triangle_meets_box(t, c0, c0 + Eigen::Vector2d::Constant(cell)))
-          core.set(x + pad, y + pad);
-      }
-    }
-  }
-  r.mask = Mask(width, height);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      if (!core.get(x, y)) continue;
-      for (int dy = -pad; dy <= pad; ++dy) {
-        for (int dx = -pad; dx <= pad; ++dx) {
-          const int u = x + dx, v = y + dy;
-          if (u >= 0 && v >= 0 && u < width && v < height) r.mask.set(u, v);
-        }
+        if (r.mask.get(x, y)) continue;
+        const Eigen::Vector2d c0 = r.origin + cell * Eigen::Vector2d(x, y);
+        if (triangle_meets_box(t, c0 - grown, c0 + Eigen::Vector2d::Constant(cell) + grown))
+          r.mask.set(x, y);
       }
     }
   }
@@ -358,22 +353,21 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   std::vector<Eigen::Matrix2d> up(n);
   for (size_t k = 0; k < n; ++k) up[k] = upright(charts[k]);
   const Eigen::Matrix2d quarter{{0, -1}, {1, 0}};
-  // About 20k cells of chart area; the padding in cells from the extent it gives, again when the
-  // extent came out larger.
+  // About 20k cells of chart area. Half the padding is the rasters' margin, in the charts' units
+  // from the extent it gives, again (a little wider) where the extent came out larger.
   const double cell = std::sqrt(total / 20000);
   double extent = std::sqrt(total / 0.6);
   Placed placed;
-  int pad = 0;
-  for (int attempt = 0; attempt < 4; ++attempt) {
-    const int needed =
-        static_cast<int>(std::ceil(0.5 * o.padding * extent / o.texture_size / cell));
-    if (attempt > 0 && needed <= pad) break;
-    pad = needed;
+  double margin = 0;
+  for (int attempt = 0; attempt < 6; ++attempt) {
+    const double needed = 0.5 * o.padding * extent / o.texture_size;
+    if (attempt > 0 && needed <= margin) break;
+    margin = attempt > 0 ? 1.05 * needed : needed;
     std::vector<std::array<Raster, 2>> rasters(n);
     for (size_t k = 0; k < n; ++k) {
       if (charts[k].empty()) continue;
-      rasters[k] = {rasterize(charts[k], up[k], cell, pad),
-                    rasterize(charts[k], quarter * up[k], cell, pad)};
+      rasters[k] = {rasterize(charts[k], up[k], cell, margin),
+                    rasterize(charts[k], quarter * up[k], cell, margin)};
     }
     std::vector<size_t> nonempty;
     long cells = 0;
@@ -387,8 +381,7 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     for (size_t k : nonempty) {
       const Raster& r = *placed.raster[k];
       packing.rotation[k] = r.rotation;
-      packing.offset[k] =
-          (placed.at[k].cast<double>() + Eigen::Vector2d::Constant(pad)) * cell - r.lo;
+      packing.offset[k] = placed.at[k].cast<double>() * cell - r.origin;
     }
   }
   packing.scale = 1 / extent;
