@@ -13,6 +13,10 @@ namespace ricci {
 
 namespace {
 
+// A chart is tried in each of its four quarter turns: an L or a crescent fits some corners
+// turned by a half (the cow: utilization 0.604 with upright and quarter turns only, 0.624).
+constexpr int kTurns = 4;
+
 using detail::cross;
 
 using Triangle = std::array<Eigen::Vector2d, 3>;
@@ -283,7 +287,7 @@ struct Placed {
   Eigen::Vector2i extent = Eigen::Vector2i::Zero();
 };
 
-Placed pack_rasters(const std::vector<std::array<Raster, 2>>& rasters,
+Placed pack_rasters(const std::vector<std::array<Raster, kTurns>>& rasters,
                     const std::vector<size_t>& order, long cells) {
   Placed p;
   p.raster.assign(rasters.size(), nullptr);
@@ -294,8 +298,8 @@ Placed pack_rasters(const std::vector<std::array<Raster, 2>>& rasters,
   }
   Mask atlas(side, side);
   for (size_t k : order) {
-    const std::array<std::vector<std::array<int, 3>>, 2> runs{runs_of(rasters[k][0].mask),
-                                                              runs_of(rasters[k][1].mask)};
+    std::array<std::vector<std::array<int, 3>>, kTurns> runs;
+    for (int t = 0; t < kTurns; ++t) runs[t] = runs_of(rasters[k][t].mask);
     while (true) {
       // Least growth of the square's side, then of the used area, then bottom-left (ties to the
       // upright turn, then the lowest row, then the leftmost cell). At one row the score grows
@@ -309,7 +313,7 @@ Placed pack_rasters(const std::vector<std::array<Raster, 2>>& rasters,
       };
       std::int64_t best = std::numeric_limits<std::int64_t>::max();
       FitRows fit(atlas.width());
-      for (int turn = 0; turn < 2; ++turn) {
+      for (int turn = 0; turn < kTurns; ++turn) {
         const Mask& m = rasters[k][turn].mask;
         for (int y = 0; y + m.height() <= atlas.height(); ++y) {
           if (score(0, y, m) >= best) break;
@@ -354,7 +358,8 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   for (size_t k = 0; k < n; ++k) up[k] = upright(charts[k]);
   const Eigen::Matrix2d quarter{{0, -1}, {1, 0}};
   // About 20k cells of chart area. Half the padding is the rasters' margin, in the charts' units
-  // from the extent it gives, again (a little wider) where the extent came out larger.
+  // from the extent it gives (3 % wider, so that an extent a little larger than the guess needs
+  // no second packing), again where the extent came out larger still.
   const double cell = std::sqrt(total / 20000);
   double extent = std::sqrt(total / 0.6);
   Placed placed;
@@ -362,12 +367,14 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   for (int attempt = 0; attempt < 6; ++attempt) {
     const double needed = 0.5 * o.padding * extent / o.texture_size;
     if (attempt > 0 && needed <= margin) break;
-    margin = attempt > 0 ? 1.05 * needed : needed;
-    std::vector<std::array<Raster, 2>> rasters(n);
+    margin = 1.03 * needed;
+    std::vector<std::array<Raster, kTurns>> rasters(n);
     for (size_t k = 0; k < n; ++k) {
       if (charts[k].empty()) continue;
-      rasters[k] = {rasterize(charts[k], up[k], cell, margin),
-                    rasterize(charts[k], quarter * up[k], cell, margin)};
+      Eigen::Matrix2d turn = up[k];
+      for (int t = 0; t < kTurns; ++t, turn = quarter * turn) {
+        rasters[k][t] = rasterize(charts[k], turn, cell, margin);
+      }
     }
     std::vector<size_t> nonempty;
     long cells = 0;

@@ -1,6 +1,7 @@
 // Charts packed into the unit square at one texel density: each turned to its smallest bounding
-// rectangle, rasterized (conservatively, dilated by the padding) and placed, largest first, where
-// the atlas's extent grows least (bottom-left first among equals), upright or a quarter turn.
+// rectangle, rasterized (every cell within half the padding of it) and placed, largest first,
+// where the atlas's extent grows least (bottom-left first among equals), in the best of its four
+// quarter turns.
 #pragma once
 
 #include <array>
