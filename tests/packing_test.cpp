@@ -107,6 +107,33 @@ TEST(Packing, ALongChartIsTurnedToItsSmallestBox) {
   EXPECT_NEAR(std::abs(axis.x()) * std::abs(axis.y()), 0, 1e-12);
 }
 
+TEST(Packing, OneChartSpansTheSquareWithinHalfThePadding) {
+  // Packed alone, a chart's upright box spans the square's width, half the padding from its
+  // sides, and its height fits.
+  PackingOptions o;
+  o.texture_size = 256;
+  o.padding = 8;
+  const Chart chart = ell(1.5, {2, -1});
+  const Packing p = pack_charts(std::vector<Chart>{chart}, o);
+  const double half = 0.5 * o.padding / o.texture_size;
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
+  double area = 0;
+  for (const Triangle& t : chart) {
+    Triangle u;
+    for (int i = 0; i < 3; ++i) {
+      u[i] = p.scale * p.rotation[0] * t[i] + p.offset[0];
+      lo = lo.cwiseMin(u[i]), hi = hi.cwiseMax(u[i]);
+    }
+    const Eigen::Vector2d a = u[1] - u[0], b = u[2] - u[0];
+    area += 0.5 * (a.x() * b.y() - a.y() * b.x());
+  }
+  EXPECT_NEAR(lo.x(), half, 1e-12);
+  EXPECT_NEAR(lo.y(), half, 1e-12);
+  EXPECT_NEAR(std::max(hi.x(), hi.y()), 1 - half, 1e-12);
+  EXPECT_LE(std::min(hi.x(), hi.y()), 1 - half + 1e-12);
+  EXPECT_NEAR(area, p.utilization, 1e-12);
+}
+
 TEST(Packing, OptionsOutOfRangeAreRefused) {
   PackingOptions o;
   o.texture_size = 8;
