@@ -108,12 +108,12 @@ TEST(Packing, ALongChartIsTurnedToItsSmallestBox) {
 }
 
 TEST(Packing, OneChartSpansTheSquareWithinHalfThePadding) {
-  // Packed alone, a chart's upright box spans the square's width, half the padding from its
-  // sides, and its height fits.
+  // Packed alone, a 3 x 1 strip at 20 degrees: its upright box spans the square's width, half
+  // the padding from its sides, and its height, a third of that, fits.
   PackingOptions o;
   o.texture_size = 256;
   o.padding = 8;
-  const Chart chart = ell(1.5, {2, -1});
+  const Chart chart = rectangle(3, 1, kPi / 9, {2, -1});
   const Packing p = pack_charts(std::vector<Chart>{chart}, o);
   const double half = 0.5 * o.padding / o.texture_size;
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
@@ -130,7 +130,7 @@ TEST(Packing, OneChartSpansTheSquareWithinHalfThePadding) {
   EXPECT_NEAR(lo.x(), half, 1e-12);
   EXPECT_NEAR(lo.y(), half, 1e-12);
   EXPECT_NEAR(std::max(hi.x(), hi.y()), 1 - half, 1e-12);
-  EXPECT_LE(std::min(hi.x(), hi.y()), 1 - half + 1e-12);
+  EXPECT_NEAR(std::min(hi.x(), hi.y()), half + (1 - 2 * half) / 3, 1e-12);
   EXPECT_NEAR(area, p.utilization, 1e-12);
 }
 

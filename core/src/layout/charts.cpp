@@ -221,9 +221,9 @@ Charts lay_out_charts(const Triangulation& mesh,
     // placed one, about the sides' midpoints.
     const int i = (d + 1) % 3, j = (d + 2) % 3;
     const Eigen::Vector2d own = q[j] - q[i], placed = p[j] - p[i];
-    const double scale = own.norm() * placed.norm();
-    const double cos = own.dot(placed) / scale;
-    const double sin = cross(own, placed) / scale;
+    const double scale = own.norm() * placed.norm();  // 0: no turn, a translation
+    const double cos = scale > 0 ? own.dot(placed) / scale : 1;
+    const double sin = scale > 0 ? cross(own, placed) / scale : 0;
     const Eigen::Vector2d r = q[d] - (q[i] + q[j]) / 2;
     p[d] =
         (p[i] + p[j]) / 2 + Eigen::Vector2d(cos * r.x() - sin * r.y(), sin * r.x() + cos * r.y());

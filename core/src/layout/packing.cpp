@@ -360,7 +360,7 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   double extent = std::sqrt(total / 0.6);
   const long charted =
       std::count_if(charts.begin(), charts.end(), [](const Triangles& c) { return !c.empty(); });
-  const bool alone = charted == 1 && 2 * o.padding < o.texture_size;
+  const bool alone = charted == 1 && o.padding < o.texture_size;
   if (alone) {
     // One chart: its smallest box, upright, spans the square's width within half the padding
     // (each component of a mesh of many is packed so before its charts are packed together:

@@ -144,18 +144,23 @@ void mark_homology_loops(const Triangulation& mesh, const std::vector<double>& l
   // boundary edges cost nothing.
   const EdgeGraph graph(mesh, contracted_lengths, walked);
   const ShortestPaths tree = graph.from({node[central_vertex(graph, nv)]});
-  // The tree's edges as the contracted surface's: a vertex reached along its boundary loop is
-  // its node, reached by the edge that reached the node.
+  // The tree's edges as the contracted surface's: each node's edge in is an inner edge by which
+  // the search reached one of its vertices from strictly nearer the root, the representative's
+  // own first (a vertex reached along its boundary loop is its node; an edge from no nearer, where
+  // lengths of zero tie, could close a cycle).
+  const auto edge_in = [&](int v) {
+    const int e = tree.via[v];
+    if (e < 0 || !contracted[e]) return -1;
+    const auto [a, b] = mesh.edge_vertices(e);
+    const int from = a == v ? b : a;
+    return node[from] != node[v] && tree.distance[from] < tree.distance[v] ? e : -1;
+  };
   std::vector<int> via(nv, -1);
   for (int v = 0; v < nv; ++v) {
-    if (node[v] == v && tree.via[v] >= 0 && contracted[tree.via[v]]) via[v] = tree.via[v];
+    if (node[v] == v) via[v] = edge_in(v);
   }
   for (int v = 0; v < nv; ++v) {
-    // A node first reached along its loop from another of its vertices: that vertex's edge in.
-    if (node[v] != v && tree.via[v] >= 0 && contracted[tree.via[v]] && via[node[v]] < 0 &&
-        tree.via[node[v]] >= 0 && !contracted[tree.via[node[v]]]) {
-      via[node[v]] = tree.via[v];
-    }
+    if (node[v] != v && via[node[v]] < 0) via[node[v]] = edge_in(v);
   }
   std::vector<char> in_tree(mesh.num_edges(), 0);
   for (int v = 0; v < nv; ++v) {

@@ -2,10 +2,11 @@
 // subdivision of theirs) that passes through every cone of a flat cone metric and opens the
 // surface into a disk, so the metric lays out in the plane.
 //
-//   homology     2g short loops (Erickson and Whittlesey's greedy): a tree of shortest paths
-//                from a central vertex, the dual tree of the longest loops across the other
-//                edges (boundary loops capped), and the 2g edges left, each with its two tree
-//                paths to the root;
+//   homology     2g short loops (Erickson and Whittlesey's greedy), on the surface with each
+//                boundary loop contracted to a point (a loop through one is cut as arcs that end
+//                on it): a tree of shortest paths from a central vertex, the dual tree of the
+//                longest loops across the other edges, and the 2g edges left, each with its two
+//                tree paths to the root;
 //   connections  the cones, the boundary loops and those loops joined by a Steiner tree of
 //                shortest paths (Mehlhorn's 2-approximation: nearest-terminal regions, the
 //                cheapest bridges between them in Kruskal's order);
