@@ -365,9 +365,7 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     // One chart: its smallest box, upright, spans the square's width within half the padding
     // (each component of a mesh of many is packed so before its charts are packed together:
     // rasterizing each at 20k cells in four turns took 9 of the 13 s of a mesh of 3,728).
-    const size_t k = static_cast<size_t>(
-        std::find_if(charts.begin(), charts.end(), [](const Triangles& c) { return !c.empty(); }) -
-        charts.begin());
+    const size_t k = order[0];  // the largest, the one with area (total > 0)
     Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
     for (const Triangle& t : charts[k]) {
       for (const auto& q : t) lo = lo.cwiseMin(up[k] * q), hi = hi.cwiseMax(up[k] * q);

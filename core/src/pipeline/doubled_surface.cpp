@@ -43,7 +43,7 @@ namespace {
 
 // The boundary edges of `t` whose opposite angle, with `lengths` per edge, exceeds a right angle:
 // a^2 + b^2 < c^2, with a margin of rounding (a cocircular pair of a face and its mirror image is
-// Delaunay either way).
+// Delaunay either way). On the double such an edge and its mirror image are not Delaunay.
 int obtuse_boundary_edges(const Triangulation& t, const std::vector<double>& lengths) {
   int count = 0;
   for (int f = 0; f < t.num_faces(); ++f) {
@@ -60,20 +60,15 @@ int obtuse_boundary_edges(const Triangulation& t, const std::vector<double>& len
 
 }  // namespace
 
-int boundary_edges_not_delaunay_on_double(const CompactMesh& half, const FlowResult& result) {
-  if (result.edge_lengths.empty()) return 0;
-  return obtuse_boundary_edges(result_triangulation(half, result), result.edge_lengths);
-}
-
 std::string class_other_than_doubles(const CompactMesh& half, const UniformizationOptions& options,
                                      const Uniformization& run) {
   const FlowResult& r = run.result;
+  const LayoutKind kind = planned_layout(half, run.preset, run.geometry);
   if (!r.converged || half.is_closed() || run.geometry != Geometry::Euclidean ||
       !is_yamabe(run.structure) || r.flip_sequence.empty() ||
       options.flow.edge_flips == EdgeFlips::Never || !options.flow.delaunay_class ||
       options.keep_input_triangulation ||
-      (planned_layout(half, run.preset, run.geometry) != LayoutKind::Plane &&
-       planned_layout(half, run.preset, run.geometry) != LayoutKind::PlaneCut)) {
+      (kind != LayoutKind::Plane && kind != LayoutKind::PlaneCut)) {
     return "";
   }
   // Not for the atlas either: on the 44 files of the real-mesh set and CGAL's whose atlas parts
@@ -97,7 +92,9 @@ std::string class_other_than_doubles(const CompactMesh& half, const Uniformizati
   std::vector<double> input(start.num_edges());
   for (int e = 0; e < start.num_edges(); ++e) input[e] = std::sqrt(2 * structure.eta[e]);
   const int at_start = obtuse_boundary_edges(start, input);
-  const int at_end = boundary_edges_not_delaunay_on_double(half, r);
+  const int at_end = r.edge_lengths.empty()
+                         ? 0
+                         : obtuse_boundary_edges(result_triangulation(half, r), r.edge_lengths);
   if (at_start == 0 && at_end == 0) return "";
   std::ostringstream s;
   s << "converged in the class of its intrinsic Delaunay triangulation, but of its boundary edges "

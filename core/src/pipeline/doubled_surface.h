@@ -34,12 +34,6 @@ namespace ricci::detail {
 bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
                         const TargetCurvature& target, const Uniformization& run);
 
-//! The boundary edges of the flowed triangulation (E2) whose opposite angle exceeds a right
-//! angle: on the double such an edge and its mirror image are not Delaunay, so the double's
-//! canonical class (that of its intrinsic Delaunay triangulation at every u) is not the half's.
-//! 0 when the flow did not keep edge lengths.
-int boundary_edges_not_delaunay_on_double(const CompactMesh& half, const FlowResult& result);
-
 //! Why the converged flow of `run` is not in the canonical discrete conformal class of the
 //! surface, its double's, or "" when it is or the double is not tried. On a surface with boundary
 //! the canonical class is that of its double (Gillespie, Springborn and Crane 2021; CEPS flows

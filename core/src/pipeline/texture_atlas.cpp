@@ -111,6 +111,17 @@ int branches_for(double theta) {
   return std::max(1, static_cast<int>(std::floor(theta / (2 * kPi))) + 1);
 }
 
+// Per face, its side lengths as `corners` draw it (`[f][c]`: the side opposite corner c).
+std::vector<std::array<double, 3>> drawn_sides(
+    const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
+  std::vector<std::array<double, 3>> sides(corners.size());
+  for (size_t f = 0; f < corners.size(); ++f) {
+    for (int c = 0; c < 3; ++c)
+      sides[f][c] = (corners[f][(c + 1) % 3] - corners[f][(c + 2) % 3]).norm();
+  }
+  return sides;
+}
+
 }  // namespace
 
 std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
@@ -151,16 +162,6 @@ std::vector<double> lengths_in_3d(const Triangulation& delivered,
     length[e] = (positions[a] - positions[b]).norm();
   }
   return length;
-}
-
-std::vector<std::array<double, 3>> drawn_sides(
-    const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
-  std::vector<std::array<double, 3>> sides(corners.size());
-  for (size_t f = 0; f < corners.size(); ++f) {
-    for (int c = 0; c < 3; ++c)
-      sides[f][c] = (corners[f][(c + 1) % 3] - corners[f][(c + 2) % 3]).norm();
-  }
-  return sides;
 }
 
 double face_distortion(const std::vector<Eigen::Vector3d>& positions,

@@ -40,10 +40,6 @@ std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& d
 std::vector<double> lengths_in_3d(const Triangulation& delivered,
                                   const std::vector<Eigen::Vector3d>& positions);
 
-//! Per face, its side lengths as `corners` draw it (`[f][c]`: the side opposite corner c).
-std::vector<std::array<double, 3>> drawn_sides(
-    const std::vector<std::array<Eigen::Vector3d, 3>>& corners);
-
 //! The atlas layout of a converged flow: run.corners (z = 0), run.face_chart, run.subdivision
 //! where the flow flipped edges, run.atlas; run.layout holds the delivered corners.
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
