@@ -220,8 +220,8 @@ std::vector<std::array<Eigen::Vector3d, 3>> cut_open_pieces(const CompactMesh& h
 
 }  // namespace
 
-void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int outer,
-                    const TargetCurvature& target, Uniformization& run) {
+std::string flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int outer,
+                           const TargetCurvature& target, Uniformization& run) {
   const CompactMesh twice = CompactMesh::doubled(half);
   const TargetCurvature twice_target = doubled_target(half, twice, target);
   const ConformalStructure structure = prepare_flow(twice, run.geometry, o.scheme, twice_target);
@@ -254,14 +254,13 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
       last = subdivide_half(half, twice, structure, on_double.result);
     }
   } catch (const LayoutError& e) {
-    run.result.failure += "; on the surface doubled along its boundary the flow converged, but " +
-                          std::string(e.what());
-    return;
+    return "on the surface doubled along its boundary the flow converged, but " +
+           std::string(e.what());
   }
   run.totals.add(on_double.totals);
   if (!on_double.result.converged) {
     std::ostringstream s;
-    s << "; on the surface doubled along its boundary, where boundary edges flip too, the flow "
+    s << "on the surface doubled along its boundary, where boundary edges flip too, the flow "
          "stopped as well: "
       << on_double.result.failure;
     const Eigen::VectorXd& u = on_double.result.u;
@@ -274,8 +273,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
                 ? "; --target free-boundary keeps the boundary's lengths)"
                 : ")");
     }
-    run.result.failure += s.str();
-    return;
+    return s.str();
   }
 
   const bool cut_open = run.geometry == Geometry::Euclidean && run.preset != TargetPreset::Atlas &&
@@ -286,9 +284,8 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     try {
       cut_corners = cut_open_pieces(half, *last, cut);
     } catch (const LayoutError& e) {
-      run.result.failure += "; on the surface doubled along its boundary the flow converged, but " +
-                            std::string(e.what());
-      return;
+      return "on the surface doubled along its boundary the flow converged, but " +
+             std::string(e.what());
     }
   }
   run.doubled = true;
@@ -336,7 +333,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     }
     run.layout.corners = sub.corners;
     run.subdivision = std::move(sub);
-    return;
+    return {};
   }
   if (run.preset == TargetPreset::Atlas) {
     // The atlas's charts are laid out from the pieces' own shapes: around a cone the development
@@ -344,7 +341,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     // atlas: 16 pieces, some with a side of 0.01 against 2.3 drawn half that off its line).
     sub.corners = std::move(last->piece_corners);
     run.subdivision = std::move(sub);
-    return;
+    return {};
   }
   if (cut_open) {
     // The cut is the delivered pieces' (its paths and generators as the report counts them); no
@@ -357,7 +354,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     sub.corners = std::move(cut_corners);
     run.layout.corners = sub.corners;
     run.subdivision = std::move(sub);
-    return;
+    return {};
   }
   run.layout_kind = LayoutKind::Plane;
   // The half's own faces drawn by their corners: delivered instead when none turns over and they
@@ -375,6 +372,7 @@ void flow_on_double(const CompactMesh& half, const UniformizationOptions& o, int
     run.layout.corners = sub.corners;
     run.subdivision = std::move(sub);
   }
+  return {};
 }
 
 }  // namespace ricci::detail

@@ -69,10 +69,10 @@ Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
 
 //! The flow of `run` repeated on the double (the disk preset's flows included), and its result
 //! put in `run` for the half: result, totals (the half's own flow counted too), the subdivision
-//! and its layout, `doubled`, and `doubled_because` (run.result.failure as it came in). Leaves
-//! `run` as it was, but for the double's totals and a note in run.result.failure, when the flow
-//! on the double does not converge or its pieces give no layout.
-void flow_on_double(const CompactMesh& half, const UniformizationOptions& options, int outer_loop,
-                    const TargetCurvature& target, Uniformization& run);
+//! and its layout, `doubled`, and `doubled_because` (run.result.failure as it came in); returns
+//! "". When the flow on the double does not converge or its pieces give no layout, leaves `run`
+//! as it was but for the double's totals, and returns why ("on the surface doubled ...").
+std::string flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
+                           int outer_loop, const TargetCurvature& target, Uniformization& run);
 
 }  // namespace ricci::detail

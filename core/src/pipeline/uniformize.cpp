@@ -214,18 +214,17 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
     half_run.reset();
   };
   if (detail::may_flow_on_double(mesh, o, target, run)) {
-    detail::flow_on_double(mesh, o, outer, target, run);
+    const std::string why_not = detail::flow_on_double(mesh, o, outer, target, run);
+    if (!why_not.empty()) run.result.failure += "; " + why_not;
     lay_out_flow(mesh, o, outer, run);
   } else if (std::string why = detail::class_other_than_doubles(mesh, o, run); !why.empty()) {
     half_run = run;
-    const size_t said = why.size();
     run.result.failure = std::move(why);  // kept as the run's doubled_because
     try {
-      detail::flow_on_double(mesh, o, outer, target, run);
+      const std::string why_not = detail::flow_on_double(mesh, o, outer, target, run);
       if (run.doubled) lay_out_flow(mesh, o, outer, run);
       if (!run.doubled) {
-        // flow_on_double's note after the class's: "; on the surface doubled ...".
-        back_to_half(run.result.failure.substr(std::min(said + 2, run.result.failure.size())));
+        back_to_half(why_not);
       } else if (!run.layout_failure.empty()) {
         back_to_half(run.layout_failure);
       }
