@@ -91,6 +91,7 @@ TEST(Packing, ChartsLandInTheSquareAtOneScaleApartByThePadding) {
   }
   EXPECT_NEAR(area, p.utilization, 1e-12);
   EXPECT_GT(p.utilization, 0.4);
+  EXPECT_EQ(p.padding, o.padding);
   for (size_t a = 0; a < packed.size(); ++a) {
     for (size_t b = a + 1; b < packed.size(); ++b) {
       EXPECT_GE(gap(packed[a], packed[b]), o.padding / double(o.texture_size) * (1 - 1e-9))
@@ -132,6 +133,44 @@ TEST(Packing, OneChartSpansTheSquareWithinHalfThePadding) {
   EXPECT_NEAR(std::max(hi.x(), hi.y()), 1 - half, 1e-12);
   EXPECT_NEAR(std::min(hi.x(), hi.y()), half + (1 - 2 * half) / 3, 1e-12);
   EXPECT_NEAR(area, p.utilization, 1e-12);
+}
+
+TEST(Packing, ChartsTooManyForTheTextureAtThePaddingAreSaidToBeNearer) {
+  // 100 unit squares in a texture of 32 texels: 10 to a side with 4 texels between them would
+  // take 40. The packing says how far apart they are, and they are at least that far.
+  std::vector<Chart> charts;
+  for (int k = 0; k < 100; ++k) charts.push_back(rectangle(1, 1, 0.1 * k, {3.0 * k, 0}));
+  PackingOptions o;
+  o.texture_size = 32;
+  o.padding = 4;
+  const Packing p = pack_charts(charts, o);
+  EXPECT_LT(p.padding, o.padding);
+  EXPECT_GT(p.padding, 0.5 * o.padding);
+  std::vector<Chart> packed;
+  std::vector<Eigen::AlignedBox2d> box;
+  for (size_t k = 0; k < charts.size(); ++k) {
+    Chart c;
+    box.emplace_back();
+    for (const Triangle& t : charts[k]) {
+      Triangle u;
+      for (int i = 0; i < 3; ++i) {
+        u[i] = p.scale * p.rotation[k] * t[i] + p.offset[k];
+        EXPECT_GE(u[i].minCoeff(), 0);
+        EXPECT_LE(u[i].maxCoeff(), 1);
+        box.back().extend(u[i]);
+      }
+      c.push_back(u);
+    }
+    packed.push_back(c);
+  }
+  double nearest = INFINITY;
+  for (size_t a = 0; a < packed.size(); ++a) {
+    for (size_t b = a + 1; b < packed.size(); ++b) {
+      if (box[a].exteriorDistance(box[b]) * o.texture_size > o.padding) continue;
+      nearest = std::min(nearest, gap(packed[a], packed[b]) * o.texture_size);
+    }
+  }
+  EXPECT_GE(nearest, p.padding * (1 - 1e-9));
 }
 
 TEST(Packing, OptionsOutOfRangeAreRefused) {

@@ -16,6 +16,10 @@ namespace {
 // A chart is tried in each of its four quarter turns: an L or a crescent fits some corners
 // turned by a half (the cow: utilization 0.604 with upright and quarter turns only, 0.624).
 constexpr int kTurns = 4;
+// Packings at most, each with the margin the last one's extent asks for, while each brings the
+// margin nearer to that by at least this share.
+constexpr int kMaxPackings = 6;
+constexpr double kNearer = 0.01;
 
 using detail::cross;
 
@@ -355,7 +359,15 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return area[a] > area[b]; });
   std::vector<Eigen::Matrix2d> up(n);
-  for (size_t k = 0; k < n; ++k) up[k] = upright(charts[k]);
+  std::vector<Eigen::Vector2d> lo(n, Eigen::Vector2d::Zero()), hi = lo;  // upright boxes
+  for (size_t k = 0; k < n; ++k) {
+    up[k] = upright(charts[k]);
+    if (charts[k].empty()) continue;
+    lo[k] = Eigen::Vector2d::Constant(INFINITY), hi[k] = -lo[k];
+    for (const Triangle& t : charts[k]) {
+      for (const auto& q : t) lo[k] = lo[k].cwiseMin(up[k] * q), hi[k] = hi[k].cwiseMax(up[k] * q);
+    }
+  }
   const Eigen::Matrix2d quarter{{0, -1}, {1, 0}};
   double extent = std::sqrt(total / 0.6);
   const long charted =
@@ -366,24 +378,29 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     // (each component of a mesh of many is packed so before its charts are packed together:
     // rasterizing each at 20k cells in four turns took 9 of the 13 s of a mesh of 3,728).
     const size_t k = order[0];  // the largest, the one with area (total > 0)
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(INFINITY), hi = -lo;
-    for (const Triangle& t : charts[k]) {
-      for (const auto& q : t) lo = lo.cwiseMin(up[k] * q), hi = hi.cwiseMax(up[k] * q);
-    }
-    extent = (hi - lo).maxCoeff() / (1 - static_cast<double>(o.padding) / o.texture_size);
+    extent = (hi[k] - lo[k]).maxCoeff() / (1 - static_cast<double>(o.padding) / o.texture_size);
     packing.rotation[k] = up[k];
-    packing.offset[k] = Eigen::Vector2d::Constant(0.5 * o.padding * extent / o.texture_size) - lo;
+    packing.offset[k] =
+        Eigen::Vector2d::Constant(0.5 * o.padding * extent / o.texture_size) - lo[k];
   }
   // About 20k cells of chart area. Half the padding is the rasters' margin, in the charts' units
   // from the extent it gives (3 % wider, so that an extent a little larger than the guess needs
-  // no second packing), again where the extent came out larger still.
-  const double cell = std::sqrt(total / 20000);
+  // no second packing), again where the extent came out larger still: the margin then grows
+  // towards the padding's, unless the charts are too many for the texture at that padding, and
+  // the packing stops once an attempt brings it no nearer.
   Placed placed;
-  double margin = 0;
-  for (int attempt = 0; attempt < 6 && !alone; ++attempt) {
-    const double needed = 0.5 * o.padding * extent / o.texture_size;
-    if (attempt > 0 && needed <= margin) break;
-    margin = 1.03 * needed;
+  double shortfall = INFINITY;  // the padding needed over the margin's, as last packed
+  packing.padding = o.padding;
+  for (int attempt = 0; attempt < kMaxPackings && !alone; ++attempt) {
+    const double margin = 1.03 * 0.5 * o.padding * extent / o.texture_size;
+    // At most about 80k cells over the rasters with their margins: where the margins are most of
+    // them (many small charts in a small texture), larger cells.
+    double rastered = 0;
+    for (size_t k = 0; k < n; ++k) {
+      const Eigen::Vector2d side = hi[k] - lo[k] + Eigen::Vector2d::Constant(2 * margin);
+      if (!charts[k].empty()) rastered += side.x() * side.y();
+    }
+    const double cell = std::max(std::sqrt(total / 20000), std::sqrt(rastered / 80000));
     std::vector<std::array<Raster, kTurns>> rasters(n);
     for (size_t k = 0; k < n; ++k) {
       if (charts[k].empty()) continue;
@@ -406,6 +423,12 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
       packing.rotation[k] = r.rotation;
       packing.offset[k] = placed.at[k].cast<double>() * cell - r.origin;
     }
+    // Rasters that share no cell are twice the margin apart: in texels of this extent's texture.
+    const double needed = 0.5 * o.padding * extent / o.texture_size;
+    if (needed <= margin) break;
+    packing.padding = o.padding * margin / needed;
+    if (!(needed / margin < shortfall * (1 - kNearer))) break;
+    shortfall = needed / margin;
   }
   packing.scale = 1 / extent;
   for (auto& b : packing.offset) b *= packing.scale;

@@ -398,6 +398,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   run.face_chart = charts.chart;
   atlas.distortion = face_distortion(positions, faces, charts.corners);
   atlas.utilization = packing.utilization;
+  atlas.padding = packing.padding;
+  atlas.padding_asked = o.packing.padding;
   atlas.texture.resize(delivered.num_faces());
   for (int f = 0; f < delivered.num_faces(); ++f) {
     const int k = charts.chart[f];

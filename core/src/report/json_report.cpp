@@ -152,7 +152,7 @@ std::string layout_json(const Uniformization& run) {
       << ", \"harmonic_charts\": " << a.harmonic_charts
       << ", \"seam_length\": " << number(a.seam_length) << ", \"seam_edges\": " << a.seam_edges
       << ", \"overlapping_faces\": " << a.overlapping_faces
-      << ", \"utilization\": " << number(a.utilization)
+      << ", \"utilization\": " << number(a.utilization) << ", \"padding\": " << number(a.padding)
       << ", \"seconds\": {\"charts\": " << number(a.seconds.charts)
       << ", \"harmonic\": " << number(a.seconds.harmonic)
       << ", \"packing\": " << number(a.seconds.packing) << "}}";
@@ -283,6 +283,7 @@ std::string json_report(const MeshUniformization& run, const RunContext& context
   if (run.packed.pieces > 0) {
     j << "  \"texture\": {\"pieces\": " << run.packed.pieces
       << ", \"utilization\": " << number(run.packed.utilization)
+      << ", \"padding\": " << number(run.packed.padding)
       << ", \"distortion\": " << number(run.packed.distortion) << "},\n";
   }
   j << "  \"components\": [";

@@ -25,6 +25,21 @@ double gauss_bonnet_error(const CompactMesh& mesh, Geometry geometry, const Flow
          2 * kPi * mesh.euler_characteristic();
 }
 
+namespace {
+
+// Said where the charts are packed nearer than the padding asked (Packing::padding); "" where not.
+std::string padding_warning(double padding, double asked) {
+  if (!(padding < asked * (1 - 1e-9))) return "";
+  std::ostringstream s;
+  s.precision(3);
+  s << "Warning: the charts are " << padding << " texels apart at least, where " << asked
+    << " were asked: the texture is too small for so many charts at that padding (a larger "
+       "texture size or a smaller padding keeps them apart)";
+  return s.str();
+}
+
+}  // namespace
+
 std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& run) {
   return {
       {"iterations", run.totals.newton_iterations},
@@ -65,6 +80,8 @@ std::vector<std::string> summary_lines(const MeshUniformization& run, const RunC
       << " on all its faces; " << run.packed.pieces << " pieces packed, utilization "
       << run.packed.utilization;
     lines.push_back(l.str());
+    const std::string padding = padding_warning(run.packed.padding, run.packed.padding_asked);
+    if (!padding.empty()) lines.push_back(padding);
   }
   return lines;
 }
@@ -244,6 +261,8 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
          " splits of overlapping ones", harmonic.str(), "), seams ", a.seam_length, " sqrt(area), ",
          a.overlapping_faces, " overlapping faces; packed: utilization ", a.utilization);
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
+    if (const std::string padding = padding_warning(a.padding, a.padding_asked); !padding.empty())
+      line(padding);
     // The linear model's D is a model's: the exact flat metric of its cones can exceed the bound.
     if (!a.user_cones && p.bound_reached && a.distortion > a.bound_asked) {
       line("Warning: the delivered faces' area distortion D ", a.distortion,

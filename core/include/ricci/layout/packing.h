@@ -22,6 +22,9 @@ struct Packing {
   std::vector<Eigen::Matrix2d> rotation;
   std::vector<Eigen::Vector2d> offset;
   double utilization = 0;  //!< the charts' area in the unit square
+  //! Texels between two charts at least: the options' padding, or less where no packing gave it
+  //! (more charts than the texture holds at that padding).
+  double padding = 0;
 };
 
 //! Packs the charts (each a list of triangles, all in one length unit) into [0, 1]^2, keeping

@@ -55,6 +55,7 @@ struct MeshUniformization {
     int pieces = 0;
     double utilization = 0;
     double distortion = 0;
+    double padding = 0, padding_asked = 0;  //!< as AtlasResult's
   } packed;
   //! The atlas target: its cones, on delivered vertices, with their angles in the exact metric.
   std::vector<Cone> cones;
