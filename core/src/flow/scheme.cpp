@@ -141,8 +141,7 @@ ConformalStructure initialize_scheme(const CompactMesh& mesh, Geometry geometry,
     }
   }
 
-  // --- initial radii, hence u0
-  const auto incident = incident_lengths(mesh, length);
+  // --- initial radii, hence u0 (Yamabe's is 0: no radii)
   std::vector<double> radius(nv);
   const double cos_phi = std::cos(options.intersection_angle);
   if (scheme == Scheme::Tangential || scheme == Scheme::Thurston) {
@@ -150,7 +149,8 @@ ConformalStructure initialize_scheme(const CompactMesh& mesh, Geometry geometry,
     const double factor = scheme == Scheme::Thurston ? 2 / std::sqrt(2 + 2 * cos_phi) : 1;
     radius = incircle_tangent_radii(mesh, length);
     for (double& r : radius) r *= factor;
-  } else {
+  } else if (scheme != Scheme::Yamabe) {
+    const auto incident = incident_lengths(mesh, length);
     for (int v = 0; v < nv; ++v) {
       if (cs.eps[v] == 1) {
         radius[v] = *std::min_element(incident[v].begin(), incident[v].end()) / 3;
