@@ -1,0 +1,395 @@
+// Overlaps within a chart: which faces of a chart overlap others (a hierarchy of bounding boxes
+// over the whole chart, not only neighbours), which charts are embedded for certain without that
+// test, and the split of an overlapping chart between its two sheets (ricci/layout/charts.h).
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+
+#include "mesh/plane.h"
+#include "ricci/layout/charts.h"
+#include "ricci/mesh/geometry.h"
+
+namespace ricci {
+
+using detail::cross;
+
+namespace {
+
+// How far the interiors of two counter-clockwise triangles reach into each other: the least, over
+// the sides of both, of how far the other triangle reaches past the side's line (<= 0: that side
+// separates them).
+double penetration(const std::array<Eigen::Vector2d, 3>& a,
+                   const std::array<Eigen::Vector2d, 3>& b) {
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto* t : {&a, &b}) {
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector2d e = (*t)[(i + 1) % 3] - (*t)[i];
+      const double length = e.norm();
+      if (!(length > 0)) continue;
+      const Eigen::Vector2d n(e.y() / length, -e.x() / length);  // outward for a ccw triangle
+      const double edge = n.dot((*t)[i]);
+      const auto& other = t == &a ? b : a;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& q : other) nearest = std::min(nearest, n.dot(q));
+      least = std::min(least, edge - nearest);
+    }
+  }
+  return least;
+}
+
+// The interiors of two counter-clockwise triangles overlap: no edge direction of either separates
+// them by more than `tolerance`.
+bool interiors_overlap(const std::array<Eigen::Vector2d, 3>& a,
+                       const std::array<Eigen::Vector2d, 3>& b, double tolerance) {
+  return penetration(a, b) > tolerance;
+}
+
+struct Box {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  void add(const Eigen::Vector2d& q) { lo = lo.cwiseMin(q), hi = hi.cwiseMax(q); }
+  void add(const Box& b) { lo = lo.cwiseMin(b.lo), hi = hi.cwiseMax(b.hi); }
+  bool meets(const Box& b) const {
+    return (lo.array() <= b.hi.array()).all() && (b.lo.array() <= hi.array()).all();
+  }
+};
+
+// A bounding-box hierarchy over some faces, split at the median of the longer axis: the faces
+// whose boxes meet a box, in time about the log of the count plus the faces found, whatever the
+// spread of the faces' sizes (a chart of a high-distortion metric spans area ratios of e^20).
+class BoxTree {
+ public:
+  BoxTree(const std::vector<Box>& box, std::vector<int>& faces) : box_(box), faces_(faces) {
+    build(0, static_cast<int>(faces.size()));
+  }
+  template <class Visit>
+  void visit(const Box& b, Visit&& found) const {
+    int stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& n = nodes_[stack[--top]];
+      if (!n.box.meets(b)) continue;
+      if (n.left < 0) {
+        for (int i = n.begin; i < n.end; ++i) {
+          if (box_[faces_[i]].meets(b)) found(faces_[i]);
+        }
+      } else {
+        stack[top++] = n.left, stack[top++] = n.right;
+      }
+    }
+  }
+
+ private:
+  struct Node {
+    Box box;
+    int begin = 0, end = 0, left = -1, right = -1;  // a leaf: no children
+  };
+  int build(int begin, int end) {
+    const int at = static_cast<int>(nodes_.size());
+    nodes_.push_back({});
+    Box b;
+    for (int i = begin; i < end; ++i) b.add(box_[faces_[i]]);
+    nodes_[at].box = b, nodes_[at].begin = begin, nodes_[at].end = end;
+    if (end - begin <= kLeaf) return at;
+    const int axis = b.hi.x() - b.lo.x() >= b.hi.y() - b.lo.y() ? 0 : 1;
+    const int mid = (begin + end) / 2;
+    std::nth_element(
+        faces_.begin() + begin, faces_.begin() + mid, faces_.begin() + end, [&](int f, int g) {
+          return box_[f].lo[axis] + box_[f].hi[axis] < box_[g].lo[axis] + box_[g].hi[axis];
+        });
+    const int left = build(begin, mid);
+    const int right = build(mid, end);
+    nodes_[at].left = left, nodes_[at].right = right;
+    return at;
+  }
+  static constexpr int kLeaf = 8;
+  const std::vector<Box>& box_;
+  std::vector<int>& faces_;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace
+
+std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs,
+                                                   const std::vector<char>& known_clean) {
+  std::vector<std::pair<int, int>> pairs;
+  const int nf = static_cast<int>(charts.corners.size());
+  std::vector<std::vector<int>> by_chart(charts.num_charts);
+  for (int f = 0; f < nf; ++f) by_chart[charts.chart[f]].push_back(f);
+  std::vector<Box> box(nf);
+  for (int f = 0; f < nf; ++f) {
+    for (const auto& q : charts.corners[f]) box[f].add(q);
+  }
+  for (int c = 0; c < charts.num_charts; ++c) {
+    std::vector<int>& faces = by_chart[c];
+    if (faces.size() < 2 || (!known_clean.empty() && known_clean[c])) continue;
+    Box whole;
+    for (int f : faces) whole.add(box[f]);
+    const double size = (whole.hi - whole.lo).maxCoeff();
+    if (!(size > 0)) continue;
+    const double tolerance = 1e-9 * size;
+    const BoxTree tree(box, faces);
+    std::vector<std::pair<int, int>> found;
+    for (int f : faces) {
+      tree.visit(box[f], [&](int g) {
+        if (g > f && interiors_overlap(charts.corners[f], charts.corners[g], tolerance)) {
+          found.emplace_back(f, g);
+        }
+      });
+    }
+    std::sort(found.begin(), found.end());
+    pairs.insert(pairs.end(), found.begin(), found.end());
+    if (max_pairs > 0 && pairs.size() >= max_pairs) {
+      pairs.resize(max_pairs);
+      break;
+    }
+  }
+  return pairs;
+}
+
+namespace {
+
+// The distance between segments a-b and c-d (0 where they cross or touch).
+double segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                        const Eigen::Vector2d& c, const Eigen::Vector2d& d) {
+  const double abc = cross(b - a, c - a), abd = cross(b - a, d - a);
+  const double cda = cross(d - c, a - c), cdb = cross(d - c, b - c);
+  if (((abc > 0 && abd < 0) || (abc < 0 && abd > 0)) &&
+      ((cda > 0 && cdb < 0) || (cda < 0 && cdb > 0))) {
+    return 0;
+  }
+  const auto to_segment = [](const Eigen::Vector2d& q, const Eigen::Vector2d& p0,
+                             const Eigen::Vector2d& p1) {
+    const Eigen::Vector2d e = p1 - p0;
+    const double length2 = e.squaredNorm();
+    const double t = length2 > 0 ? std::clamp((q - p0).dot(e) / length2, 0.0, 1.0) : 0.0;
+    return (q - (p0 + t * e)).norm();
+  };
+  return std::min(
+      {to_segment(a, c, d), to_segment(b, c, d), to_segment(c, a, b), to_segment(d, a, b)});
+}
+
+}  // namespace
+
+std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<char>& cut,
+                                  const Charts& charts) {
+  const int nf = mesh.num_faces();
+  const int nc = charts.num_charts;
+  const auto& p = charts.corners;
+  std::vector<char> embedded(nc, 1);
+  const std::vector<int> wedge = chart_wedges(mesh, cut);
+  // Per wedge: its angle sum, and its border halfedges out and in; per chart, its counts.
+  std::vector<double> angle_sum(3 * nf, 0.0);
+  std::vector<int> out_of(3 * nf, -1), ins(3 * nf, 0), outs(3 * nf, 0);
+  std::vector<long> faces(nc, 0), wedges(nc, 0), border(nc, 0);
+  for (int f = 0; f < nf; ++f) {
+    const int k = charts.chart[f];
+    ++faces[k];
+    if (!(signed_area(p[f]) > 0)) embedded[k] = 0;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector2d u = p[f][(c + 1) % 3] - p[f][c], v = p[f][(c + 2) % 3] - p[f][c];
+      angle_sum[wedge[3 * f + c]] += std::atan2(std::abs(cross(u, v)), u.dot(v));
+      if (wedge[3 * f + c] == 3 * f + c) ++wedges[k];
+      const int t = mesh.twin(3 * f + c);
+      if (t >= 0 && !cut[mesh.face_edge(f, c)]) continue;
+      // Halfedge 3 f + c runs from corner c + 1 to corner c + 2: a border halfedge.
+      ++border[k];
+      const int tail = wedge[3 * f + (c + 1) % 3], head = wedge[3 * f + (c + 2) % 3];
+      ++outs[tail], ++ins[head];
+      out_of[tail] = 3 * f + c;
+    }
+  }
+  // A disk (Euler characteristic 1) whose wedges each have one border halfedge out and one in
+  // where they have any, and whose inner wedges turn once.
+  std::vector<char> on_border(3 * nf, 0);
+  for (int f = 0; f < nf; ++f) {
+    const int k = charts.chart[f];
+    if (!embedded[k]) continue;
+    for (int c = 0; c < 3; ++c) {
+      const int w = wedge[3 * f + c];
+      if (w != 3 * f + c) continue;
+      if (outs[w] != ins[w] || outs[w] > 1) {
+        embedded[k] = 0;
+      } else if (outs[w] == 0 && std::abs(angle_sum[w] - 2 * kPi) > 0.5) {
+        embedded[k] = 0;
+      }
+      on_border[w] = outs[w] == 1;
+    }
+  }
+  for (int k = 0; k < nc; ++k) {
+    const long edges = (3 * faces[k] + border[k]) / 2;
+    if (wedges[k] - edges + faces[k] != 1 || border[k] < 3) embedded[k] = 0;
+  }
+  // The border, one loop, as a simple polygon: no two sides that do not follow one another come
+  // within a margin far above the overlap test's tolerance (a chart near that is tested whole).
+  std::vector<char> visited(3 * nf, 0);
+  std::vector<int> first_of(nc, -1);
+  for (int w = 0; w < 3 * nf; ++w) {
+    if (on_border[w] && first_of[charts.chart[out_of[w] / 3]] < 0) {
+      first_of[charts.chart[out_of[w] / 3]] = w;
+    }
+  }
+  const auto tail_position = [&](int h) { return p[h / 3][(h % 3 + 1) % 3]; };
+  const auto head_position = [&](int h) { return p[h / 3][(h % 3 + 2) % 3]; };
+  for (int k = 0; k < nc; ++k) {
+    if (!embedded[k] || first_of[k] < 0) continue;
+    std::vector<int> loop;  // border halfedges in order
+    for (int w = first_of[k]; !visited[w];) {
+      visited[w] = 1;
+      const int h = out_of[w];
+      loop.push_back(h);
+      w = wedge[3 * (h / 3) + (h % 3 + 2) % 3];
+    }
+    if (static_cast<long>(loop.size()) != border[k]) {  // more than one loop
+      embedded[k] = 0;
+      continue;
+    }
+    Box whole;
+    for (int h : loop) whole.add(tail_position(h));
+    const double margin = 1e-7 * (whole.hi - whole.lo).maxCoeff();
+    const int n = static_cast<int>(loop.size());
+    std::vector<Box> box(n);
+    std::vector<int> sides(n);
+    for (int i = 0; i < n; ++i) {
+      box[i].add(tail_position(loop[i]));
+      box[i].add(head_position(loop[i]));
+      box[i].lo.array() -= margin, box[i].hi.array() += margin;
+      sides[i] = i;
+    }
+    const BoxTree tree(box, sides);
+    for (int i = 0; i < n && embedded[k]; ++i) {
+      tree.visit(box[i], [&](int j) {
+        if (j <= i || j == i + 1 || (i == 0 && j == n - 1)) return;
+        const int a = loop[i], b = loop[j];
+        if (segment_distance(tail_position(a), head_position(a), tail_position(b),
+                             head_position(b)) <= margin) {
+          embedded[k] = 0;
+        }
+      });
+    }
+  }
+  return embedded;
+}
+
+std::vector<std::pair<int, int>> overlapping_faces(const Triangulation& mesh,
+                                                   const std::vector<char>& cut,
+                                                   const Charts& charts,
+                                                   std::vector<char> known_clean) {
+  const std::vector<char> embedded = embedded_charts(mesh, cut, charts);
+  if (known_clean.empty()) known_clean.assign(embedded.size(), 0);
+  for (size_t k = 0; k < known_clean.size(); ++k) known_clean[k] = known_clean[k] || embedded[k];
+  return overlapping_faces(charts, 0, known_clean);
+}
+
+double overlap_depth(const Charts& charts, int f, int g) {
+  const auto longest = [&](int face) {
+    const auto& q = charts.corners[face];
+    return std::max({(q[1] - q[0]).norm(), (q[2] - q[1]).norm(), (q[0] - q[2]).norm()});
+  };
+  const double size = std::min(longest(f), longest(g));
+  return size > 0 ? penetration(charts.corners[f], charts.corners[g]) / size : 0;
+}
+
+// === Separating the sheets of an overlapping chart
+
+int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_part, int f, int g,
+                    const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
+                    std::vector<char>& cut) {
+  const int nf = mesh.num_faces();
+  const auto group_of = [&](int face) { return group.empty() ? face : group[face]; };
+  const int chart = part[f];
+  if (part[g] != chart) return 0;
+  // The part's faces by group, the groups numbered locally: the Dijkstra and the marking run over
+  // the part alone (one scan of the faces finds it).
+  const int num_groups = group.empty() ? nf : *std::max_element(group.begin(), group.end()) + 1;
+  std::vector<int> faces, local(num_groups, -1), first{0};
+  for (int h = 0; h < nf; ++h) {
+    if (part[h] != chart) continue;
+    faces.push_back(h);
+    if (local[group_of(h)] < 0)
+      local[group_of(h)] = static_cast<int>(first.size()) - 1, first.push_back(0);
+    ++first[local[group_of(h)] + 1];
+  }
+  const int groups = static_cast<int>(first.size()) - 1;
+  for (int k = 0; k < groups; ++k) first[k + 1] += first[k];
+  std::vector<int> member(faces.size()), fill(first.begin(), first.end() - 1);
+  for (int h : faces) member[fill[local[group_of(h)]]++] = h;
+  // Nearest of the two seeds' groups, over the part's groups (ties to the first reached).
+  std::vector<double> distance(groups, std::numeric_limits<double>::infinity());
+  std::vector<int> share(groups, -1);
+  using Item = std::pair<double, int>;  // a group by its own number: ties as the mesh orders them
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  const int seeds[2] = {group_of(f), group_of(g)};
+  for (int s = 0; s < 2; ++s) {
+    distance[local[seeds[s]]] = 0, share[local[seeds[s]]] = s;
+    queue.push({0, seeds[s]});
+  }
+  while (!queue.empty()) {
+    const auto [d, a] = queue.top();
+    queue.pop();
+    const int la = local[a];
+    if (d > distance[la]) continue;
+    for (int i = first[la]; i < first[la + 1]; ++i) {
+      const int h = member[i];
+      for (int c = 0; c < 3; ++c) {
+        const int t = mesh.twin(3 * h + c);
+        if (t < 0 || cut[mesh.face_edge(h, c)]) continue;
+        const int b = group_of(t / 3);
+        if (b == a || part[t / 3] != chart) continue;
+        const double via = d + (centroid[a] - centroid[b]).norm();
+        if (via < distance[local[b]]) {
+          distance[local[b]] = via, share[local[b]] = share[la];
+          queue.push({via, b});
+        }
+      }
+    }
+  }
+  const auto share_of = [&](int face) {
+    const int k = local[group_of(face)];
+    return k >= 0 ? share[k] : -1;
+  };
+  int marked = 0;
+  for (int h : faces) {
+    for (int c = 0; c < 3; ++c) {
+      const int t = mesh.twin(3 * h + c), e = mesh.face_edge(h, c);
+      if (t < 0 || cut[e]) continue;
+      const int a = share_of(h), b = share_of(t / 3);
+      if (a >= 0 && b >= 0 && a != b) cut[e] = 1, ++marked;
+    }
+  }
+  if (marked > 0) {
+    for (int h : faces) {
+      if (share_of(h) == 1) part[h] = new_part;
+    }
+  }
+  return marked;
+}
+
+std::vector<char> unchanged_clean_charts(const Charts& now, const Charts& before,
+                                         const std::vector<std::pair<int, int>>& before_overlaps) {
+  std::vector<char> dirty_before(before.num_charts, 0);
+  for (const auto& [f, g] : before_overlaps) dirty_before[before.chart[f]] = 1;
+  std::vector<int> size_now(now.num_charts, 0), size_before(before.num_charts, 0);
+  for (int c : now.chart) ++size_now[c];
+  for (int c : before.chart) ++size_before[c];
+  // The chart of `before` each chart of `now` came from (-1: from several, or laid out anew).
+  std::vector<int> origin(now.num_charts, -2);
+  for (size_t f = 0; f < now.chart.size(); ++f) {
+    int& o = origin[now.chart[f]];
+    const int b = before.chart[f];
+    const bool same = now.corners[f] == before.corners[f];
+    if (o == -2) o = b;
+    if (o != b || !same) o = -1;
+  }
+  std::vector<char> clean(now.num_charts, 0);
+  for (int c = 0; c < now.num_charts; ++c) {
+    const int o = origin[c];
+    clean[c] = o >= 0 && !dirty_before[o] && size_before[o] == size_now[c];
+  }
+  return clean;
+}
+
+}  // namespace ricci
