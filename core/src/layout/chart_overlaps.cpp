@@ -298,17 +298,34 @@ double overlap_depth(const Charts& charts, int f, int g) {
 int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_part, int f, int g,
                     const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
                     std::vector<char>& cut) {
-  const int nf = mesh.num_faces();
+  return SheetSeparator(mesh, part).separate(new_part, f, g, group, centroid, cut);
+}
+
+SheetSeparator::SheetSeparator(const Triangulation& mesh, std::vector<int>& part)
+    : mesh_(mesh), part_(part) {
+  for (int h = 0; h < mesh.num_faces(); ++h) {
+    const int p = part[h];
+    if (p < 0) continue;
+    if (p >= static_cast<int>(faces_.size())) faces_.resize(p + 1);
+    faces_[p].push_back(h);
+  }
+}
+
+int SheetSeparator::separate(int new_part, int f, int g, const std::vector<int>& group,
+                             const std::vector<Eigen::Vector3d>& centroid, std::vector<char>& cut) {
+  const Triangulation& mesh = mesh_;
+  std::vector<int>& part = part_;
   const auto group_of = [&](int face) { return group.empty() ? face : group[face]; };
   const int chart = part[f];
-  if (part[g] != chart) return 0;
+  if (chart < 0 || part[g] != chart) return 0;
   // The part's faces by group, the groups numbered locally: the Dijkstra and the marking run over
-  // the part alone (one scan of the faces finds it).
-  const int num_groups = group.empty() ? nf : *std::max_element(group.begin(), group.end()) + 1;
-  std::vector<int> faces, local(num_groups, -1), first{0};
-  for (int h = 0; h < nf; ++h) {
-    if (part[h] != chart) continue;
-    faces.push_back(h);
+  // the part alone.
+  const size_t num_groups = group.empty() ? mesh.num_faces() : centroid.size();
+  if (local_.size() < num_groups) local_.resize(num_groups, -1);
+  std::vector<int>& local = local_;
+  const std::vector<int>& faces = faces_[chart];
+  std::vector<int> first{0};
+  for (int h : faces) {
     if (local[group_of(h)] < 0)
       local[group_of(h)] = static_cast<int>(first.size()) - 1, first.push_back(0);
     ++first[local[group_of(h)] + 1];
@@ -360,10 +377,16 @@ int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_p
       if (a >= 0 && b >= 0 && a != b) cut[e] = 1, ++marked;
     }
   }
+  std::vector<int> kept, moved;
   if (marked > 0) {
-    for (int h : faces) {
-      if (share_of(h) == 1) part[h] = new_part;
-    }
+    for (int h : faces) (share_of(h) == 1 ? moved : kept).push_back(h);
+  }
+  for (int h : faces) local[group_of(h)] = -1;
+  if (marked > 0) {
+    for (int h : moved) part[h] = new_part;
+    if (new_part >= static_cast<int>(faces_.size())) faces_.resize(new_part + 1);
+    faces_[chart] = std::move(kept);
+    faces_[new_part] = std::move(moved);
   }
   return marked;
 }

@@ -28,6 +28,26 @@ using Triangles = std::vector<Triangle>;
 
 // Andrew's monotone chain, counter-clockwise.
 std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
+  // Points well inside the quadrilateral of the leftmost, lowest, rightmost and highest ones are
+  // not on the hull: dropped before the sort (a chart's corners are mostly inside).
+  if (p.size() > 8) {
+    std::array<Eigen::Vector2d, 4> quad = {p[0], p[0], p[0], p[0]};  // counter-clockwise
+    for (const auto& q : p) {
+      if (q.x() < quad[0].x()) quad[0] = q;
+      if (q.y() < quad[1].y()) quad[1] = q;
+      if (q.x() > quad[2].x()) quad[2] = q;
+      if (q.y() > quad[3].y()) quad[3] = q;
+    }
+    const double size = (quad[2].x() - quad[0].x()) + (quad[3].y() - quad[1].y());
+    const double well = 1e-9 * size * size;
+    const auto inside = [&](const Eigen::Vector2d& q) {
+      for (int i = 0; i < 4; ++i) {
+        if (!(cross(quad[(i + 1) % 4] - quad[i], q - quad[i]) > well)) return false;
+      }
+      return true;
+    };
+    p.erase(std::remove_if(p.begin(), p.end(), inside), p.end());
+  }
   std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
   });

@@ -304,6 +304,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     // round.
     std::vector<char> stuck(parts, 0);
     std::vector<char> split_once(parts, 0);
+    SheetSeparator separator(delivered, part);
     for (const auto& [f, g] : overlaps) {
       if (part[f] != part[g] || stuck[part[f]]) continue;
       const bool first = part[f] < charts.num_charts && !split_once[part[f]];
@@ -317,9 +318,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
         std::vector<int> finer;
         std::vector<Eigen::Vector3d> finer_centroid;
         pieces_apart(f, finer, finer_centroid);
-        marked = separate_sheets(delivered, part, parts, f, g, finer, finer_centroid, seam);
+        marked = separator.separate(parts, f, g, finer, finer_centroid, seam);
       } else {
-        marked = separate_sheets(delivered, part, parts, f, g, group, centroid, seam);
+        marked = separator.separate(parts, f, g, group, centroid, seam);
       }
       if (marked > 0) {
         ++atlas.splits, ++parts;
@@ -344,9 +345,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     std::vector<char> halved = seam;
     std::vector<int> part = charts.chart;
     int count = 0;
+    SheetSeparator separator(delivered, part);
     for (const auto& [f, g] : long_chart_ends(charts, kLongAspect)) {
-      count += separate_sheets(delivered, part, charts.num_charts + count, f, g, group, centroid,
-                               halved) > 0;
+      count += separator.separate(charts.num_charts + count, f, g, group, centroid, halved) > 0;
     }
     if (count == 0) {
       atlas.seconds.charts += lap(clock);

@@ -115,4 +115,21 @@ int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_p
                     const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
                     std::vector<char>& cut);
 
+//! separate_sheets for many pairs of one layout: the faces of each part are indexed once, so that
+//! each pair costs its part's faces, not the mesh's. `part` is changed through this object only
+//! while it is in use.
+class SheetSeparator {
+ public:
+  SheetSeparator(const Triangulation& mesh, std::vector<int>& part);
+  //! separate_sheets(mesh, part, new_part, f, g, group, centroid, cut).
+  int separate(int new_part, int f, int g, const std::vector<int>& group,
+               const std::vector<Eigen::Vector3d>& centroid, std::vector<char>& cut);
+
+ private:
+  const Triangulation& mesh_;
+  std::vector<int>& part_;
+  std::vector<std::vector<int>> faces_;  // per part label, in increasing order
+  std::vector<int> local_;               // per group, its number in the part at hand (else -1)
+};
+
 }  // namespace ricci
