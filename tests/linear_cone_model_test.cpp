@@ -60,6 +60,35 @@ TEST(LinearConeModel, TheQuadraticFormsDistortionIsTheDistortionOfU) {
   EXPECT_EQ(model.back_solves(), 12);
 }
 
+// With many cones u = g + G k is one back-solve, and a column's sums with the others are read
+// off another: the same D, u and curvatures as the columns give (the set above), at the same
+// precision.
+TEST(LinearConeModel, ManyConesAreSolvedForAsFewAreSummed) {
+  const CompactMesh mesh = cgal_mesh("eight.off");
+  LinearConeModel model(mesh, LinearSolverKind::Cholmod);
+  std::vector<int> cones;
+  for (int v = 5; v < mesh.num_vertices(); v += 3) cones.push_back(v);
+  ASSERT_GT(cones.size(), 100u);
+  const LinearConeModel::Solution s = model.held(cones);
+  ASSERT_TRUE(s.ok);
+  const Eigen::VectorXd u = model.u(cones, s);
+  // Beyond the columns, back-solves for u and for the columns' sums: the paths under test.
+  EXPECT_GT(model.back_solves(), static_cast<int>(cones.size()) + 1);
+  EXPECT_NEAR(s.d, area_weighted_deviation(model.area(), u), 1e-10);
+  const Eigen::VectorXd k = linear_curvature(mesh, u);
+  std::vector<char> is_cone(mesh.num_vertices(), 0);
+  for (size_t j = 0; j < cones.size(); ++j) {
+    is_cone[cones[j]] = 1;
+    EXPECT_EQ(u[cones[j]], 0);
+    EXPECT_NEAR(k[cones[j]], s.k[j], 1e-8);
+  }
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!is_cone[v]) {
+      EXPECT_NEAR(k[v], 0, 1e-8) << v;
+    }
+  }
+}
+
 TEST(LinearConeModel, AColumnBlockIsTheColumnsSolvedOneByOne) {
   const CompactMesh mesh = cgal_mesh("eight.off");
   LinearConeModel block(mesh, LinearSolverKind::Cholmod), single(mesh, LinearSolverKind::Cholmod);

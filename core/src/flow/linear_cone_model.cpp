@@ -55,6 +55,8 @@ LinearConeModel::LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind)
       if (free_index_[v] >= 0) b[free_index_[v]] = -k0_[v];
     }
     g_ = scatter(solver_.solve(b));
+    by_solve_from_ = static_cast<size_t>(
+        std::ceil(kSolveOverPass * static_cast<double>(solver_.factor_entries()) / rows_));
   }
   g_sum_ = area_.dot(g_);
   g_square_ = area_.dot(g_.cwiseProduct(g_));
@@ -76,6 +78,7 @@ int LinearConeModel::store(int v, const Eigen::VectorXd& column) {
   } else {
     s = static_cast<int>(vertex_of_slot_.size());
     vertex_of_slot_.push_back(-1);
+    row_seen_.push_back(0);
     if (s >= columns_.cols()) {  // room doubles: columns are appended one by one
       const int room = std::max(8, 2 * static_cast<int>(columns_.cols()));
       columns_.conservativeResize(mesh_.num_vertices(), room);
@@ -85,6 +88,7 @@ int LinearConeModel::store(int v, const Eigen::VectorXd& column) {
     }
   }
   columns_.col(s) = column;
+  row_seen_[s] = 0;
   vertex_of_slot_[s] = v;
   slot_of_[v] = s;
   const Eigen::VectorXd weighted = area_.cwiseProduct(column);
@@ -108,6 +112,21 @@ double LinearConeModel::gram(int a, int b) const {
     gram_(b, a) = entry;
   }
   return entry;
+}
+
+void LinearConeModel::gram_row(int a) const {
+  Eigen::VectorXd b(rows_);
+  for (int v = 0; v < mesh_.num_vertices(); ++v) {
+    if (free_index_[v] >= 0) b[free_index_[v]] = area_[v] * columns_(v, a);
+  }
+  const Eigen::VectorXd x = solver_.solve(b);
+  ++back_solves_;
+  for (size_t s = 0; s < vertex_of_slot_.size(); ++s) {
+    const int v = vertex_of_slot_[s];
+    if (v < 0) continue;
+    gram_(a, static_cast<long>(s)) = gram_(static_cast<long>(s), a) =
+        free_index_[v] >= 0 ? x[free_index_[v]] : 0;
+  }
 }
 
 void LinearConeModel::solve_columns(const std::vector<int>& vertices) {
@@ -156,6 +175,16 @@ double LinearConeModel::distortion(const std::vector<int>& cones, const Eigen::V
     slot[i] = slot_of_[cones[i]];
     with_g += k[static_cast<long>(i)] * with_g_[slot[i]];
     sum += k[static_cast<long>(i)] * sum_[slot[i]];
+  }
+  // A column paired with many of the set for the first time: its sums with every column at once,
+  // R(A col) read at their vertices (sum A col_a col_b = e_b^T R(A col_a), H symmetric).
+  // Each column is looked at once, when a set first holds it.
+  for (size_t i = 0; i < m; ++i) {
+    if (row_seen_[slot[i]]) continue;
+    row_seen_[slot[i]] = 1;
+    size_t missing = 0;
+    for (size_t j = 0; j < m; ++j) missing += std::isnan(gram_(slot[i], slot[j]));
+    if (missing >= by_solve_from_) gram_row(slot[i]);
   }
   double quadratic = 0;
   for (size_t j = 0; j < m; ++j) {
@@ -216,6 +245,14 @@ LinearConeModel::Solution LinearConeModel::solution(const std::vector<int>& cone
 Eigen::VectorXd LinearConeModel::combination(const std::vector<int>& cones,
                                              const Eigen::VectorXd& k) {
   solve_columns(cones);
+  if (cones.size() >= by_solve_from_) {  // G k = R(sum_j k_j e_j): one back-solve
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(rows_);
+    for (size_t j = 0; j < cones.size(); ++j) {
+      if (free_index_[cones[j]] >= 0) b[free_index_[cones[j]]] += k[static_cast<long>(j)];
+    }
+    ++back_solves_;
+    return g_ + scatter(solver_.solve(b));
+  }
   // Four columns a pass over u (u is read and written a quarter as often as column by column):
   // this sum is formed at every step of the greedy and of the sweeps, over all vertices.
   Eigen::VectorXd u = g_;
