@@ -56,6 +56,21 @@ double gap(const Chart& a, const Chart& b) {
   return g;
 }
 
+// Chart k as packed, every corner checked to lie in [0, 1]^2.
+Chart placed(const Packing& p, size_t k, const Chart& chart) {
+  Chart c;
+  for (const Triangle& t : chart) {
+    Triangle u;
+    for (int i = 0; i < 3; ++i) {
+      u[i] = p.scale * p.rotation[k] * t[i] + p.offset[k];
+      EXPECT_GE(u[i].minCoeff(), 0);
+      EXPECT_LE(u[i].maxCoeff(), 1);
+    }
+    c.push_back(u);
+  }
+  return c;
+}
+
 TEST(Packing, ChartsLandInTheSquareAtOneScaleApartByThePadding) {
   std::mt19937 random(7);
   std::uniform_real_distribution<double> size(0.2, 2), angle(0, 2 * kPi);
@@ -75,19 +90,11 @@ TEST(Packing, ChartsLandInTheSquareAtOneScaleApartByThePadding) {
     EXPECT_LT((p.rotation[k].transpose() * p.rotation[k] - Eigen::Matrix2d::Identity()).norm(),
               1e-12);
     EXPECT_NEAR(p.rotation[k].determinant(), 1, 1e-12);
-    Chart c;
-    for (const Triangle& t : charts[k]) {
-      Triangle u;
-      for (int i = 0; i < 3; ++i) {
-        u[i] = p.scale * p.rotation[k] * t[i] + p.offset[k];
-        EXPECT_GE(u[i].minCoeff(), 0);
-        EXPECT_LE(u[i].maxCoeff(), 1);
-      }
+    packed.push_back(placed(p, k, charts[k]));
+    for (const Triangle& u : packed.back()) {
       const Eigen::Vector2d a = u[1] - u[0], b = u[2] - u[0];
       area += 0.5 * (a.x() * b.y() - a.y() * b.x());
-      c.push_back(u);
     }
-    packed.push_back(c);
   }
   EXPECT_NEAR(area, p.utilization, 1e-12);
   EXPECT_GT(p.utilization, 0.4);
@@ -149,19 +156,11 @@ TEST(Packing, ChartsTooManyForTheTextureAtThePaddingAreSaidToBeNearer) {
   std::vector<Chart> packed;
   std::vector<Eigen::AlignedBox2d> box;
   for (size_t k = 0; k < charts.size(); ++k) {
-    Chart c;
+    packed.push_back(placed(p, k, charts[k]));
     box.emplace_back();
-    for (const Triangle& t : charts[k]) {
-      Triangle u;
-      for (int i = 0; i < 3; ++i) {
-        u[i] = p.scale * p.rotation[k] * t[i] + p.offset[k];
-        EXPECT_GE(u[i].minCoeff(), 0);
-        EXPECT_LE(u[i].maxCoeff(), 1);
-        box.back().extend(u[i]);
-      }
-      c.push_back(u);
+    for (const Triangle& u : packed.back()) {
+      for (const auto& q : u) box.back().extend(q);
     }
-    packed.push_back(c);
   }
   double nearest = INFINITY;
   for (size_t a = 0; a < packed.size(); ++a) {
