@@ -107,6 +107,29 @@ TEST(Packing, ChartsLandInTheSquareAtOneScaleApartByThePadding) {
   }
 }
 
+TEST(Packing, APackingAgainForTheMarginSaysThePaddingItMeets) {
+  // Few charts: the first guess of the extent is far off, the margin is packed again, and the
+  // padding said is the last packing's, which meets the padding asked.
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> size(0.3, 3);
+  for (int count : {2, 3, 5, 8, 12}) {
+    std::vector<Chart> charts;
+    for (int k = 0; k < count; ++k) {
+      charts.push_back(rectangle(size(random), size(random), 0.3 * k, {10.0 * k, 0}));
+    }
+    const Packing p = pack_charts(charts);
+    EXPECT_EQ(p.padding, PackingOptions().padding) << count;
+    std::vector<Chart> packed;
+    for (size_t k = 0; k < charts.size(); ++k) packed.push_back(placed(p, k, charts[k]));
+    for (size_t a = 0; a < packed.size(); ++a) {
+      for (size_t b = a + 1; b < packed.size(); ++b) {
+        EXPECT_GE(gap(packed[a], packed[b]) * PackingOptions().texture_size,
+                  PackingOptions().padding * (1 - 1e-9));
+      }
+    }
+  }
+}
+
 TEST(Packing, ALongChartIsTurnedToItsSmallestBox) {
   // A 10 x 1 strip at 30 degrees: packed alone, its box is upright (its long side on an axis).
   const Packing p = pack_charts(std::vector<Chart>{rectangle(10, 1, kPi / 6, {0, 0})});

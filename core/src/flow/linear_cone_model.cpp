@@ -26,7 +26,8 @@ double area_weighted_deviation(const Eigen::VectorXd& area, const Eigen::VectorX
   return std::sqrt(area.dot((u.array() - mean).square().matrix()));
 }
 
-LinearConeModel::LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind)
+LinearConeModel::LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind,
+                                 size_t by_solve_from)
     : mesh_(mesh), delaunay_(mesh), solver_(kind), area_(normalized_vertex_areas(mesh)) {
   ConformalStructure structure = initialize_scheme(mesh, Geometry::Euclidean, SchemeOptions());
   make_input_delaunay(delaunay_, structure);
@@ -55,8 +56,12 @@ LinearConeModel::LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind)
       if (free_index_[v] >= 0) b[free_index_[v]] = -k0_[v];
     }
     g_ = scatter(solver_.solve(b));
-    by_solve_from_ = static_cast<size_t>(
-        std::ceil(kSolveOverPass * static_cast<double>(solver_.factor_entries()) / rows_));
+    by_solve_from_ =
+        by_solve_from > 0
+            ? by_solve_from
+            : static_cast<size_t>(std::ceil(
+                  std::max(kSolveOverPass * static_cast<double>(solver_.factor_entries()) / rows_,
+                           kCachedColumns / (8.0 * mesh.num_vertices()))));
   }
   g_sum_ = area_.dot(g_);
   g_square_ = area_.dot(g_.cwiseProduct(g_));

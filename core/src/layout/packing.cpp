@@ -408,13 +408,17 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   // no second packing), again where the extent came out larger still: the margin then grows
   // towards the padding's, unless the charts are too many for the texture at that padding, and
   // the packing stops once an attempt brings it no nearer.
-  Placed placed;
+  // Each packing tried is kept where its padding is the widest yet (the last, where it meets the
+  // padding asked).
+  Packing tried = packing;
+  packing.padding = -1;
   double shortfall = INFINITY;  // the padding needed over the margin's, as last packed
-  packing.padding = o.padding;
+  double packed_extent = extent;
   for (int attempt = 0; attempt < kMaxPackings && !alone; ++attempt) {
     const double margin = 1.03 * 0.5 * o.padding * extent / o.texture_size;
-    // At most about 80k cells over the rasters with their margins: where the margins are most of
-    // them (many small charts in a small texture), larger cells.
+    // At most about 80k cells over the rasters (the charts' upright boxes with their margins):
+    // where those are over four times the charts' area (many small charts in a small texture,
+    // or charts that fill little of their boxes), larger cells.
     double rastered = 0;
     for (size_t k = 0; k < n; ++k) {
       const Eigen::Vector2d side = hi[k] - lo[k] + Eigen::Vector2d::Constant(2 * margin);
@@ -436,20 +440,22 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
       nonempty.push_back(k);
       cells += static_cast<long>(rasters[k][0].mask.width()) * rasters[k][0].mask.height();
     }
-    placed = pack_rasters(rasters, nonempty, cells);
+    const Placed placed = pack_rasters(rasters, nonempty, cells);
     extent = cell * placed.extent.maxCoeff();
     for (size_t k : nonempty) {
       const Raster& r = *placed.raster[k];
-      packing.rotation[k] = r.rotation;
-      packing.offset[k] = placed.at[k].cast<double>() * cell - r.origin;
+      tried.rotation[k] = r.rotation;
+      tried.offset[k] = placed.at[k].cast<double>() * cell - r.origin;
     }
     // Rasters that share no cell are twice the margin apart: in texels of this extent's texture.
     const double needed = 0.5 * o.padding * extent / o.texture_size;
-    if (needed <= margin) break;
-    packing.padding = o.padding * margin / needed;
-    if (!(needed / margin < shortfall * (1 - kNearer))) break;
+    tried.padding = needed <= margin ? o.padding : o.padding * margin / needed;
+    if (tried.padding > packing.padding) packing = tried, packed_extent = extent;
+    if (needed <= margin || !(needed / margin < shortfall * (1 - kNearer))) break;
     shortfall = needed / margin;
   }
+  if (alone) packing.padding = o.padding;
+  extent = packed_extent;
   packing.scale = 1 / extent;
   for (auto& b : packing.offset) b *= packing.scale;
   packing.utilization = total * packing.scale * packing.scale;

@@ -168,9 +168,6 @@ void gather_texture(MeshUniformization& out, const PackingOptions& packing) {
   out.packed.utilization = p.utilization;
   out.packed.padding = p.padding;
   out.packed.padding_asked = packing.padding;
-  for (Uniformization& run : out.components) {
-    if (run.layout_kind == LayoutKind::Atlas) run.atlas.padding = p.padding;  // the texture's
-  }
   const auto to_atlas = [&](int piece, const Eigen::Vector2d& q) {
     const Eigen::Vector2d uv = p.scale * p.rotation[piece] * q + p.offset[piece];
     return Eigen::Vector2d(std::clamp(uv.x(), 0.0, 1.0), std::clamp(uv.y(), 0.0, 1.0));

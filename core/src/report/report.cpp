@@ -66,6 +66,7 @@ std::vector<std::string> summary_lines(const MeshUniformization& run, const RunC
   }
   for (size_t k = 0; k < n; ++k) {
     RunContext c = context;
+    c.packed_together = run.packed.pieces > 0;
     if (n > 1)
       c.input += (c.input.empty() ? "" : ", ") + std::string("component ") + std::to_string(k);
     for (const std::string& line :
@@ -261,8 +262,8 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
          " splits of overlapping ones", harmonic.str(), "), seams ", a.seam_length, " sqrt(area), ",
          a.overlapping_faces, " overlapping faces; packed: utilization ", a.utilization);
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
-    if (const std::string padding = padding_warning(a.padding, a.padding_asked); !padding.empty())
-      line(padding);
+    const std::string padding = padding_warning(a.padding, a.padding_asked);
+    if (!padding.empty() && !context.packed_together) line(padding);
     // The linear model's D is a model's: the exact flat metric of its cones can exceed the bound.
     if (!a.user_cones && p.bound_reached && a.distortion > a.bound_asked) {
       line("Warning: the delivered faces' area distortion D ", a.distortion,

@@ -120,9 +120,9 @@ struct AtlasResult {
   //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
   std::vector<std::array<Eigen::Vector2d, 3>> texture;
   double utilization = 0;
-  //! Texels between two charts of the delivered texture at least (with several components, all
-  //! their pieces packed together), and the padding asked: less only where the charts are too
-  //! many for the texture size at that padding (Packing::padding).
+  //! Texels between two charts at least, and the padding asked: less only where the charts are
+  //! too many for the texture size at that padding (Packing::padding). Of this component's own
+  //! packing: with several components the texture's is MeshUniformization::packed's.
   double padding = 0, padding_asked = 0;
   //! Wall time of the stages after the flow: seams and charts with their overlap splits, the
   //! harmonic redrawing of the charts' insides, the packing (every packing tried).

@@ -18,6 +18,8 @@ struct RunContext {
   std::string input;        //!< the mesh's file, or its layer's name
   std::string target;       //!< the target as the user gave it
   double read_seconds = 0;  //!< reading the input
+  //! A component of several whose charts were packed together (its own packing not delivered).
+  bool packed_together = false;
 };
 
 //! The run in a few lines: mesh and settings, convergence, the unit disk's circles, the layout's
