@@ -105,10 +105,11 @@ class LinearConeModel {
   // than as many vertex-long passes over the columns: u = g + G k, and a column's sums with the
   // others, are then solved for. A back-solve costs about kSolveOverPass passes per factor entry
   // per row, where the passes read the columns from memory: below kCachedColumns bytes of them
-  // they are cheaper still. Measured (placement seconds): CGAL's cheese, 633 cones, 18 instead of
-  // 50; a 117k-face CAD head, 353 cones, 13.5 instead of 46 (24 with the solves from twice as
-  // many cones); the cow, whose 2.9k-row columns stay in cache, 0.085 where its greedy's 73 cones
-  // were solved for, 0.04 not; the same cones, D, charts and seams.
+  // they are cheaper still. Measured (placement seconds): a 117k-face CAD head, 353 cones, 14
+  // instead of 46, the same cones, D, charts and seams (24 with the solves from twice as many
+  // cones); CGAL's cheese, about 635 cones, 18 instead of 36 to 50 (rounding took its greedy one
+  // other step: 637 cones, D 0.1617, for 633, 0.1620); the cow, whose 2.9k-row columns stay in
+  // cache, 0.085 where its greedy's 73 cones were solved for, 0.04 not.
   static constexpr double kSolveOverPass = 2;
   static constexpr double kCachedColumns = 16.0 * 1024 * 1024;
   size_t by_solve_from_ = std::numeric_limits<size_t>::max();

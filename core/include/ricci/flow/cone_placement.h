@@ -68,7 +68,9 @@ struct ConePlacement {
   bool bound_reached = false;
   std::string why_not;  //!< when !bound_reached: the budget, or cone angles below the floor
   int factorizations = 0;
-  int back_solves = 0;  //!< columns solved (one right-hand side each, in blocks), g's included
+  //! Right-hand sides solved: the columns (in blocks), g's, and from many cones u's and the
+  //! columns' sums (LinearConeModel).
+  int back_solves = 0;
   int relocations = 0;  //!< cones moved by the sweeps
   int dropped = 0;      //!< cones dropped at the end
   double seconds = 0;
