@@ -7,6 +7,7 @@
 #include "ricci/mesh/errors.h"
 #include "subdivision/face_pieces.h"
 #include "subdivision/input_overlay.h"
+#include "subdivision/piece_triangles.h"
 #include "subdivision/through_delaunay.h"
 
 namespace ricci {
@@ -100,8 +101,29 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
                        disk_points);
       };
       const std::vector<int>& polygon = piece.points;
-      for (size_t i = 1; i + 1 < polygon.size(); ++i) {
-        const std::array<int, 3> corner = {polygon[0], polygon[i], polygon[i + 1]};
+      std::vector<std::array<size_t, 3>> triangles;
+      if (g == Geometry::Euclidean) {
+        // The piece in its input face's plane, and in the layout's. (The Poincare disk's pieces
+        // are drawn again later, in charts and on their straight sides, where other diagonals
+        // could turn over: they keep the fan.)
+        const Eigen::Vector3d a = mesh.positions()[mesh.face_vertex(piece.input_face, 0)],
+                              b = mesh.positions()[mesh.face_vertex(piece.input_face, 1)],
+                              c = mesh.positions()[mesh.face_vertex(piece.input_face, 2)];
+        const Eigen::Vector3d e1 = (b - a).normalized(),
+                              e2 = (b - a).cross(c - a).normalized().cross(e1);
+        std::vector<Eigen::Vector2d> domain, image;
+        for (int p : polygon) {
+          const Eigen::Vector3d d = out.positions[vertex_of_point(p)] - a;
+          domain.emplace_back(d.dot(e1), d.dot(e2));
+          image.push_back(layout_of_point(p).head<2>());
+        }
+        triangles = detail::conformal_triangles(domain, image);
+      }
+      if (triangles.empty()) {  // a fan from the first corner
+        for (size_t i = 1; i + 1 < polygon.size(); ++i) triangles.push_back({0, i, i + 1});
+      }
+      for (const std::array<size_t, 3>& t : triangles) {
+        const std::array<int, 3> corner = {polygon[t[0]], polygon[t[1]], polygon[t[2]]};
         std::array<int, 3> tri{};
         std::array<Eigen::Vector3d, 3> pos;
         for (int k = 0; k < 3; ++k) {

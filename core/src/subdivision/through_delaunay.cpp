@@ -13,6 +13,7 @@
 #include "ricci/mesh/geometry.h"
 #include "subdivision/face_pieces.h"
 #include "subdivision/input_overlay.h"
+#include "subdivision/piece_triangles.h"
 
 namespace ricci::detail {
 
@@ -691,7 +692,14 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
     const CutPolygon& cell = cells[c];
     const int input_face = cell_input_face[c];
     if (input_face < 0) fail(cell_face[c], "a piece lies in no input face");
-    for (const std::array<size_t, 3>& ear : ears(cell)) {
+    std::vector<Eigen::Vector2d> domain, image;
+    for (const CutPoint& p : cell.points) {
+      domain.push_back(p.chart);
+      image.push_back(p.layout.head<2>());
+    }
+    std::vector<std::array<size_t, 3>> triangles = conformal_triangles(domain, image);
+    if (triangles.empty()) triangles = ears(cell);
+    for (const std::array<size_t, 3>& ear : triangles) {
       std::array<int, 3> tri{};
       std::array<Eigen::Vector3d, 3> pos;
       for (int k = 0; k < 3; ++k) {

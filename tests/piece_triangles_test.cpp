@@ -1,0 +1,139 @@
+// The triangles a piece of the common subdivision is delivered as: checked against every
+// triangulation of the polygon, with quasi-conformal ratios computed here by an SVD.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <random>
+#include <set>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "subdivision/piece_triangles.h"
+
+namespace ricci::detail {
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+using Triangles = std::vector<std::array<size_t, 3>>;
+
+double signed_area(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+}
+
+// Larger over smaller singular value of the affine map from a to b, or infinity where either is
+// flat or the map turns it.
+double svd_ratio(const std::array<Vec2, 3>& a, const std::array<Vec2, 3>& b) {
+  if (signed_area(a[0], a[1], a[2]) <= 0 || signed_area(b[0], b[1], b[2]) <= 0)
+    return std::numeric_limits<double>::infinity();
+  Eigen::Matrix2d A, B;
+  A << a[1] - a[0], a[2] - a[0];
+  B << b[1] - b[0], b[2] - b[0];
+  const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix2d>(B * A.inverse()).singularValues();
+  return s[0] / s[1];
+}
+
+double objective(const Triangles& t, const std::vector<Vec2>& x, const std::vector<Vec2>& y) {
+  double sum = 0;
+  for (const auto& k : t) {
+    const double r = svd_ratio({x[k[0]], x[k[1]], x[k[2]]}, {y[k[0]], y[k[1]], y[k[2]]});
+    sum += std::log(r) * std::log(r);
+  }
+  return sum;
+}
+
+// Every triangulation of the polygon i..j closed by the side (i, j).
+std::vector<Triangles> all_triangulations(size_t i, size_t j) {
+  if (j - i < 2) return {Triangles{}};
+  std::vector<Triangles> out;
+  for (size_t k = i + 1; k < j; ++k) {
+    for (const Triangles& left : all_triangulations(i, k)) {
+      for (const Triangles& right : all_triangulations(k, j)) {
+        Triangles t = left;
+        t.insert(t.end(), right.begin(), right.end());
+        t.push_back({i, k, j});
+        out.push_back(t);
+      }
+    }
+  }
+  return out;
+}
+
+// The image of p under a projective map that keeps the unit square's neighbourhood in front.
+Vec2 projective(const Vec2& p, double a, double b) {
+  const double w = 1 + a * p.x() + b * p.y();
+  return Vec2(1.3 * p.x() + 0.4 * p.y(), 0.2 * p.x() + 0.9 * p.y()) / w;
+}
+
+TEST(PieceTriangles, AreTheTriangulationNearestToConformal) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.15, 0.15), tilt(-0.4, 0.4);
+  for (int trial = 0; trial < 200; ++trial) {
+    const size_t n = 3 + static_cast<size_t>(trial % 5);  // 3 to 7 corners
+    std::vector<Vec2> domain, image;
+    for (size_t i = 0; i < n; ++i) {  // a convex polygon: corners on an ellipse, jittered in angle
+      const double angle =
+          2 * M_PI * (static_cast<double>(i) + 0.4 * jitter(random)) / static_cast<double>(n);
+      domain.emplace_back(0.5 + 0.5 * std::cos(angle), 0.5 + 0.3 * std::sin(angle));
+    }
+    const double a = tilt(random), b = tilt(random);
+    for (const Vec2& p : domain) image.push_back(projective(p, a, b));
+    const Triangles got = conformal_triangles(domain, image);
+    ASSERT_EQ(got.size(), n - 2);
+    std::set<size_t> corners;
+    double area_x = 0, area_y = 0;
+    for (const auto& k : got) {
+      corners.insert(k.begin(), k.end());
+      area_x += signed_area(domain[k[0]], domain[k[1]], domain[k[2]]);
+      area_y += signed_area(image[k[0]], image[k[1]], image[k[2]]);
+    }
+    EXPECT_EQ(corners.size(), n);
+    double polygon_x = 0, polygon_y = 0;
+    for (size_t i = 1; i + 1 < n; ++i) {
+      polygon_x += signed_area(domain[0], domain[i], domain[i + 1]);
+      polygon_y += signed_area(image[0], image[i], image[i + 1]);
+    }
+    EXPECT_NEAR(area_x, polygon_x, 1e-12);  // the triangles cover the polygon once
+    EXPECT_NEAR(area_y, polygon_y, 1e-12);
+    double best = std::numeric_limits<double>::infinity();
+    for (const Triangles& t : all_triangulations(0, n - 1))
+      best = std::min(best, objective(t, domain, image));
+    EXPECT_NEAR(objective(got, domain, image), best, 1e-12 * (1 + best)) << "trial " << trial;
+  }
+}
+
+TEST(PieceTriangles, NoTriangleIsFlatWherePointsLieOnASide) {
+  // A square whose bottom side holds three more points: every fan from a bottom point has flat
+  // triangles; only apexes at the top corners make none.
+  const std::vector<Vec2> domain = {{0, 0}, {0.25, 0}, {0.5, 0}, {0.75, 0}, {1, 0}, {1, 1}, {0, 1}};
+  std::vector<Vec2> image;
+  for (const Vec2& p : domain) image.push_back(projective(p, 0.3, -0.2));
+  const Triangles got = conformal_triangles(domain, image);
+  ASSERT_EQ(got.size(), domain.size() - 2);
+  for (const auto& k : got) {
+    EXPECT_GT(signed_area(domain[k[0]], domain[k[1]], domain[k[2]]), 1e-3);
+    EXPECT_GT(signed_area(image[k[0]], image[k[1]], image[k[2]]), 1e-3);
+  }
+}
+
+TEST(PieceTriangles, NoneWhereTheImageIsTurnedOver) {
+  const std::vector<Vec2> domain = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  std::vector<Vec2> image;
+  for (const Vec2& p : domain) image.emplace_back(p.x(), -p.y());
+  EXPECT_TRUE(conformal_triangles(domain, image).empty());
+  EXPECT_TRUE(std::isinf(
+      quasi_conformal_ratio({domain[0], domain[1], domain[2]}, {image[0], image[1], image[2]})));
+}
+
+TEST(PieceTriangles, RatioIsTheSingularValuesRatio) {
+  const std::array<Vec2, 3> a = {Vec2(0, 0), Vec2(2, 0.3), Vec2(0.5, 1.1)};
+  const std::array<Vec2, 3> b = {Vec2(1, 1), Vec2(1.4, 2.9), Vec2(-0.6, 1.7)};
+  EXPECT_NEAR(quasi_conformal_ratio(a, b), svd_ratio(a, b), 1e-12);
+  EXPECT_NEAR(quasi_conformal_ratio(a, a), 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace ricci::detail
