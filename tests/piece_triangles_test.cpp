@@ -36,6 +36,7 @@ double svd_ratio(const std::array<Vec2, 3>& a, const std::array<Vec2, 3>& b) {
   return s[0] / s[1];
 }
 
+// The sum the triangles minimize: (log K)^2 of each one's map.
 double objective(const Triangles& t, const std::vector<Vec2>& x, const std::vector<Vec2>& y) {
   double sum = 0;
   for (const auto& k : t) {
@@ -68,20 +69,23 @@ Vec2 projective(const Vec2& p, double a, double b) {
   return Vec2(1.3 * p.x() + 0.4 * p.y(), 0.2 * p.x() + 0.9 * p.y()) / w;
 }
 
-TEST(PieceTriangles, AreTheTriangulationNearestToConformal) {
+// Random convex polygons of 3 to 7 corners and their images under projective maps: the triangles
+// cover the polygon once in both pictures, and (nearest to conformal) no triangulation has a
+// smaller sum.
+void expect_cover(PieceTriangles how) {
   std::mt19937 random(7);
   std::uniform_real_distribution<double> jitter(-0.15, 0.15), tilt(-0.4, 0.4);
   for (int trial = 0; trial < 200; ++trial) {
-    const size_t n = 3 + static_cast<size_t>(trial % 5);  // 3 to 7 corners
+    const size_t n = 3 + static_cast<size_t>(trial % 5);
     std::vector<Vec2> domain, image;
-    for (size_t i = 0; i < n; ++i) {  // a convex polygon: corners on an ellipse, jittered in angle
+    for (size_t i = 0; i < n; ++i) {  // corners on an ellipse, jittered in angle
       const double angle =
           2 * M_PI * (static_cast<double>(i) + 0.4 * jitter(random)) / static_cast<double>(n);
       domain.emplace_back(0.5 + 0.5 * std::cos(angle), 0.5 + 0.3 * std::sin(angle));
     }
     const double a = tilt(random), b = tilt(random);
     for (const Vec2& p : domain) image.push_back(projective(p, a, b));
-    const Triangles got = conformal_triangles(domain, image);
+    const Triangles got = piece_triangles(domain, image, how);
     ASSERT_EQ(got.size(), n - 2);
     std::set<size_t> corners;
     double area_x = 0, area_y = 0;
@@ -96,13 +100,22 @@ TEST(PieceTriangles, AreTheTriangulationNearestToConformal) {
       polygon_x += signed_area(domain[0], domain[i], domain[i + 1]);
       polygon_y += signed_area(image[0], image[i], image[i + 1]);
     }
-    EXPECT_NEAR(area_x, polygon_x, 1e-12);  // the triangles cover the polygon once
+    EXPECT_NEAR(area_x, polygon_x, 1e-12);
     EXPECT_NEAR(area_y, polygon_y, 1e-12);
+    if (how != PieceTriangles::NearestToConformal) continue;
     double best = std::numeric_limits<double>::infinity();
     for (const Triangles& t : all_triangulations(0, n - 1))
       best = std::min(best, objective(t, domain, image));
     EXPECT_NEAR(objective(got, domain, image), best, 1e-12 * (1 + best)) << "trial " << trial;
   }
+}
+
+TEST(PieceTriangles, AreTheTriangulationNearestToConformal) {
+  expect_cover(PieceTriangles::NearestToConformal);
+}
+
+TEST(PieceTriangles, OrRoundEarsThatCoverThePiece) {
+  expect_cover(PieceTriangles::Roundest);
 }
 
 TEST(PieceTriangles, NoTriangleIsFlatWherePointsLieOnASide) {
@@ -111,21 +124,40 @@ TEST(PieceTriangles, NoTriangleIsFlatWherePointsLieOnASide) {
   const std::vector<Vec2> domain = {{0, 0}, {0.25, 0}, {0.5, 0}, {0.75, 0}, {1, 0}, {1, 1}, {0, 1}};
   std::vector<Vec2> image;
   for (const Vec2& p : domain) image.push_back(projective(p, 0.3, -0.2));
-  const Triangles got = conformal_triangles(domain, image);
-  ASSERT_EQ(got.size(), domain.size() - 2);
-  for (const auto& k : got) {
-    EXPECT_GT(signed_area(domain[k[0]], domain[k[1]], domain[k[2]]), 1e-3);
-    EXPECT_GT(signed_area(image[k[0]], image[k[1]], image[k[2]]), 1e-3);
+  for (const PieceTriangles how : {PieceTriangles::NearestToConformal, PieceTriangles::Roundest}) {
+    const Triangles got = piece_triangles(domain, image, how);
+    ASSERT_EQ(got.size(), domain.size() - 2);
+    for (const auto& k : got) {
+      EXPECT_GT(signed_area(domain[k[0]], domain[k[1]], domain[k[2]]), 1e-3);
+      EXPECT_GT(signed_area(image[k[0]], image[k[1]], image[k[2]]), 1e-3);
+    }
   }
 }
 
-TEST(PieceTriangles, NoneWhereTheImageIsTurnedOver) {
-  const std::vector<Vec2> domain = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+TEST(PieceTriangles, RoundEarsCutAKiteAtItsShorterDiagonal) {
+  // Either diagonal draws the kite's map (a similarity) conformally; the long one leaves two
+  // needles, which an atlas's harmonic redrawing would squash.
+  const std::vector<Vec2> domain = {{5, -0.4}, {10, 0}, {5, 0.4}, {0, 0}};
+  std::vector<Vec2> image;
+  for (const Vec2& p : domain) image.emplace_back(2 * p.x() - p.y() + 1, p.x() + 2 * p.y());
+  const Triangles got = piece_triangles(domain, image, PieceTriangles::Roundest);
+  ASSERT_EQ(got.size(), 2u);
+  for (const auto& k : got) {
+    const std::set<size_t> corners(k.begin(), k.end());
+    EXPECT_TRUE(corners.count(0) && corners.count(2)) << "the diagonal 0-2, not 1-3";
+  }
+}
+
+TEST(PieceTriangles, AnImageTurnedOverGetsTheRoundEars) {
+  const std::vector<Vec2> domain = {{0, 0}, {1, 0}, {1.2, 1}, {0, 1}};
   std::vector<Vec2> image;
   for (const Vec2& p : domain) image.emplace_back(p.x(), -p.y());
-  EXPECT_TRUE(conformal_triangles(domain, image).empty());
   EXPECT_TRUE(std::isinf(
       quasi_conformal_ratio({domain[0], domain[1], domain[2]}, {image[0], image[1], image[2]})));
+  const Triangles ears = piece_triangles(domain, image, PieceTriangles::Roundest);
+  EXPECT_EQ(piece_triangles(domain, image, PieceTriangles::NearestToConformal), ears);
+  ASSERT_EQ(ears.size(), 2u);
+  for (const auto& k : ears) EXPECT_GT(signed_area(domain[k[0]], domain[k[1]], domain[k[2]]), 0.1);
 }
 
 TEST(PieceTriangles, RatioIsTheSingularValuesRatio) {

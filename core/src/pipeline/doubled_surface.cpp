@@ -170,12 +170,15 @@ namespace {
 
 // The double's common subdivision cut down to the half.
 HalfSubdivision subdivide_half(const CompactMesh& half, const CompactMesh& twice,
-                               const ConformalStructure& structure, const FlowResult& result) {
+                               const ConformalStructure& structure, const FlowResult& result,
+                               PieceTriangles triangles) {
   const Geometry g = structure.geometry;
   const Triangulation& flowed = result_triangulation(twice, result);
   const Layout frames = face_by_face_layout(flowed, g, result.edge_lengths);
-  return half_subdivision(half, common_subdivision(twice, structure, result, frames), flowed,
-                          frames);
+  return half_subdivision(
+      half,
+      common_subdivision(twice, structure, result, frames, DiskSidePoints::OnGeodesic, triangles),
+      flowed, frames);
 }
 
 // A half of several boundary loops or of genus above 0, flat: cut open on the input's edges
@@ -235,13 +238,17 @@ std::string flow_on_double(const CompactMesh& half, const UniformizationOptions&
   // 160 degrees drawn at twice their area, D 0.13 with u within 0.02 of 0), and so did the maps'
   // conformality (dart-drchubo-lhr.stl's disk: QC p95 2.36 there, 1.05 in the canonical class).
   RicciFlowSolver solver(twice, structure, flow);
+  // An atlas draws its charts' insides again, harmonic: round pieces (texture_atlas.cpp).
+  const PieceTriangles triangles = run.preset == TargetPreset::Atlas
+                                       ? PieceTriangles::Roundest
+                                       : PieceTriangles::NearestToConformal;
 
   Uniformization on_double;  // its totals are the double's flows only
   std::optional<HalfSubdivision> last;
   try {
     if (run.preset == TargetPreset::UnitDisk) {
       const BoundaryRefit refit = [&](const FlowResult& r) {
-        last = subdivide_half(half, twice, structure, r);
+        last = subdivide_half(half, twice, structure, r, triangles);
         return doubled_target(half, twice,
                               circle_boundary_target(half, last->boundary_lengths, outer));
       };
@@ -251,7 +258,7 @@ std::string flow_on_double(const CompactMesh& half, const UniformizationOptions&
       on_double.totals.add(on_double.result);
     }
     if (on_double.result.converged && !last) {
-      last = subdivide_half(half, twice, structure, on_double.result);
+      last = subdivide_half(half, twice, structure, on_double.result, triangles);
     }
   } catch (const LayoutError& e) {
     return "on the surface doubled along its boundary the flow converged, but " +

@@ -241,7 +241,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   if (!sub && !run.result.flip_sequence.empty()) {
     try {
       const Triangulation& flowed = result_triangulation(mesh, run.result);
-      sub = common_subdivision(mesh, run.structure, run.result, faces_drawn_alone(flowed, lengths));
+      // Roundest: the charts' insides are drawn again, harmonic (below).
+      sub = common_subdivision(mesh, run.structure, run.result, faces_drawn_alone(flowed, lengths),
+                               DiskSidePoints::OnGeodesic, PieceTriangles::Roundest);
     } catch (const LayoutError& e) {
       run.subdivision_failure = e.what();
       return;

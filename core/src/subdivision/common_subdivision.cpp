@@ -24,7 +24,7 @@ using detail::realize;
 
 CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStructure& initial,
                                      const FlowResult& result, const Layout& layout,
-                                     DiskSidePoints disk_points) {
+                                     DiskSidePoints disk_points, PieceTriangles how) {
   const auto begin = std::chrono::steady_clock::now();
   const Geometry g = layout.geometry;
   bool projective = true;
@@ -38,7 +38,7 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
     isometric_later = isometric_later || result.flip_sequence[i].isometric;
   if (projective && split > 0 && !isometric_later && g != Geometry::Hyperbolic) {
     CommonSubdivision out =
-        detail::subdivision_through_delaunay(mesh, initial, result, layout, split);
+        detail::subdivision_through_delaunay(mesh, initial, result, layout, split, how);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
     return out;
   }
@@ -101,11 +101,10 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
                        disk_points);
       };
       const std::vector<int>& polygon = piece.points;
+      // The Poincare disk's pieces are drawn again later, in charts and on their straight sides,
+      // where other diagonals than a fan's could turn over: they keep the fan.
       std::vector<std::array<size_t, 3>> triangles;
-      if (g == Geometry::Euclidean) {
-        // The piece in its input face's plane, and in the layout's. (The Poincare disk's pieces
-        // are drawn again later, in charts and on their straight sides, where other diagonals
-        // could turn over: they keep the fan.)
+      if (g == Geometry::Euclidean) {  // the piece in its input face's plane, and in the layout
         const Eigen::Vector3d a = mesh.positions()[mesh.face_vertex(piece.input_face, 0)],
                               b = mesh.positions()[mesh.face_vertex(piece.input_face, 1)],
                               c = mesh.positions()[mesh.face_vertex(piece.input_face, 2)];
@@ -117,9 +116,8 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
           domain.emplace_back(d.dot(e1), d.dot(e2));
           image.push_back(layout_of_point(p).head<2>());
         }
-        triangles = detail::conformal_triangles(domain, image);
-      }
-      if (triangles.empty()) {  // a fan from the first corner
+        triangles = detail::piece_triangles(domain, image, how);
+      } else {
         for (size_t i = 1; i + 1 < polygon.size(); ++i) triangles.push_back({0, i, i + 1});
       }
       for (const std::array<size_t, 3>& t : triangles) {

@@ -7,16 +7,20 @@
 
 #include <Eigen/Core>
 
+#include "ricci/subdivision/subdivided_mesh.h"
+
 namespace ricci::detail {
 
 // Triangles of a convex polygon given by its corners in order in two planar pictures: the domain
-// (the polygon in its input face) and its image (in the layout). The map between the pictures is
-// drawn piecewise linear on them, so their choice decides how near to conformal the drawing is:
-// of the triangulations with no triangle flat or turned over in either picture, the one whose
-// triangles' quasi-conformal ratios K have the least sum of (log K)^2 (dynamic programming over
-// the polygon's diagonals). Empty when every triangulation has a flat or turned triangle.
-std::vector<std::array<size_t, 3>> conformal_triangles(const std::vector<Eigen::Vector2d>& domain,
-                                                       const std::vector<Eigen::Vector2d>& image);
+// (the polygon in its input face) and its image (in the layout). NearestToConformal: of the
+// triangulations with no triangle flat or turned over in either picture, the one of the least sum
+// over its triangles of (log K)^2, K the quasi-conformal ratio of the triangle's map from the
+// domain to the image (dynamic programming over the polygon's diagonals). Roundest, or where
+// every triangulation has a flat or turned triangle: ears cut off the domain at its strictly convex
+// corners, the roundest first (none flat where sides hold several points in a row).
+std::vector<std::array<size_t, 3>> piece_triangles(const std::vector<Eigen::Vector2d>& domain,
+                                                   const std::vector<Eigen::Vector2d>& image,
+                                                   PieceTriangles how);
 
 // The quasi-conformal ratio (larger singular value over smaller) of the affine map taking triangle
 // a to triangle b; infinite where either is flat or the map turns it over.

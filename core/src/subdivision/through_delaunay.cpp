@@ -142,39 +142,13 @@ struct CutPolygon {
   std::vector<CutSide> sides;
 };
 
-// Triangles of a convex cell whose sides may hold several points in a row: ears cut off at
-// corners that are strictly convex in the chart, the roundest first, so that none is flat.
-std::vector<std::array<size_t, 3>> ears(const CutPolygon& cell) {
-  std::vector<size_t> left(cell.points.size());
-  for (size_t i = 0; i < left.size(); ++i) left[i] = i;
-  std::vector<std::array<size_t, 3>> out;
-  while (left.size() > 3) {
-    const size_t n = left.size();
-    size_t best = 0;
-    double best_quality = -1;
-    for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector2d &a = cell.points[left[(i + n - 1) % n]].chart,
-                            &b = cell.points[left[i]].chart,
-                            &c = cell.points[left[(i + 1) % n]].chart;
-      const double area = cross(b - a, c - a);
-      const double scale = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
-      const double quality = scale > 0 ? area / scale : 0;  // 1 / (4 sqrt 3) when equilateral
-      if (quality > best_quality) best = i, best_quality = quality;
-    }
-    out.push_back({left[(best + n - 1) % n], left[best], left[(best + 1) % n]});
-    left.erase(left.begin() + static_cast<long>(best));
-  }
-  out.push_back({left[0], left[1], left[2]});
-  return out;
-}
-
 }  // namespace
 
 // Ta cut by Tb cut by Tc; flips[0, split) are the isometric flips.
 CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
                                                const ConformalStructure& initial,
                                                const FlowResult& result, const Layout& layout,
-                                               size_t split) {
+                                               size_t split, PieceTriangles how) {
   const std::vector<EdgeFlip>& flips = result.flip_sequence;
   const Geometry geometry = layout.geometry;
   InputOverlay in_delaunay(mesh, true);          // Ta over Tb
@@ -687,7 +661,8 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
   out.vertex_layout.assign(out.positions.size(), Eigen::Vector3d::Constant(std::nan("")));
   std::vector<char> laid(out.positions.size(), 0);
 
-  // === The faces: each cell cut into ears, in its input face.
+  // === The faces: each cell cut into triangles as `how` asks, in its face of Tb's chart and its
+  // layout.
   for (size_t c = 0; c < cells.size(); ++c) {
     const CutPolygon& cell = cells[c];
     const int input_face = cell_input_face[c];
@@ -697,13 +672,12 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
       domain.push_back(p.chart);
       image.push_back(p.layout.head<2>());
     }
-    std::vector<std::array<size_t, 3>> triangles = conformal_triangles(domain, image);
-    if (triangles.empty()) triangles = ears(cell);
-    for (const std::array<size_t, 3>& ear : triangles) {
+    const std::vector<std::array<size_t, 3>> triangles = piece_triangles(domain, image, how);
+    for (const std::array<size_t, 3>& corner : triangles) {
       std::array<int, 3> tri{};
       std::array<Eigen::Vector3d, 3> pos;
       for (int k = 0; k < 3; ++k) {
-        const CutPoint& p = cell.points[ear[k]];
+        const CutPoint& p = cell.points[corner[k]];
         tri[k] = number[p.vertex];
         pos[k] = planes[cell_face[c]].lift(p.layout);
         if (!laid[tri[k]]) {

@@ -45,6 +45,7 @@ namespace ricci {
 //!   (names the flip or face).
 CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStructure& initial,
                                      const FlowResult& result, const Layout& layout,
-                                     DiskSidePoints disk_points = DiskSidePoints::OnGeodesic);
+                                     DiskSidePoints disk_points = DiskSidePoints::OnGeodesic,
+                                     PieceTriangles triangles = PieceTriangles::NearestToConformal);
 
 }  // namespace ricci
