@@ -4,7 +4,6 @@
 
 #include <array>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <random>
 #include <set>
@@ -90,6 +89,8 @@ void expect_cover(PieceTriangles how) {
     std::set<size_t> corners;
     double area_x = 0, area_y = 0;
     for (const auto& k : got) {
+      EXPECT_GT(signed_area(domain[k[0]], domain[k[1]], domain[k[2]]), 0);
+      EXPECT_GT(signed_area(image[k[0]], image[k[1]], image[k[2]]), 0);
       corners.insert(k.begin(), k.end());
       area_x += signed_area(domain[k[0]], domain[k[1]], domain[k[2]]);
       area_y += signed_area(image[k[0]], image[k[1]], image[k[2]]);
@@ -158,6 +159,49 @@ TEST(PieceTriangles, AnImageTurnedOverGetsTheRoundEars) {
   EXPECT_EQ(piece_triangles(domain, image, PieceTriangles::NearestToConformal), ears);
   ASSERT_EQ(ears.size(), 2u);
   for (const auto& k : ears) EXPECT_GT(signed_area(domain[k[0]], domain[k[1]], domain[k[2]]), 0.1);
+}
+
+TEST(PieceTriangles, AnImageCornerTurnedInwardRulesOutTheDiagonalsThatTurnOver) {
+  // A square drawn with corner 1 pushed inside: the triangle (0, 1, 2) turns over, so the only
+  // triangulation with none turned is the one at the diagonal 1-3.
+  const std::vector<Vec2> domain = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const std::vector<Vec2> image = {{0, 0}, {0.4, 0.6}, {1, 1}, {0, 1}};
+  const Triangles got = piece_triangles(domain, image, PieceTriangles::NearestToConformal);
+  ASSERT_EQ(got.size(), 2u);
+  for (const auto& k : got) {
+    const std::set<size_t> corners(k.begin(), k.end());
+    EXPECT_TRUE(corners.count(1) && corners.count(3));
+    EXPECT_GT(signed_area(image[k[0]], image[k[1]], image[k[2]]), 0);
+  }
+}
+
+TEST(PieceTriangles, CoincidentCornersStillGiveAllTriangles) {
+  const std::vector<Vec2> domain = {{0, 0}, {1, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (const PieceTriangles how : {PieceTriangles::NearestToConformal, PieceTriangles::Roundest}) {
+    const Triangles got = piece_triangles(domain, domain, how);
+    ASSERT_EQ(got.size(), 3u);
+    std::set<size_t> corners;
+    for (const auto& k : got) corners.insert(k.begin(), k.end());
+    EXPECT_EQ(corners.size(), 5u);
+  }
+}
+
+TEST(PieceTriangles, RatioHoldsForNeedlesAndNearlyConformalMaps) {
+  // A needle sheared along itself: J = [[1, 1e9], [0, 1]], whose singular values' ratio is
+  // (s + sqrt(s^2 - 4)) / 2 with s = 2 + 1e18, about 1e18; the same turned by any angle.
+  const std::array<Vec2, 3> a = {Vec2(0, 0), Vec2(1, 0), Vec2(0.5, 1e-7)};
+  const std::array<Vec2, 3> b = {Vec2(0, 0), Vec2(1, 0), Vec2(100.5, 1e-7)};
+  for (int k = 0; k < 24; ++k) {
+    const Eigen::Rotation2Dd turn(0.27 * k), other(-0.61 * k);
+    std::array<Vec2, 3> ta, tb;
+    for (int i = 0; i < 3; ++i) ta[i] = turn * a[i], tb[i] = other * b[i];
+    const double ratio = quasi_conformal_ratio(ta, tb);
+    EXPECT_NEAR(ratio / 1e18, 1, 1e-6) << "turn " << k;
+  }
+  // A shear by 1e-9: K - 1 = 1e-9 to first order, which s^2 - 4 det^2 would cancel to 0.
+  const std::array<Vec2, 3> c = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)};
+  const std::array<Vec2, 3> d = {Vec2(0, 0), Vec2(1, 0), Vec2(1e-9, 1)};
+  EXPECT_NEAR(quasi_conformal_ratio(c, d) - 1, 1e-9, 1e-14);
 }
 
 TEST(PieceTriangles, RatioIsTheSingularValuesRatio) {

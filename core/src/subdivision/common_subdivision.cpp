@@ -102,7 +102,8 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
       };
       const std::vector<int>& polygon = piece.points;
       // The Poincare disk's pieces are drawn again later, in charts and on their straight sides,
-      // where other diagonals than a fan's could turn over: they keep the fan.
+      // where other diagonals than a fan's could turn over: they keep the fan, and so do the
+      // sphere's on this route (its layout has no plane to measure them in).
       std::vector<std::array<size_t, 3>> triangles;
       if (g == Geometry::Euclidean) {  // the piece in its input face's plane, and in the layout
         const Eigen::Vector3d a = mesh.positions()[mesh.face_vertex(piece.input_face, 0)],

@@ -18,7 +18,7 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // A triangle rounder than this in both pictures is neither flat nor, to rounding, turned over.
 constexpr double kFlat = 1e-12;
 
-// Twice the signed area over the sum of the squared sides: 2 / sqrt(3) at most (equilateral).
+// Twice the signed area over the sum of the squared sides: 1 / (2 sqrt 3) at most (equilateral).
 double roundness(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
   const double scale = (q - p).squaredNorm() + (r - q).squaredNorm() + (p - r).squaredNorm();
   return scale > 0 ? cross(q - p, r - p) / scale : 0;
@@ -53,7 +53,7 @@ std::vector<std::array<size_t, 3>> roundest_ears(const std::vector<Eigen::Vector
           roundness(domain[left[(i + n - 1) % n]], domain[left[i]], domain[left[(i + 1) % n]]);
       if (r > best_roundness && encloses(i)) best = i, best_roundness = r;
     }
-    if (best == n) best = 0;  // every ear flat: a polygon of no area
+    if (best == n) best = 0;  // no ear both round and leaving area: the polygon has none
     out.push_back({left[(best + n - 1) % n], left[best], left[(best + 1) % n]});
     left.erase(left.begin() + static_cast<long>(best));
   }
@@ -109,9 +109,15 @@ double quasi_conformal_ratio(const std::array<Eigen::Vector2d, 3>& a,
   A << a[1] - a[0], a[2] - a[0];
   B << b[1] - b[0], b[2] - b[0];
   const Eigen::Matrix2d J = B * A.inverse();
-  const double s = J.squaredNorm(), d = J.determinant();
-  // The singular values' squares sum to s and multiply to d^2.
-  return (s + std::sqrt(std::max(0.0, s * s - 4 * d * d))) / (2 * d);
+  // J's conformal and anti-conformal parts: its singular values are alpha + beta and alpha - beta,
+  // whose product, det J, is the ratio of the areas (positive, and exact in sign, from the
+  // triangles themselves rather than from J's entries, which a needle's inverse inflates).
+  // (sqrt, not std::hypot: glibc 2.35's hypot symbol would keep the wheel from manylinux_2_34.)
+  const double p = J(0, 0) + J(1, 1), q = J(1, 0) - J(0, 1);
+  const double r = J(0, 0) - J(1, 1), t = J(1, 0) + J(0, 1);
+  const double alpha = 0.5 * std::sqrt(p * p + q * q), beta = 0.5 * std::sqrt(r * r + t * t);
+  const double det = cross(b[1] - b[0], b[2] - b[0]) / cross(a[1] - a[0], a[2] - a[0]);
+  return std::max(1.0, (alpha + beta) * (alpha + beta) / det);
 }
 
 std::vector<std::array<size_t, 3>> piece_triangles(const std::vector<Eigen::Vector2d>& domain,

@@ -16,6 +16,6 @@ namespace ricci::detail {
 CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
                                                const ConformalStructure& initial,
                                                const FlowResult& result, const Layout& layout,
-                                               size_t split, PieceTriangles triangles);
+                                               size_t split, PieceTriangles how);
 
 }  // namespace ricci::detail

@@ -18,11 +18,11 @@
 // Delaunay triangulation Tb, then by Ptolemy flips to the final Tc = T'; the map is projective on
 // the cells of all three only, so its pieces are Ta, Tb and Tc cut by each other: Tb's faces cut
 // by Tc (the Ptolemy flips followed over Tb), each piece cut in its Tb face's Euclidean chart by
-// the input's edges, and triangulated by ears. The new vertices then also include the crossings
-// of Tb's and Tc's edges, inside input faces (vertex_input_edge -1, at their barycentric
-// coordinates there); one nearer to an input edge's crossing on the same edge of Tb than float
-// texture coordinates resolve is that vertex. The other flows (H2, S2, frozen metrics, no
-// isometric flips) follow the input's edges through all flips in one overlay.
+// the input's edges, and cut into triangles (PieceTriangles). The new vertices then also include
+// the crossings of Tb's and Tc's edges, inside input faces (vertex_input_edge -1, at their
+// barycentric coordinates there); one nearer to an input edge's crossing on the same edge of Tb
+// than float texture coordinates resolve is that vertex. The other flows (H2, S2, frozen metrics,
+// no isometric flips) follow the input's edges through all flips in one overlay.
 //
 // Vertices: the input's first, unchanged and in order; then one per crossing of an input edge with
 // an edge of T', input edge after input edge, in the order along each (through Tb: with Tb's
@@ -40,12 +40,14 @@
 namespace ricci {
 
 //! Builds the common subdivision of a converged flow with flips. `initial` is the conformal
-//! structure the flow started from, `layout` the layout of result_triangulation(mesh, result).
+//! structure the flow started from, `layout` the layout of result_triangulation(mesh, result);
+//! `how` cuts the pieces of more than three corners into triangles in the plane (the Poincare
+//! disk's and the sphere's pieces on the route of one overlay are fans from their first corner).
 //! \throws LayoutError when the input's edges cannot be followed through the flips consistently
 //!   (names the flip or face).
 CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStructure& initial,
                                      const FlowResult& result, const Layout& layout,
                                      DiskSidePoints disk_points = DiskSidePoints::OnGeodesic,
-                                     PieceTriangles triangles = PieceTriangles::NearestToConformal);
+                                     PieceTriangles how = PieceTriangles::NearestToConformal);
 
 }  // namespace ricci

@@ -61,9 +61,10 @@ struct CommonSubdivision {
 enum class DiskSidePoints { OnGeodesic, OnDrawnSide };
 
 //! The triangles a piece of more than three corners is cut into: those whose affine maps from the
-//! input face to the layout are nearest to conformal, none turned over as drawn (the layout
-//! delivered as drawn), or the roundest in the input face (the pieces' insides drawn again, as an
-//! atlas's charts are by a harmonic map, whose cotangent weights needles spoil).
+//! input face to the layout are nearest to conformal, none turned over as drawn where a
+//! triangulation allows (the layout delivered as drawn), or the roundest in the input face (the
+//! pieces' insides drawn again, as an atlas's charts are by a harmonic map, whose cotangent
+//! weights needles spoil).
 enum class PieceTriangles { NearestToConformal, Roundest };
 
 }  // namespace ricci
