@@ -124,6 +124,7 @@ std::vector<std::array<size_t, 3>> piece_triangles(const std::vector<Eigen::Vect
                                                    const std::vector<Eigen::Vector2d>& image,
                                                    PieceTriangles how) {
   if (domain.size() < 3 || image.size() != domain.size()) return {};
+  if (domain.size() == 3) return {{0, 1, 2}};  // most pieces: nothing to choose
   if (how == PieceTriangles::NearestToConformal) {
     std::vector<std::array<size_t, 3>> out = nearest_to_conformal(domain, image);
     if (!out.empty()) return out;
