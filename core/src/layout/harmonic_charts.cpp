@@ -130,10 +130,15 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
   // And the redrawn chart is kept where it is more nearly conformal on the whole, not only in
   // energy: its 95th percentile of QC no higher (on 230 real and CGAL surfaces, 9 rose without
   // this, bouncy-pie.ply's 1.61 to 1.80).
-  const std::vector<double> before = chart_qc_p95(mesh, positions, charts, redrawn);
-  const std::vector<double> after = chart_qc_p95(mesh, positions, harmonic, redrawn);
+  // A chart drawn with a face turned over is redrawn whatever its QC.
+  std::vector<char> compared = redrawn;
+  for (int f = 0; f < nf; ++f) {
+    if (!(signed_area(charts.corners[f]) > 0)) compared[charts.chart[f]] = 0;
+  }
+  const std::vector<double> before = chart_qc_p95(mesh, positions, charts, compared);
+  const std::vector<double> after = chart_qc_p95(mesh, positions, harmonic, compared);
   for (int k = 0; k < charts.num_charts; ++k) {
-    if (redrawn[k] && !(after[k] <= before[k])) redrawn[k] = 0;
+    if (compared[k] && !(after[k] <= before[k])) redrawn[k] = 0;
   }
   int count = 0;
   for (int f = 0; f < nf; ++f) {

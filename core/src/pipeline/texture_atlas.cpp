@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "ricci/layout/charts.h"
@@ -120,6 +121,98 @@ std::vector<std::array<double, 3>> drawn_sides(
       sides[f][c] = (corners[f][(c + 1) % 3] - corners[f][(c + 2) % 3]).norm();
   }
   return sides;
+}
+
+// D and the 95th percentile of QC of faces as drawn.
+struct AsDrawn {
+  double distortion, qc_p95;
+};
+
+double qc_p95(const std::vector<Eigen::Vector3d>& positions,
+              const std::vector<std::array<int, 3>>& faces,
+              const std::vector<std::array<Eigen::Vector2d, 3>>& corners) {
+  std::vector<double> qc(faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) {
+    std::array<double, 3> from, to;  // side lengths, opposite each corner
+    for (int c = 0; c < 3; ++c) {
+      from[c] = (positions[faces[f][(c + 2) % 3]] - positions[faces[f][(c + 1) % 3]]).norm();
+      to[c] = (corners[f][(c + 2) % 3] - corners[f][(c + 1) % 3]).norm();
+    }
+    qc[f] = quasi_conformal_ratio(from, to);
+  }
+  if (qc.empty()) return 1;
+  // the reports' 95th percentile (layout_quality.h)
+  const size_t k =
+      std::min(qc.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(qc.size())));
+  std::nth_element(qc.begin(), qc.begin() + static_cast<long>(k), qc.end());
+  return qc[k];
+}
+
+// A common subdivision's charts as developed, moved onto the user's faces (charts_on_input),
+// their insides drawn harmonic where that is more nearly conformal; given where no face turns over
+// or overlaps another of its chart, QC p95 is no higher than the pieces' as delivered, and D is
+// within `bound` (NaN: none) or no higher than the pieces'. `redrawn`: the charts whose insides
+// were redrawn.
+std::optional<InputCharts> user_faces_drawn(const CompactMesh& mesh, const CommonSubdivision& sub,
+                                            const Triangulation& delivered,
+                                            const std::vector<char>& seam, const Charts& developed,
+                                            double bound, const AsDrawn& pieces, int& redrawn) {
+  std::optional<InputCharts> in = charts_on_input(mesh, sub, delivered, seam, developed);
+  if (!in) return std::nullopt;
+  redrawn = draw_harmonic_insides(mesh, mesh.positions(), in->seam,
+                                  std::vector<char>(in->charts.num_charts, 1), in->charts);
+  for (const auto& t : in->charts.corners) {
+    if (!(signed_area(t) > 0)) return std::nullopt;
+  }
+  if (qc_p95(mesh.positions(), mesh.faces(), in->charts.corners) > pieces.qc_p95) {
+    return std::nullopt;
+  }
+  const double d = face_distortion(mesh.positions(), mesh.faces(), in->charts.corners);
+  if (d > bound && d > pieces.distortion) return std::nullopt;
+  if (!overlapping_faces(mesh, in->seam, in->charts).empty()) return std::nullopt;
+  return in;
+}
+
+// Fills run's layout and atlas from the delivered mesh's charts, seams and packing.
+void deliver(const Triangulation& delivered, const std::vector<Eigen::Vector3d>& positions,
+             const std::vector<std::array<int, 3>>& faces, const std::vector<char>& seam,
+             const std::vector<double>& length3d, const Charts& charts, const Packing& packing,
+             const std::vector<std::pair<int, int>>& overlaps, double input_area,
+             const UniformizationOptions& o, Uniformization& run) {
+  AtlasResult& atlas = run.atlas;
+  std::vector<char> overlapping(delivered.num_faces(), 0);
+  for (const auto& [f, g] : overlaps) overlapping[f] = overlapping[g] = 1;
+  atlas.num_charts = charts.num_charts;
+  double seam_length = 0;
+  for (int e = 0; e < delivered.num_edges(); ++e) seam_length += seam[e] ? length3d[e] : 0;
+  atlas.seam_length = seam_length / std::sqrt(input_area);
+  atlas.seam_edges = static_cast<int>(std::count(seam.begin(), seam.end(), 1));
+  atlas.overlapping_faces = static_cast<int>(std::count(overlapping.begin(), overlapping.end(), 1));
+  run.corners.resize(delivered.num_faces());
+  for (int f = 0; f < delivered.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      run.corners[f][c] = Eigen::Vector3d(charts.corners[f][c].x(), charts.corners[f][c].y(), 0);
+    }
+  }
+  run.face_chart = charts.chart;
+  atlas.distortion = face_distortion(positions, faces, charts.corners);
+  atlas.utilization = packing.utilization;
+  atlas.padding = packing.padding;
+  atlas.padding_asked = o.packing.padding;
+  atlas.texture.resize(delivered.num_faces());
+  for (int f = 0; f < delivered.num_faces(); ++f) {
+    const int k = charts.chart[f];
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector2d uv =
+          packing.scale * packing.rotation[k] * charts.corners[f][c] + packing.offset[k];
+      atlas.texture[f][c] = uv.cwiseMax(0.0).cwiseMin(1.0);  // rounding past the square's sides
+    }
+  }
+  run.layout = Layout();
+  run.layout.geometry = Geometry::Euclidean;
+  run.layout.corners = run.corners;
+  run.layout.max_relative_length_error = charts.max_relative_length_error;
+  run.layout.num_flipped_faces = charts.flipped_faces;
 }
 
 }  // namespace
@@ -374,49 +467,33 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   // A common subdivision's charts: their insides drawn harmonic, with their borders as developed.
   // The pieces' new vertices are where the flow's crossings put them, which costs conformality
   // (the cow, 1.8k flips: QC p95 1.376 as developed, 1.292 redrawn); a chart that the redrawing
-  // turns, overlaps or makes less conformal (its QC p95) stays as developed.
+  // turns, overlaps or makes less conformal (its QC p95) stays as developed. Then the charts
+  // moved onto the user's faces, delivered where they draw so as well (user_faces_drawn).
   atlas.harmonic_charts = 0;
   if (sub && overlaps.empty()) {
+    const Charts developed = charts;
     atlas.harmonic_charts = draw_harmonic_insides(delivered, positions, seam,
                                                   std::vector<char>(charts.num_charts, 1), charts);
+    const AsDrawn pieces{face_distortion(positions, faces, charts.corners),
+                         qc_p95(positions, faces, charts.corners)};
+    int redrawn = 0;
+    std::optional<InputCharts> in =
+        user_faces_drawn(mesh, *sub, delivered, seam, developed, run.atlas.bound, pieces, redrawn);
     atlas.seconds.harmonic += lap(clock);
+    if (in) {
+      packing = pack_charts(triangles_by_chart(in->charts), o.packing);
+      atlas.seconds.packing += lap(clock);
+      atlas.harmonic_charts = redrawn;
+      atlas.on_input_faces = true;
+      deliver(mesh, mesh.positions(), mesh.faces(), in->seam, lengths_in_3d(mesh, mesh.positions()),
+              in->charts, packing, {}, mesh.input_area(), o, run);
+      return;
+    }
     if (atlas.harmonic_charts > 0) packing = pack_charts(triangles_by_chart(charts), o.packing);
     atlas.seconds.packing += lap(clock);
   }
-  std::vector<char> overlapping(delivered.num_faces(), 0);
-  for (const auto& [f, g] : overlaps) overlapping[f] = overlapping[g] = 1;
-
-  atlas.num_charts = charts.num_charts;
-  double seam_length = 0;
-  for (int e = 0; e < delivered.num_edges(); ++e) seam_length += seam[e] ? length3d[e] : 0;
-  atlas.seam_length = seam_length / std::sqrt(mesh.input_area());
-  atlas.seam_edges = static_cast<int>(std::count(seam.begin(), seam.end(), 1));
-  atlas.overlapping_faces = static_cast<int>(std::count(overlapping.begin(), overlapping.end(), 1));
-  run.corners.resize(delivered.num_faces());
-  for (int f = 0; f < delivered.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      run.corners[f][c] = Eigen::Vector3d(charts.corners[f][c].x(), charts.corners[f][c].y(), 0);
-    }
-  }
-  run.face_chart = charts.chart;
-  atlas.distortion = face_distortion(positions, faces, charts.corners);
-  atlas.utilization = packing.utilization;
-  atlas.padding = packing.padding;
-  atlas.padding_asked = o.packing.padding;
-  atlas.texture.resize(delivered.num_faces());
-  for (int f = 0; f < delivered.num_faces(); ++f) {
-    const int k = charts.chart[f];
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::Vector2d uv =
-          packing.scale * packing.rotation[k] * charts.corners[f][c] + packing.offset[k];
-      atlas.texture[f][c] = uv.cwiseMax(0.0).cwiseMin(1.0);  // rounding past the square's sides
-    }
-  }
-  run.layout = Layout();
-  run.layout.geometry = Geometry::Euclidean;
-  run.layout.corners = run.corners;
-  run.layout.max_relative_length_error = charts.max_relative_length_error;
-  run.layout.num_flipped_faces = charts.flipped_faces;
+  deliver(delivered, positions, faces, seam, length3d, charts, packing, overlaps, mesh.input_area(),
+          o, run);
   if (sub) run.subdivision = std::move(sub);
 }
 

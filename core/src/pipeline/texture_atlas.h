@@ -11,16 +11,21 @@
 //   charts           lay_out_charts (charts.h); a chart whose faces overlap is split along a short
 //                    path between the overlapping sheets and laid out again (the metric is flat:
 //                    no new flow)
+//   user's faces     a subdivision's charts moved onto the input's faces (charts_on_input), their
+//                    insides drawn harmonic, where none of them turns over or overlaps and D stays
+//                    within the bound: the user's mesh comes back with texture coordinates only
 // Not installed API.
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "ricci/flow/target.h"
+#include "ricci/layout/charts.h"
 #include "ricci/mesh/compact_mesh.h"
 #include "ricci/pipeline/uniformization.h"
 
@@ -35,6 +40,18 @@ TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& place
 //! edge of the user's mesh (both ends on the closure of one input edge).
 std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
                                  const CommonSubdivision& sub);
+
+//! A common subdivision's charts on the user's faces: the seams as input edges, and per input face
+//! its chart and its corners as the pieces put them (the input's vertices are vertices of the
+//! subdivision; a chart's border runs straight between them). Empty where a seam runs inside an
+//! input face, or along part of an input edge only, or an input face's pieces lie in two charts.
+struct InputCharts {
+  std::vector<char> seam;  //!< per input edge
+  Charts charts;           //!< per input face
+};
+std::optional<InputCharts> charts_on_input(const CompactMesh& mesh, const CommonSubdivision& sub,
+                                           const Triangulation& delivered,
+                                           const std::vector<char>& seam, const Charts& charts);
 
 //! Per edge of `delivered`, its length in 3D between `positions` (seams are shortest there).
 std::vector<double> lengths_in_3d(const Triangulation& delivered,

@@ -150,6 +150,7 @@ std::string layout_json(const Uniformization& run) {
       << ", \"dropped\": " << p.dropped << ", \"seconds\": " << number(p.seconds) << "}"
       << ", \"charts\": " << a.num_charts << ", \"splits\": " << a.splits
       << ", \"harmonic_charts\": " << a.harmonic_charts
+      << ", \"on_input_faces\": " << (a.on_input_faces ? "true" : "false")
       << ", \"seam_length\": " << number(a.seam_length) << ", \"seam_edges\": " << a.seam_edges
       << ", \"overlapping_faces\": " << a.overlapping_faces
       << ", \"utilization\": " << number(a.utilization) << ", \"padding\": " << number(a.padding)

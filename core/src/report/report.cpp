@@ -254,7 +254,10 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
             << "), max |u - mean u| " << p.max_deviation;
     }
     std::ostringstream harmonic;
-    if (a.harmonic_charts > 0) {
+    if (a.on_input_faces) {
+      harmonic << "; drawn on the common subdivision, delivered on your faces";
+      if (a.harmonic_charts > 0) harmonic << ", " << a.harmonic_charts << " harmonic inside";
+    } else if (a.harmonic_charts > 0) {
       harmonic << "; " << a.harmonic_charts << " of the common subdivision drawn harmonic inside "
                << "their border";
     }

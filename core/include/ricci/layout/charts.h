@@ -54,9 +54,10 @@ std::vector<int> chart_wedges(const Triangulation& mesh, const std::vector<char>
 //! border as drawn: the wedges of the border (at a seam or a boundary edge) stay, the others go
 //! where the cotangent Laplacian of the faces' 3D shapes (`positions`) vanishes, the map of least
 //! conformal energy with that border. A chart keeps its drawing where the redrawn one turns a face
-//! over, overlaps itself or has a higher 95th percentile of quasi-conformal ratio, or a face of it
-//! has no 3D area. Returns the charts redrawn. The charts' max_relative_length_error stays the
-//! development's: a redrawn inside leaves the metric's lengths on purpose.
+//! over, overlaps itself, or has a higher 95th percentile of quasi-conformal ratio than a drawing
+//! with no face turned over, or a face of it has no 3D area. Returns the charts redrawn. The
+//! charts' max_relative_length_error stays the development's: a redrawn inside leaves the metric's
+//! lengths on purpose.
 int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Vector3d>& positions,
                           const std::vector<char>& cut, const std::vector<char>& which,
                           Charts& charts);

@@ -115,8 +115,14 @@ struct AtlasResult {
   //! Charts split because they overlapped themselves, and the splits.
   int charts_split = 0, splits = 0;
   int halvings = 0;  //!< long charts halved across their long axis (for the packing)
-  //! Charts of a common subdivision whose inside is drawn as the harmonic map of their border.
+  //! Charts whose inside is drawn as the harmonic map of their border (of a common subdivision,
+  //! or moved onto the user's faces).
   int harmonic_charts = 0;
+  //! The flow flipped edges, and the atlas is delivered on the user's faces all the same: its
+  //! charts drawn on the common subdivision, then moved onto the input's faces, none of which
+  //! turns over or overlaps (the input's vertices keep their chart positions; see
+  //! pipeline/texture_atlas.h).
+  bool on_input_faces = false;
   //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
   std::vector<std::array<Eigen::Vector2d, 3>> texture;
   double utilization = 0;
