@@ -123,6 +123,15 @@ std::vector<std::array<double, 3>> drawn_sides(
   return sides;
 }
 
+// The user's faces are delivered where their QC p95 exceeds 1 by at most this much more than the
+// pieces' does: the two percentiles sample the same map over other triangles (the pieces of a
+// fine mesh's faces are a few percent more), and differ there by what the sampling moves them.
+// On the 160 files of the real-mesh set and CGAL's delivered on a subdivision, the glmark2 bunny
+// (69,666 faces, 75,452 pieces) is at 1.0441 against 1.0437 (0.9 % of the excess), the DTC hull
+// 0.3 %, the bear 0.0 %; the next above 2 % are at 3.5 % (a patch of 638 faces) and 4.3 %
+// (fandisk, 12,946 faces, 1.0822 against 1.0788).
+constexpr double kSameQc = 0.02;
+
 // D and the 95th percentile of QC of faces as drawn.
 struct AsDrawn {
   double distortion, qc_p95;
@@ -150,7 +159,8 @@ double qc_p95(const std::vector<Eigen::Vector3d>& positions,
 
 // A common subdivision's charts as developed, moved onto the user's faces (charts_on_input),
 // their insides drawn harmonic where that is more nearly conformal; given where no face turns over
-// or overlaps another of its chart, QC p95 is no higher than the pieces' as delivered, and D is
+// or overlaps another of its chart, QC p95 is no higher than the pieces' as delivered (within
+// kSameQc of its excess over 1), and D is
 // within `bound` (NaN: none) or no higher than the pieces'. `redrawn`: the charts whose insides
 // were redrawn.
 std::optional<InputCharts> user_faces_drawn(const CompactMesh& mesh, const CommonSubdivision& sub,
@@ -164,7 +174,8 @@ std::optional<InputCharts> user_faces_drawn(const CompactMesh& mesh, const Commo
   for (const auto& t : in->charts.corners) {
     if (!(signed_area(t) > 0)) return std::nullopt;
   }
-  if (qc_p95(mesh.positions(), mesh.faces(), in->charts.corners) > pieces.qc_p95) {
+  if (qc_p95(mesh.positions(), mesh.faces(), in->charts.corners) - 1 >
+      (1 + kSameQc) * (pieces.qc_p95 - 1)) {
     return std::nullopt;
   }
   const double d = face_distortion(mesh.positions(), mesh.faces(), in->charts.corners);
