@@ -257,6 +257,10 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     if (a.on_input_faces) {
       harmonic << "; drawn on the common subdivision, delivered on your faces";
       if (a.harmonic_charts > 0) harmonic << ", " << a.harmonic_charts << " harmonic inside";
+      if (a.untangled > 0) {
+        harmonic << ", " << a.untangled << (a.untangled == 1 ? " vertex" : " vertices")
+                 << " moved off turned faces";
+      }
     } else if (a.harmonic_charts > 0) {
       harmonic << "; " << a.harmonic_charts << " of the common subdivision drawn harmonic inside "
                << "their border";

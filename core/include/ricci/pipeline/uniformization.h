@@ -123,6 +123,9 @@ struct AtlasResult {
   //! turns over or overlaps (the input's vertices keep their chart positions; see
   //! pipeline/texture_atlas.h).
   bool on_input_faces = false;
+  //! There: vertices moved (each towards the mean of its neighbours, the least way that turns its
+  //! faces counter-clockwise) where the harmonic drawing turned a face over.
+  int untangled = 0;
   //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
   std::vector<std::array<Eigen::Vector2d, 3>> texture;
   double utilization = 0;
