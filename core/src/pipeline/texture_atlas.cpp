@@ -224,11 +224,14 @@ struct UserFaces {
   int redrawn = 0, untangled = 0;
 };
 
-// A common subdivision's charts as developed, moved onto the user's faces (charts_on_input), their
-// insides drawn harmonic where that is more nearly conformal and turned faces untangled; given
-// where no face turns over or overlaps another of its chart, QC p95 is no higher than the pieces'
-// as delivered (within kSameQc of its excess over 1), and D is within `bound` (NaN: none) or no
-// higher than the pieces'.
+// A common subdivision's charts as developed, moved onto the user's faces (charts_on_input), turned
+// faces untangled; where that drawing does not qualify, their insides drawn harmonic where that is
+// more nearly conformal, and untangled again. Given where no face turns over or overlaps another
+// of its chart, QC p95 is no higher than the pieces' as delivered (within kSameQc of its excess
+// over 1), and D is within `bound` (NaN: none) or no higher than the pieces'. The harmonic drawing
+// costs a factorization, and on the faces of a fine mesh it moves QC p95 little: on the 161 files
+// of the real-mesh set and CGAL's with a subdivision, by at most 8 % of its excess over 1 above
+// 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
 std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonSubdivision& sub,
                                           const Triangulation& delivered,
                                           const std::vector<char>& seam, const Charts& developed,
@@ -236,16 +239,20 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
   std::optional<InputCharts> in = charts_on_input(mesh, sub, delivered, seam, developed);
   if (!in) return std::nullopt;
   UserFaces drawn;
-  drawn.redrawn = draw_harmonic_insides(mesh, mesh.positions(), in->seam,
-                                        std::vector<char>(in->charts.num_charts, 1), in->charts);
-  drawn.untangled = untangle(mesh, in->seam, in->charts);
-  const Charts& charts = in->charts;
-  for (const auto& t : charts.corners) {
-    if (!(signed_area(t) > 0)) return std::nullopt;
-  }
-  if (qc_p95(mesh.positions(), mesh.faces(), charts.corners) - 1 >
-      (1 + kSameQc) * (pieces.qc_p95 - 1)) {
-    return std::nullopt;
+  Charts& charts = in->charts;
+  const auto qualifies = [&] {
+    for (const auto& t : charts.corners) {
+      if (!(signed_area(t) > 0)) return false;
+    }
+    return qc_p95(mesh.positions(), mesh.faces(), charts.corners) - 1 <=
+           (1 + kSameQc) * (pieces.qc_p95 - 1);
+  };
+  drawn.untangled = untangle(mesh, in->seam, charts);
+  if (!qualifies()) {
+    drawn.redrawn = draw_harmonic_insides(mesh, mesh.positions(), in->seam,
+                                          std::vector<char>(charts.num_charts, 1), charts);
+    drawn.untangled += untangle(mesh, in->seam, charts);
+    if (!qualifies()) return std::nullopt;
   }
   const double d = face_distortion(mesh.positions(), mesh.faces(), charts.corners);
   if (d > bound && d > pieces.distortion) return std::nullopt;
