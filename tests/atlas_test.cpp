@@ -429,7 +429,8 @@ TEST(Atlas, WhereTheUsersFacesDrawWithoutTurningOverTheAtlasKeepsThem) {
   // onto the input's faces they turn none over, overlap nowhere and are no less conformal: the
   // user's mesh comes back, with its faces and vertices only.
   const std::string knot = cgal("knot1.off");
-  const Atlas a = run_atlas(knot);
+  const std::string report = temp("knot1.json");
+  const Atlas a = run_atlas(knot, "--report " + report);
   expect_valid_atlas(a, knot, 0.2);
   EXPECT_NE(a.summary.find("delivered on your faces"), std::string::npos) << a.summary;
   const MeshFile input = read_mesh_file(knot);
@@ -438,10 +439,10 @@ TEST(Atlas, WhereTheUsersFacesDrawWithoutTurningOverTheAtlasKeepsThem) {
   for (size_t f = 0; f < input.triangles.size(); ++f) {
     for (int c = 0; c < 3; ++c) ASSERT_EQ(a.ply.faces[f][c], input.triangles[f][c]);
   }
-  // The seams glue: an edge whose two faces give its ends other texture coordinates has the same
-  // length on both sides (the charts are packed at one scale), up to the rounding that the
-  // charts' development along their faces gathers (1e-9 here), and an edge inside a chart the
-  // same coordinates on both.
+  // The seams glue: an edge whose two faces give its ends other texture coordinates is one of the
+  // report's seam edges, and has the same length on both sides (the charts are packed at one
+  // scale), up to the rounding that the charts' development along their faces gathers (1e-9
+  // here); every other edge has the same coordinates on both sides.
   std::map<std::pair<int, int>, std::vector<std::pair<Point, Point>>> sides;
   for (size_t f = 0; f < a.ply.faces.size(); ++f) {
     for (int c = 0; c < 3; ++c) {
@@ -463,6 +464,12 @@ TEST(Atlas, WhereTheUsersFacesDrawWithoutTurningOverTheAtlasKeepsThem) {
   }
   EXPECT_GT(seams, 0);
   EXPECT_LT(worst, 1e-7);
+  const std::string json = slurp(report);
+  const std::string key = "\"seam_edges\": ";
+  const size_t at = json.find(key);
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_EQ(seams, std::stoi(json.substr(at + key.size(), 12)));
+  EXPECT_NE(json.find("\"on_input_faces\": true"), std::string::npos);
 }
 
 TEST(Atlas, AFaceTheUsersFacesTurnOverIsUntangled) {
@@ -474,7 +481,7 @@ TEST(Atlas, AFaceTheUsersFacesTurnOverIsUntangled) {
   const Atlas a = run_atlas(nozzle);
   expect_valid_atlas(a, nozzle, 0.2);
   EXPECT_NE(a.summary.find("delivered on your faces"), std::string::npos) << a.summary;
-  EXPECT_NE(a.summary.find("moved off turned faces"), std::string::npos) << a.summary;
+  EXPECT_NE(a.summary.find("1 vertex moved off turned faces"), std::string::npos) << a.summary;
   EXPECT_EQ(a.ply.faces.size(), read_mesh_file(nozzle).triangles.size());
   EXPECT_LT(test::percentile(quasi_conformal(a), 0.95), 1.6);
 }

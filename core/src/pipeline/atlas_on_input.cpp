@@ -18,6 +18,7 @@ std::optional<InputCharts> charts_on_input(const CompactMesh& mesh, const Common
                                            const Triangulation& delivered,
                                            const std::vector<char>& seam, const Charts& charts) {
   const int nv = mesh.num_vertices();
+  if (sub.num_input_vertices != nv) return std::nullopt;  // not this mesh's subdivision
   const auto key = [nv](int a, int b) {
     return static_cast<long long>(std::min(a, b)) * nv + std::max(a, b);
   };

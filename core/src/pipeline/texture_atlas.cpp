@@ -136,9 +136,9 @@ constexpr double kSameQc = 0.02;
 // the mean of its neighbours, the least of 1/16, 1/8 .. 1 of the way that leaves every face around
 // it counter-clockwise (a vertex inside the kernel of its star has its faces all
 // counter-clockwise; the mean is there where the star is not far from convex), at most
-// kUntangleRounds over the faces still turned. Returns the wedges moved.
+// kUntangleRounds over the faces still turned. Returns the wedges moved (each by a corner of it).
 constexpr int kUntangleRounds = 4;
-int untangle(const Triangulation& mesh, const std::vector<char>& cut, Charts& charts) {
+std::vector<int> untangle(const Triangulation& mesh, const std::vector<char>& cut, Charts& charts) {
   const int nf = mesh.num_faces();
   const std::vector<int> wedge = chart_wedges(mesh, cut);
   std::vector<char> border(3 * static_cast<size_t>(nf), 0);
@@ -159,7 +159,7 @@ int untangle(const Triangulation& mesh, const std::vector<char>& cut, Charts& ch
     return true;
   };
   std::vector<char> moved(3 * static_cast<size_t>(nf), 0);
-  int count = 0;
+  std::vector<int> wedges_moved;
   for (int round = 0; round < kUntangleRounds; ++round) {
     std::vector<int> turned;
     for (int f = 0; f < nf; ++f) {
@@ -185,11 +185,11 @@ int untangle(const Triangulation& mesh, const std::vector<char>& cut, Charts& ch
             for (int k : corners_of[w]) charts.corners[k / 3][k % 3] = from;
           }
         }
-        if (!(position(w) == from)) count += !moved[w], moved[w] = 1;
+        if (!(position(w) == from) && !moved[w]) moved[w] = 1, wedges_moved.push_back(w);
       }
     }
   }
-  return count;
+  return wedges_moved;
 }
 
 // D and the 95th percentile of QC of faces as drawn.
@@ -228,10 +228,10 @@ struct UserFaces {
 // faces untangled; where that drawing does not qualify, their insides drawn harmonic where that is
 // more nearly conformal, and untangled again. Given where no face turns over or overlaps another
 // of its chart, QC p95 is no higher than the pieces' as delivered (within kSameQc of its excess
-// over 1), and D is within `bound` (NaN: none) or no higher than the pieces'. The harmonic drawing
-// costs a factorization, and on the faces of a fine mesh it moves QC p95 little: on the 161 files
-// of the real-mesh set and CGAL's with a subdivision, by at most 8 % of its excess over 1 above
-// 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
+// over 1), and D is within `bound` or no higher than the pieces' (`bound` NaN: the latter). The
+// harmonic drawing costs a factorization, and on the faces of a fine mesh it moves QC p95 little:
+// on the 161 files of the real-mesh set and CGAL's with a subdivision, by at most 8 % of its excess
+// over 1 above 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
 std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonSubdivision& sub,
                                           const Triangulation& delivered,
                                           const std::vector<char>& seam, const Charts& developed,
@@ -247,15 +247,26 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
     return qc_p95(mesh.positions(), mesh.faces(), charts.corners) - 1 <=
            (1 + kSameQc) * (pieces.qc_p95 - 1);
   };
-  drawn.untangled = untangle(mesh, in->seam, charts);
+  std::vector<int> moved = untangle(mesh, in->seam, charts);
   if (!qualifies()) {
+    const Charts untangled = charts;
     drawn.redrawn = draw_harmonic_insides(mesh, mesh.positions(), in->seam,
                                           std::vector<char>(charts.num_charts, 1), charts);
-    drawn.untangled += untangle(mesh, in->seam, charts);
+    // The wedges moved before and not redrawn since, and those moved again.
+    std::vector<int> kept;
+    for (int w : moved) {
+      if (charts.corners[w / 3][w % 3] == untangled.corners[w / 3][w % 3]) kept.push_back(w);
+    }
+    moved = std::move(kept);
+    for (int w : untangle(mesh, in->seam, charts)) {
+      if (std::find(moved.begin(), moved.end(), w) == moved.end()) moved.push_back(w);
+    }
     if (!qualifies()) return std::nullopt;
   }
+  drawn.untangled = static_cast<int>(moved.size());
+  // Above the bound (or with none, the user's cones) no higher than the pieces'.
   const double d = face_distortion(mesh.positions(), mesh.faces(), charts.corners);
-  if (d > bound && d > pieces.distortion) return std::nullopt;
+  if (!(d <= bound) && d > pieces.distortion) return std::nullopt;
   if (!overlapping_faces(mesh, in->seam, charts).empty()) return std::nullopt;
   drawn.in = std::move(*in);
   return drawn;
@@ -393,6 +404,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   run.corners.clear();
   const std::vector<double>& lengths = run.result.edge_lengths;
   AtlasResult& atlas = run.atlas;
+  atlas.on_input_faces = false;
+  atlas.untangled = 0;
   atlas.flow_distortion = area_distortion(mesh, run.result.u);
   atlas.cone_angles.clear();
   std::vector<int> cones, branches;

@@ -4,16 +4,19 @@
 //
 //   delivered mesh   the input's faces, or where the flow flipped edges the common subdivision
 //                    (its pieces are pieces of the flat metric's triangles, so each is drawn by its
-//                    own side lengths: the discrete conformal map)
+//                    own side lengths: the discrete conformal map), unless the charts go back onto
+//                    the user's faces (below)
 //   seams            cut_through_cones (seams.h) on the delivered edges that lie on the user's
 //                    edges, weighted by their 3D length; cones of angle above 2 pi get a branch per
 //                    full turn
 //   charts           lay_out_charts (charts.h); a chart whose faces overlap is split along a short
 //                    path between the overlapping sheets and laid out again (the metric is flat:
 //                    no new flow)
-//   user's faces     a subdivision's charts moved onto the input's faces (charts_on_input), their
-//                    insides drawn harmonic, where none of them turns over or overlaps and D stays
-//                    within the bound: the user's mesh comes back with texture coordinates only
+//   user's faces     a subdivision's charts moved onto the input's faces (charts_on_input), turned
+//                    faces untangled, the insides drawn harmonic where that is needed: delivered
+//                    where none of them turns over or overlaps, QC p95 is about the pieces' or
+//                    lower and D within the bound: the user's mesh comes back with texture
+//                    coordinates only
 // Not installed API.
 #pragma once
 
@@ -58,7 +61,8 @@ std::vector<double> lengths_in_3d(const Triangulation& delivered,
                                   const std::vector<Eigen::Vector3d>& positions);
 
 //! The atlas layout of a converged flow: run.corners (z = 0), run.face_chart, run.subdivision
-//! where the flow flipped edges, run.atlas; run.layout holds the delivered corners.
+//! where the flow flipped edges and the charts stay on it (not run.atlas.on_input_faces),
+//! run.atlas; run.layout holds the delivered corners.
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
 
 //! The area distortion D of laid-out faces, as an independent check of an atlas measures it: with

@@ -119,9 +119,11 @@ struct AtlasResult {
   //! or moved onto the user's faces).
   int harmonic_charts = 0;
   //! The flow flipped edges, and the atlas is delivered on the user's faces all the same: its
-  //! charts drawn on the common subdivision, then moved onto the input's faces, none of which
-  //! turns over or overlaps (the input's vertices keep their chart positions; see
-  //! pipeline/texture_atlas.h).
+  //! charts drawn on the common subdivision, then moved onto the input's faces (the input's
+  //! vertices where the charts put them, but for those untangled or drawn harmonic inside), none
+  //! of which turns over or overlaps (see pipeline/texture_atlas.h). The layout's
+  //! max_relative_length_error is then still the charts' development's: the input's edges are
+  //! drawn as chords, not at the metric's lengths.
   bool on_input_faces = false;
   //! There: vertices moved (each towards the mean of its neighbours, the least way that turns its
   //! faces counter-clockwise) where the harmonic drawing turned a face over.

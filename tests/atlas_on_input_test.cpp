@@ -1,0 +1,113 @@
+// charts_on_input (pipeline/texture_atlas.h): a common subdivision's charts moved onto the user's
+// faces, on a square of two faces whose diagonal a new vertex splits into two pieces each.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "pipeline/texture_atlas.h"
+#include "ricci/subdivision/subdivided_mesh.h"
+
+namespace ricci::detail {
+namespace {
+
+struct Square {
+  CompactMesh mesh;
+  CommonSubdivision sub;
+  Triangulation delivered;
+  Charts charts;
+  int diagonal = -1;  // the input edge 0-2
+};
+
+// The square (0, 0) .. (1, 1), faces {0, 1, 2} and {0, 2, 3}, and vertex 4 at the diagonal's
+// midpoint: pieces {0, 1, 4}, {4, 1, 2} of face 0 and {0, 4, 3}, {4, 2, 3} of face 1, drawn at
+// twice the size, moved by (3, 5), all in chart 0.
+Square square() {
+  const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  CompactMesh mesh(p, {{0, 1, 2}, {0, 2, 3}});
+  int diagonal = -1;
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const auto [a, b] = mesh.edge_vertices(e);
+    if (a == 0 && b == 2) diagonal = e;
+  }
+  CommonSubdivision sub;
+  sub.num_input_vertices = 4;
+  sub.positions = p;
+  sub.positions.emplace_back(0.5, 0.5, 0);
+  sub.faces = {{0, 1, 4}, {4, 1, 2}, {0, 4, 3}, {4, 2, 3}};
+  sub.input_face = {0, 0, 1, 1};
+  sub.vertex_input_edge = {diagonal};
+  sub.vertex_edge_parameter = {0.5};
+  Charts charts;
+  charts.num_charts = 1;
+  charts.chart.assign(4, 0);
+  for (const auto& t : sub.faces) {
+    std::array<Eigen::Vector2d, 3> q;
+    for (int c = 0; c < 3; ++c) q[c] = 2 * sub.positions[t[c]].head<2>() + Eigen::Vector2d(3, 5);
+    charts.corners.push_back(q);
+  }
+  Triangulation delivered = Triangulation::from_faces(5, sub.faces);
+  return {std::move(mesh), std::move(sub), std::move(delivered), std::move(charts), diagonal};
+}
+
+// Per delivered edge, 1 on the edges between the listed vertex pairs.
+std::vector<char> seam_on(const Triangulation& t, const std::vector<std::array<int, 2>>& pairs) {
+  std::vector<char> seam(t.num_edges(), 0);
+  for (int e = 0; e < t.num_edges(); ++e) {
+    for (const auto& [a, b] : pairs) {
+      const auto ends = t.edge_vertices(e);
+      if ((ends[0] == a && ends[1] == b) || (ends[0] == b && ends[1] == a)) seam[e] = 1;
+    }
+  }
+  return seam;
+}
+
+TEST(ChartsOnInput, EachInputFaceTakesItsPiecesChartAndCorners) {
+  const Square s = square();
+  ASSERT_GE(s.diagonal, 0);
+  const auto in = charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {}), s.charts);
+  ASSERT_TRUE(in.has_value());
+  EXPECT_EQ(in->charts.num_charts, 1);
+  EXPECT_EQ(in->charts.chart, (std::vector<int>{0, 0}));
+  EXPECT_EQ(in->seam, std::vector<char>(s.mesh.num_edges(), 0));
+  for (int f = 0; f < 2; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d p = s.mesh.positions()[s.mesh.faces()[f][c]];
+      EXPECT_EQ(in->charts.corners[f][c], 2 * p.head<2>() + Eigen::Vector2d(3, 5));
+    }
+  }
+}
+
+TEST(ChartsOnInput, ASeamAlongAWholeInputEdgeIsThatEdge) {
+  Square s = square();
+  s.charts.num_charts = 2;
+  s.charts.chart = {0, 0, 1, 1};
+  const auto in =
+      charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {{0, 4}, {4, 2}}), s.charts);
+  ASSERT_TRUE(in.has_value());
+  EXPECT_EQ(in->charts.chart, (std::vector<int>{0, 1}));
+  for (int e = 0; e < s.mesh.num_edges(); ++e) EXPECT_EQ(in->seam[e], e == s.diagonal) << e;
+}
+
+TEST(ChartsOnInput, NoneWhereTheSeamsOrChartsDoNotFollowTheInputsFaces) {
+  Square s = square();
+  // A seam along half of the diagonal only.
+  EXPECT_FALSE(
+      charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {{0, 4}}), s.charts));
+  // A seam inside input face 0 (from its corner 1 to the diagonal's midpoint).
+  EXPECT_FALSE(
+      charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {{1, 4}}), s.charts));
+  // The pieces of input face 0 in two charts.
+  Charts split = s.charts;
+  split.num_charts = 2;
+  split.chart = {0, 1, 1, 1};
+  EXPECT_FALSE(charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {}), split));
+  // Another mesh's subdivision.
+  s.sub.num_input_vertices = 3;
+  EXPECT_FALSE(charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {}), s.charts));
+}
+
+}  // namespace
+}  // namespace ricci::detail
