@@ -230,7 +230,7 @@ struct UserFaces {
 // of its chart, QC p95 is no higher than the pieces' as delivered (within kSameQc of its excess
 // over 1), and D is within `bound` or no higher than the pieces' (`bound` NaN: the latter). The
 // harmonic drawing costs a factorization, and on the faces of a fine mesh it moves QC p95 little:
-// on the 161 files of the real-mesh set and CGAL's with a subdivision, by at most 8 % of its excess
+// on the 160 files of the real-mesh set and CGAL's with a subdivision, by at most 8 % of its excess
 // over 1 above 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
 std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonSubdivision& sub,
                                           const Triangulation& delivered,
