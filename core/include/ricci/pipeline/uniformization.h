@@ -126,7 +126,7 @@ struct AtlasResult {
   //! drawn as chords, not at the metric's lengths.
   bool on_input_faces = false;
   //! There: vertices moved (each towards the mean of its neighbours, the least way that turns its
-  //! faces counter-clockwise) where the harmonic drawing turned a face over.
+  //! faces counter-clockwise) where the drawing on the input's faces turned a face over.
   int untangled = 0;
   //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
   std::vector<std::array<Eigen::Vector2d, 3>> texture;
