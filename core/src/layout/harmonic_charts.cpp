@@ -1,4 +1,5 @@
-// The inside of a chart redrawn as the harmonic map of its border (ricci/layout/charts.h).
+// The inside of a chart redrawn as the harmonic map of its border, and faces drawn turned over
+// untangled (ricci/layout/charts.h).
 //
 // A common subdivision's pieces are drawn one by one from the flowed metric, and their new
 // vertices sit where the flow's crossings put them; with the chart's border kept, the map of least
@@ -28,14 +29,8 @@ std::vector<double> chart_qc_p95(const Triangulation& mesh,
   std::vector<std::vector<double>> qc(charts.num_charts);
   for (int f = 0; f < mesh.num_faces(); ++f) {
     if (!which[charts.chart[f]]) continue;
-    const auto& t = mesh.faces()[f];
-    const auto& q = charts.corners[f];
-    std::array<double, 3> from, to;  // side lengths, opposite each corner
-    for (int c = 0; c < 3; ++c) {
-      from[c] = (positions[t[(c + 2) % 3]] - positions[t[(c + 1) % 3]]).norm();
-      to[c] = (q[(c + 2) % 3] - q[(c + 1) % 3]).norm();
-    }
-    qc[charts.chart[f]].push_back(quasi_conformal_ratio(from, to));
+    qc[charts.chart[f]].push_back(
+        drawn_quasi_conformal_ratio(positions, mesh.faces()[f], charts.corners[f]));
   }
   std::vector<double> p95(charts.num_charts, 0);
   for (int k = 0; k < charts.num_charts; ++k) {
@@ -45,6 +40,21 @@ std::vector<double> chart_qc_p95(const Triangulation& mesh,
     p95[k] = qc[k][i];
   }
   return p95;
+}
+
+// Per face corner, 1 where its wedge is on the border: at a seam or a boundary edge.
+std::vector<char> border_wedges(const Triangulation& mesh, const std::vector<char>& cut,
+                                const std::vector<int>& wedge) {
+  const int nf = mesh.num_faces();
+  std::vector<char> border(3 * static_cast<size_t>(nf), 0);
+  for (int f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int h = 3 * f + c;  // the side opposite corner c: its two ends are on it
+      if (mesh.twin(h) >= 0 && !cut[mesh.face_edge(f, c)]) continue;
+      border[wedge[3 * f + (c + 1) % 3]] = border[wedge[3 * f + (c + 2) % 3]] = 1;
+    }
+  }
+  return border;
 }
 
 }  // namespace
@@ -68,15 +78,7 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
       if (!(twice_area > 0) || !std::isfinite(cot[f][c])) redrawn[charts.chart[f]] = 0;
     }
   }
-  // The border's wedges: those at a seam or a boundary edge.
-  std::vector<char> border(3 * nf, 0);
-  for (int f = 0; f < nf; ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int h = 3 * f + c;  // the side opposite corner c: its two ends are on it
-      if (mesh.twin(h) >= 0 && !cut[mesh.face_edge(f, c)]) continue;
-      border[wedge[3 * f + (c + 1) % 3]] = border[wedge[3 * f + (c + 2) % 3]] = 1;
-    }
-  }
+  const std::vector<char> border = border_wedges(mesh, cut, wedge);
   std::vector<int> unknown(3 * nf, -1);
   int n = 0;
   for (int k = 0; k < 3 * nf; ++k) {
@@ -146,6 +148,68 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
   }
   for (int k = 0; k < charts.num_charts; ++k) count += redrawn[k];
   return count;
+}
+
+double drawn_quasi_conformal_ratio(const std::vector<Eigen::Vector3d>& positions,
+                                   const std::array<int, 3>& face,
+                                   const std::array<Eigen::Vector2d, 3>& corners) {
+  std::array<double, 3> from, to;  // side lengths, opposite each corner
+  for (int c = 0; c < 3; ++c) {
+    from[c] = (positions[face[(c + 2) % 3]] - positions[face[(c + 1) % 3]]).norm();
+    to[c] = (corners[(c + 2) % 3] - corners[(c + 1) % 3]).norm();
+  }
+  return quasi_conformal_ratio(from, to);
+}
+
+// Rounds over the faces still turned.
+constexpr int kUntangleRounds = 4;
+
+std::vector<int> untangle_turned_faces(const Triangulation& mesh, const std::vector<char>& cut,
+                                       Charts& charts) {
+  const int nf = mesh.num_faces();
+  const std::vector<int> wedge = chart_wedges(mesh, cut);
+  const std::vector<char> border = border_wedges(mesh, cut, wedge);
+  std::vector<std::vector<int>> corners_of(3 * static_cast<size_t>(nf));
+  for (int k = 0; k < 3 * nf; ++k) corners_of[wedge[k]].push_back(k);
+  const auto position = [&](int w) { return charts.corners[w / 3][w % 3]; };
+  const auto star_positive = [&](int w) {
+    for (int k : corners_of[w]) {
+      if (!(signed_area(charts.corners[k / 3]) > 0)) return false;
+    }
+    return true;
+  };
+  std::vector<char> moved(3 * static_cast<size_t>(nf), 0);
+  std::vector<int> wedges_moved;
+  for (int round = 0; round < kUntangleRounds; ++round) {
+    std::vector<int> turned;
+    for (int f = 0; f < nf; ++f) {
+      if (!(signed_area(charts.corners[f]) > 0)) turned.push_back(f);
+    }
+    if (turned.empty()) break;
+    for (int f : turned) {
+      for (int c = 0; c < 3 && !(signed_area(charts.corners[f]) > 0); ++c) {
+        const int w = wedge[3 * f + c];
+        if (border[w]) continue;
+        Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+        for (int k : corners_of[w]) {
+          sum += position(wedge[3 * (k / 3) + (k % 3 + 1) % 3]);
+          sum += position(wedge[3 * (k / 3) + (k % 3 + 2) % 3]);
+        }
+        const Eigen::Vector2d mean = sum / (2.0 * static_cast<double>(corners_of[w].size()));
+        const Eigen::Vector2d from = position(w);
+        for (double t = 1.0 / 16; t <= 1; t *= 2) {
+          const Eigen::Vector2d p = from + t * (mean - from);
+          for (int k : corners_of[w]) charts.corners[k / 3][k % 3] = p;
+          if (star_positive(w)) break;
+          if (t == 1) {
+            for (int k : corners_of[w]) charts.corners[k / 3][k % 3] = from;
+          }
+        }
+        if (!(position(w) == from) && !moved[w]) moved[w] = 1, wedges_moved.push_back(w);
+      }
+    }
+  }
+  return wedges_moved;
 }
 
 }  // namespace ricci

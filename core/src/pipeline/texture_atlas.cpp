@@ -132,66 +132,6 @@ std::vector<std::array<double, 3>> drawn_sides(
 // (fandisk, 12,946 faces, 1.0822 against 1.0788).
 constexpr double kSameQc = 0.02;
 
-// Faces turned over in `charts` untangled: a wedge off the border of such a face moved towards
-// the mean of its neighbours, the least of 1/16, 1/8 .. 1 of the way that leaves every face around
-// it counter-clockwise (a vertex inside the kernel of its star has its faces all
-// counter-clockwise; the mean is there where the star is not far from convex), at most
-// kUntangleRounds over the faces still turned. Returns the wedges moved (each by a corner of it).
-constexpr int kUntangleRounds = 4;
-std::vector<int> untangle(const Triangulation& mesh, const std::vector<char>& cut, Charts& charts) {
-  const int nf = mesh.num_faces();
-  const std::vector<int> wedge = chart_wedges(mesh, cut);
-  std::vector<char> border(3 * static_cast<size_t>(nf), 0);
-  for (int f = 0; f < nf; ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int h = 3 * f + c;
-      if (mesh.twin(h) >= 0 && !cut[mesh.face_edge(f, c)]) continue;
-      border[wedge[3 * f + (c + 1) % 3]] = border[wedge[3 * f + (c + 2) % 3]] = 1;
-    }
-  }
-  std::vector<std::vector<int>> corners_of(3 * static_cast<size_t>(nf));
-  for (int k = 0; k < 3 * nf; ++k) corners_of[wedge[k]].push_back(k);
-  const auto position = [&](int w) { return charts.corners[w / 3][w % 3]; };
-  const auto star_positive = [&](int w) {
-    for (int k : corners_of[w]) {
-      if (!(signed_area(charts.corners[k / 3]) > 0)) return false;
-    }
-    return true;
-  };
-  std::vector<char> moved(3 * static_cast<size_t>(nf), 0);
-  std::vector<int> wedges_moved;
-  for (int round = 0; round < kUntangleRounds; ++round) {
-    std::vector<int> turned;
-    for (int f = 0; f < nf; ++f) {
-      if (!(signed_area(charts.corners[f]) > 0)) turned.push_back(f);
-    }
-    if (turned.empty()) break;
-    for (int f : turned) {
-      for (int c = 0; c < 3 && !(signed_area(charts.corners[f]) > 0); ++c) {
-        const int w = wedge[3 * f + c];
-        if (border[w]) continue;
-        Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-        for (int k : corners_of[w]) {
-          sum += position(wedge[3 * (k / 3) + (k % 3 + 1) % 3]);
-          sum += position(wedge[3 * (k / 3) + (k % 3 + 2) % 3]);
-        }
-        const Eigen::Vector2d mean = sum / (2.0 * static_cast<double>(corners_of[w].size()));
-        const Eigen::Vector2d from = position(w);
-        for (double t = 1.0 / 16; t <= 1; t *= 2) {
-          const Eigen::Vector2d p = from + t * (mean - from);
-          for (int k : corners_of[w]) charts.corners[k / 3][k % 3] = p;
-          if (star_positive(w)) break;
-          if (t == 1) {
-            for (int k : corners_of[w]) charts.corners[k / 3][k % 3] = from;
-          }
-        }
-        if (!(position(w) == from) && !moved[w]) moved[w] = 1, wedges_moved.push_back(w);
-      }
-    }
-  }
-  return wedges_moved;
-}
-
 // D and the 95th percentile of QC of faces as drawn.
 struct AsDrawn {
   double distortion, qc_p95;
@@ -202,12 +142,7 @@ double qc_p95(const std::vector<Eigen::Vector3d>& positions,
               const std::vector<std::array<Eigen::Vector2d, 3>>& corners) {
   std::vector<double> qc(faces.size());
   for (size_t f = 0; f < faces.size(); ++f) {
-    std::array<double, 3> from, to;  // side lengths, opposite each corner
-    for (int c = 0; c < 3; ++c) {
-      from[c] = (positions[faces[f][(c + 2) % 3]] - positions[faces[f][(c + 1) % 3]]).norm();
-      to[c] = (corners[f][(c + 2) % 3] - corners[f][(c + 1) % 3]).norm();
-    }
-    qc[f] = quasi_conformal_ratio(from, to);
+    qc[f] = drawn_quasi_conformal_ratio(positions, faces[f], corners[f]);
   }
   if (qc.empty()) return 1;
   // the reports' 95th percentile (layout_quality.h)
@@ -247,7 +182,7 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
     return qc_p95(mesh.positions(), mesh.faces(), charts.corners) - 1 <=
            (1 + kSameQc) * (pieces.qc_p95 - 1);
   };
-  std::vector<int> moved = untangle(mesh, in->seam, charts);
+  std::vector<int> moved = untangle_turned_faces(mesh, in->seam, charts);
   if (!qualifies()) {
     const Charts untangled = charts;
     drawn.redrawn = draw_harmonic_insides(mesh, mesh.positions(), in->seam,
@@ -258,7 +193,7 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
       if (charts.corners[w / 3][w % 3] == untangled.corners[w / 3][w % 3]) kept.push_back(w);
     }
     moved = std::move(kept);
-    for (int w : untangle(mesh, in->seam, charts)) {
+    for (int w : untangle_turned_faces(mesh, in->seam, charts)) {
       if (std::find(moved.begin(), moved.end(), w) == moved.end()) moved.push_back(w);
     }
     if (!qualifies()) return std::nullopt;

@@ -62,6 +62,21 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
                           const std::vector<char>& cut, const std::vector<char>& which,
                           Charts& charts);
 
+//! Faces turned over in `charts` untangled: a wedge off the border of such a face moved towards
+//! the mean of its neighbours, the least of 1/16, 1/8 .. 1 of the way that leaves every face
+//! around it counter-clockwise (a vertex inside the kernel of its star has its faces all
+//! counter-clockwise; the mean is there where the star is not far from convex), in a few rounds
+//! over the faces still turned. A face whose corners are all on the border stays turned. Returns
+//! the wedges moved (each by a corner of it). `cut` as for lay_out_charts.
+std::vector<int> untangle_turned_faces(const Triangulation& mesh, const std::vector<char>& cut,
+                                       Charts& charts);
+
+//! The quasi-conformal ratio of a face's map from its 3D corners (`positions` at `face`) to its
+//! drawing `corners`.
+double drawn_quasi_conformal_ratio(const std::vector<Eigen::Vector3d>& positions,
+                                   const std::array<int, 3>& face,
+                                   const std::array<Eigen::Vector2d, 3>& corners);
+
 //! Pairs of faces of one chart whose interiors overlap (beyond a relative tolerance of 1e-9 of
 //! the chart's size): the whole chart tested, not only neighbours, through a hierarchy of the
 //! faces' bounding boxes. Each pair once, smaller face first; at most max_pairs of them
