@@ -9,7 +9,10 @@
 // piecewise linear functions: positive semi-definite on every mesh, definite once the border is
 // held, so one Cholesky factorization serves every chart redrawn.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include <Eigen/Geometry>
 #include <Eigen/Sparse>
@@ -164,19 +167,109 @@ double drawn_quasi_conformal_ratio(const std::vector<Eigen::Vector3d>& positions
 // Rounds over the faces still turned.
 constexpr int kUntangleRounds = 4;
 
+// The two sides of a seam at a vertex are taken as congruent where the rotations read from its two
+// seam edges agree to this, relative to the edges' lengths: a vertex inside a seam's path, not a
+// cone on it.
+constexpr double kSameRotation = 1e-6;
+
+namespace {
+
+// The seam beside each wedge: per wedge, its vertex's neighbours along seam edges, each as the
+// wedge that draws it on this side; and which vertices are on a boundary edge.
+struct SeamSides {
+  std::vector<std::vector<std::pair<int, int>>> neighbours;  // (vertex, its wedge on this side)
+  std::vector<std::vector<int>> wedges;                      // per vertex, its wedges
+  std::vector<char> on_boundary;                             // per vertex
+};
+
+SeamSides seam_sides(const Triangulation& mesh, const std::vector<char>& cut,
+                     const std::vector<int>& wedge) {
+  SeamSides s;
+  s.neighbours.resize(3 * static_cast<size_t>(mesh.num_faces()));
+  s.wedges.resize(mesh.num_vertices());
+  s.on_boundary.assign(mesh.num_vertices(), 0);
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = 3 * f + (c + 1) % 3, b = 3 * f + (c + 2) % 3;  // the side opposite c
+      const int va = mesh.faces()[f][(c + 1) % 3], vb = mesh.faces()[f][(c + 2) % 3];
+      if (mesh.twin(3 * f + c) < 0) {
+        s.on_boundary[va] = s.on_boundary[vb] = 1;
+      } else if (cut[mesh.face_edge(f, c)]) {
+        s.neighbours[wedge[a]].emplace_back(vb, wedge[b]);
+        s.neighbours[wedge[b]].emplace_back(va, wedge[a]);
+      }
+      std::vector<int>& at = s.wedges[mesh.faces()[f][c]];
+      if (std::find(at.begin(), at.end(), wedge[3 * f + c]) == at.end()) {
+        at.push_back(wedge[3 * f + c]);
+      }
+    }
+  }
+  return s;
+}
+
+// A vertex inside a seam's path: its two wedges, one on each side, and the rotation that takes the
+// drawing around the first to the drawing around the second (the two sides are congruent).
+struct Glued {
+  int first, second;
+  Eigen::Rotation2Dd rotation;
+};
+
+std::optional<Glued> glued(const SeamSides& s, int v, const Charts& charts) {
+  if (s.on_boundary[v] || s.wedges[v].size() != 2) return std::nullopt;
+  const int w1 = s.wedges[v][0], w2 = s.wedges[v][1];
+  const auto& n1 = s.neighbours[w1];
+  const auto& n2 = s.neighbours[w2];
+  if (n1.size() != 2 || n2.size() != 2 || n1[0].first == n1[1].first) return std::nullopt;
+  const auto position = [&](int w) { return charts.corners[w / 3][w % 3]; };
+  std::array<Eigen::Vector2d, 2> side1, side2;  // the seam's edges from v on each side
+  for (int i = 0; i < 2; ++i) {
+    const auto same = std::find_if(
+        n2.begin(), n2.end(), [&](const std::pair<int, int>& n) { return n.first == n1[i].first; });
+    if (same == n2.end()) return std::nullopt;
+    side1[i] = position(n1[i].second) - position(w1);
+    side2[i] = position(same->second) - position(w2);
+  }
+  const Glued g{
+      w1, w2,
+      Eigen::Rotation2Dd(std::atan2(side1[0].x() * side2[0].y() - side1[0].y() * side2[0].x(),
+                                    side1[0].dot(side2[0])))};
+  for (int i = 0; i < 2; ++i) {
+    if (!((g.rotation * side1[i] - side2[i]).norm() <= kSameRotation * side2[i].norm())) {
+      return std::nullopt;
+    }
+  }
+  return g;
+}
+
+}  // namespace
+
 std::vector<int> untangle_turned_faces(const Triangulation& mesh, const std::vector<char>& cut,
                                        Charts& charts) {
   const int nf = mesh.num_faces();
   const std::vector<int> wedge = chart_wedges(mesh, cut);
   const std::vector<char> border = border_wedges(mesh, cut, wedge);
+  const SeamSides seams = seam_sides(mesh, cut, wedge);
   std::vector<std::vector<int>> corners_of(3 * static_cast<size_t>(nf));
   for (int k = 0; k < 3 * nf; ++k) corners_of[wedge[k]].push_back(k);
   const auto position = [&](int w) { return charts.corners[w / 3][w % 3]; };
+  const auto place = [&](int w, const Eigen::Vector2d& p) {
+    for (int k : corners_of[w]) charts.corners[k / 3][k % 3] = p;
+  };
   const auto star_positive = [&](int w) {
     for (int k : corners_of[w]) {
       if (!(signed_area(charts.corners[k / 3]) > 0)) return false;
     }
     return true;
+  };
+  // The sum of w's neighbours around its star (each twice inside a chart), about w's position.
+  const auto neighbour_sum = [&](int w, int& count) {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (int k : corners_of[w]) {
+      sum += position(wedge[3 * (k / 3) + (k % 3 + 1) % 3]) - position(w);
+      sum += position(wedge[3 * (k / 3) + (k % 3 + 2) % 3]) - position(w);
+      count += 2;
+    }
+    return sum;
   };
   std::vector<char> moved(3 * static_cast<size_t>(nf), 0);
   std::vector<int> wedges_moved;
@@ -188,21 +281,32 @@ std::vector<int> untangle_turned_faces(const Triangulation& mesh, const std::vec
     if (turned.empty()) break;
     for (int f : turned) {
       for (int c = 0; c < 3 && !(signed_area(charts.corners[f]) > 0); ++c) {
-        const int w = wedge[3 * f + c];
-        if (border[w]) continue;
-        Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-        for (int k : corners_of[w]) {
-          sum += position(wedge[3 * (k / 3) + (k % 3 + 1) % 3]);
-          sum += position(wedge[3 * (k / 3) + (k % 3 + 2) % 3]);
+        // Off the border a wedge moves alone; inside a seam's path with its copy on the seam's
+        // other side, towards the mean of its neighbours on both, by the seam's rotation, so that
+        // the two sides stay congruent.
+        int w = wedge[3 * f + c], other = -1;
+        Eigen::Rotation2Dd rotation(0.0);
+        int count = 0;
+        Eigen::Vector2d step;
+        if (!border[w]) {
+          step = neighbour_sum(w, count);
+        } else if (const std::optional<Glued> g = glued(seams, mesh.faces()[f][c], charts)) {
+          w = g->first, other = g->second, rotation = g->rotation;
+          step = neighbour_sum(w, count);
+          step += rotation.inverse() * neighbour_sum(other, count);
+        } else {
+          continue;
         }
-        const Eigen::Vector2d mean = sum / (2.0 * static_cast<double>(corners_of[w].size()));
+        step /= count;
         const Eigen::Vector2d from = position(w);
+        const Eigen::Vector2d from_other = other >= 0 ? position(other) : from;
         for (double t = 1.0 / 16; t <= 1; t *= 2) {
-          const Eigen::Vector2d p = from + t * (mean - from);
-          for (int k : corners_of[w]) charts.corners[k / 3][k % 3] = p;
-          if (star_positive(w)) break;
+          place(w, from + t * step);
+          if (other >= 0) place(other, from_other + rotation * (t * step));
+          if (star_positive(w) && (other < 0 || star_positive(other))) break;
           if (t == 1) {
-            for (int k : corners_of[w]) charts.corners[k / 3][k % 3] = from;
+            place(w, from);
+            if (other >= 0) place(other, from_other);
           }
         }
         if (!(position(w) == from) && !moved[w]) moved[w] = 1, wedges_moved.push_back(w);
