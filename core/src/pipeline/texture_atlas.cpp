@@ -124,18 +124,17 @@ std::vector<std::array<double, 3>> drawn_sides(
 }
 
 // The user's faces as developed are redrawn harmonic inside where their QC p95 exceeds 1 by more
-// than this much more than the pieces' does: the two percentiles sample the same map over other
-// triangles (the pieces of a fine mesh's faces are a few percent more), and differ there by what
-// the sampling moves them. On the 160 files of the real-mesh set and CGAL's delivered on a
-// subdivision, the glmark2 bunny (69,666 faces, 75,452 pieces) is at 1.0441 against 1.0437 (0.9 %
-// of the excess), the DTC hull 0.3 %, the bear 0.0 %; the next above 2 % are at 3.5 % (a patch of
-// 638 faces) and 4.3 % (fandisk, 12,946 faces, 1.0822 against 1.0788).
+// than this much more than the pieces' as developed does: the two percentiles sample the same map
+// (the input's vertices where the pieces put them) over other triangles, and differ there by what
+// the sampling moves them. On the real-mesh set and CGAL's: the glmark2 bunny's 69,666 faces
+// 1.0431 against its pieces' 1.0456, the DTC hull's 116,062 faces 1.02997 against 1.02994, the
+// 99,739-face PyMeshFix bunny 1.0307 against 1.0302 (1.6 % of the excess).
 constexpr double kSameQc = 0.02;
 
 // Above the bound (a cone budget stopped the placement, or the user gave the cones) the user's
 // faces' D is taken as the pieces' within this fraction of it: the same map sampled over other
-// triangles. At 8 cones the glmark2 bunny's 69,666 faces and its 75,392 pieces both have 0.4699,
-// the cow's 5,804 faces 1.2348 and its 10,028 pieces 1.2325.
+// triangles. At 8 cones (the pieces drawn harmonic) the glmark2 bunny's 69,666 faces and its
+// 75,392 pieces both have 0.4699, the cow's 5,804 faces 1.2348 and its 10,028 pieces 1.2325.
 constexpr double kSameD = 0.02;
 
 // D and the 95th percentile of QC of faces as drawn.
@@ -166,17 +165,17 @@ struct UserFaces {
 };
 
 // A common subdivision's charts as developed, moved onto the user's faces (charts_on_input), turned
-// faces untangled; where a face stays turned or QC p95 is above the pieces' (by more than kSameQc
-// of its excess over 1), their insides drawn harmonic where that is more nearly conformal, and
-// untangled again. Given where no face turns over or overlaps another of its chart and D is within
-// `bound` or no higher than the pieces' (`bound` NaN: the latter), whatever their QC: the user's
-// triangles are the surface asked for, and a piecewise linear map on them is as conformal as
-// their shapes let it be (a coarse part's map is less so than on the pieces that subdivide its
-// faces: simbody's 28-face pelvis part 19.9 against 3.80, the 19,994-face dragon 1.306 against
-// 1.214, the 99,739-face bunny 1.0305 against 1.0289). The harmonic drawing costs a factorization,
-// and on the faces of a fine mesh it moves QC p95 little: on the 160 files of the real-mesh set and
-// CGAL's with a subdivision, by at most 8 % of its excess over 1 above 1,700 faces, 30 % above 500
-// (and up to 14 times on a part of 92).
+// faces untangled; where a face stays turned or QC p95 is above the pieces' as developed (by more
+// than kSameQc of its excess over 1), their insides drawn harmonic where that is more nearly
+// conformal, and untangled again. Given where no face turns over or overlaps another of its chart
+// and D is within `bound` or within kSameD of the pieces' (`bound` NaN: the latter), whatever
+// their QC: the user's triangles are the surface asked for, and a piecewise linear map on them is
+// as conformal as their shapes let it be (a coarse part's map is less so than on the pieces that
+// subdivide its faces, drawn harmonic inside: simbody's 28-face pelvis part QC p95 19.9 against
+// 3.80, the 19,994-face dragon 1.306 against 1.214, the 99,739-face bunny 1.0305 against 1.0289).
+// The harmonic drawing costs a factorization, and on the faces of a fine mesh it moves QC p95
+// little: on the 160 files of the real-mesh set and CGAL's with a subdivision, by at most 8 % of
+// its excess over 1 above 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
 std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonSubdivision& sub,
                                           const Triangulation& delivered,
                                           const std::vector<char>& seam, const Charts& developed,
@@ -508,20 +507,18 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     packing = std::move(fuller);
     atlas.halvings += count;
   }
-  // A common subdivision's charts: their insides drawn harmonic, with their borders as developed.
-  // The pieces' new vertices are where the flow's crossings put them, which costs conformality
-  // (the cow, 1.8k flips: QC p95 1.376 as developed, 1.292 redrawn); a chart that the redrawing
-  // turns, overlaps or makes less conformal (its QC p95) stays as developed. Then the charts
-  // moved onto the user's faces, delivered where they draw so as well (user_faces_drawn).
+  // A common subdivision's charts moved onto the user's faces, delivered where they draw so
+  // (user_faces_drawn), measured against the pieces as developed. Else the pieces' charts with
+  // their insides drawn harmonic, their borders as developed: the pieces' new vertices are where
+  // the flow's crossings put them, which costs conformality (the cow, 1.8k flips: QC p95 1.376 as
+  // developed, 1.292 redrawn); a chart that the redrawing turns, overlaps or makes less conformal
+  // (its QC p95) stays as developed.
   atlas.harmonic_charts = 0;
   if (sub && overlaps.empty()) {
-    const Charts developed = charts;
-    atlas.harmonic_charts = draw_harmonic_insides(delivered, positions, seam,
-                                                  std::vector<char>(charts.num_charts, 1), charts);
     const AsDrawn pieces{face_distortion(positions, faces, charts.corners),
                          qc_p95(positions, faces, charts.corners)};
     std::optional<UserFaces> user =
-        user_faces_drawn(mesh, *sub, delivered, seam, developed, run.atlas.bound, pieces);
+        user_faces_drawn(mesh, *sub, delivered, seam, charts, run.atlas.bound, pieces);
     atlas.seconds.harmonic += lap(clock);
     if (user) {
       const InputCharts& in = user->in;
@@ -534,6 +531,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
               in.charts, packing, {}, mesh.input_area(), o, run);
       return;
     }
+    atlas.harmonic_charts = draw_harmonic_insides(delivered, positions, seam,
+                                                  std::vector<char>(charts.num_charts, 1), charts);
+    atlas.seconds.harmonic += lap(clock);
     if (atlas.harmonic_charts > 0) packing = pack_charts(triangles_by_chart(charts), o.packing);
     atlas.seconds.packing += lap(clock);
   }
