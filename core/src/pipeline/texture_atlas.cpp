@@ -131,6 +131,14 @@ std::vector<std::array<double, 3>> drawn_sides(
 // 99,739-face PyMeshFix bunny 1.0307 against 1.0302 (1.6 % of the excess).
 constexpr double kSameQc = 0.02;
 
+// Below this many faces the user's faces are drawn harmonic inside whatever their QC as developed:
+// the factorization costs little there, and a drawing as conformal as the pieces as developed can
+// still gain from it (CGAL's triceratops, 5,660 faces: QC p95 1.4304 as developed, its pieces'
+// 1.4308, 1.403 drawn harmonic). Above it the factorization costs more (the genus-3 refined
+// elephant's 88,928 faces at 8 cones: about 0.2 s more of its 3 s) and moves QC p95 less (by at
+// most 8 % of its excess over 1 above 1,700 faces on the files with a subdivision).
+constexpr int kHarmonicBelow = 20000;
+
 // Above the bound (a cone budget stopped the placement, or the user gave the cones) the user's
 // faces' D is taken as the pieces' within this fraction of it: the same map sampled over other
 // triangles. At 8 cones (the pieces drawn harmonic) the glmark2 bunny's 69,666 faces and its
@@ -165,8 +173,9 @@ struct UserFaces {
 };
 
 // A common subdivision's charts as developed, moved onto the user's faces (charts_on_input), turned
-// faces untangled; where a face stays turned or QC p95 is above the pieces' as developed (by more
-// than kSameQc of its excess over 1), their insides drawn harmonic where that is more nearly
+// faces untangled; where a face stays turned, the part has fewer than kHarmonicBelow faces, or QC
+// p95 is above the pieces' as developed (by more than kSameQc of its excess over 1), their insides
+// drawn harmonic where that is more nearly
 // conformal, and untangled again. Given where no face turns over or overlaps another of its chart
 // and D is within `bound` or within kSameD of the pieces' (`bound` NaN: the latter), whatever
 // their QC: the user's triangles are the surface asked for, and a piecewise linear map on them is
@@ -189,8 +198,9 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
                        [](const auto& t) { return !(signed_area(t) > 0); });
   };
   std::vector<int> moved = untangle_turned_faces(mesh, in->seam, charts);
-  if (turned() || qc_p95(mesh.positions(), mesh.faces(), charts.corners) - 1 >
-                      (1 + kSameQc) * (pieces.qc_p95 - 1)) {
+  if (turned() || mesh.num_faces() < kHarmonicBelow ||
+      qc_p95(mesh.positions(), mesh.faces(), charts.corners) - 1 >
+          (1 + kSameQc) * (pieces.qc_p95 - 1)) {
     const Charts untangled = charts;
     drawn.redrawn = draw_harmonic_insides(mesh, mesh.positions(), in->seam,
                                           std::vector<char>(charts.num_charts, 1), charts);
