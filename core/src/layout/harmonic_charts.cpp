@@ -229,10 +229,13 @@ std::optional<Glued> glued(const SeamSides& s, int v, const Charts& charts) {
     side1[i] = position(n1[i].second) - position(w1);
     side2[i] = position(same->second) - position(w2);
   }
-  const Glued g{
-      w1, w2,
-      Eigen::Rotation2Dd(std::atan2(side1[0].x() * side2[0].y() - side1[0].y() * side2[0].x(),
-                                    side1[0].dot(side2[0])))};
+  // The rotation nearest to taking both edges of one side to the other's.
+  double sine = 0, cosine = 0;
+  for (int i = 0; i < 2; ++i) {
+    sine += side1[i].x() * side2[i].y() - side1[i].y() * side2[i].x();
+    cosine += side1[i].dot(side2[i]);
+  }
+  const Glued g{w1, w2, Eigen::Rotation2Dd(std::atan2(sine, cosine))};
   for (int i = 0; i < 2; ++i) {
     if (!((g.rotation * side1[i] - side2[i]).norm() <= kSameRotation * side2[i].norm())) {
       return std::nullopt;

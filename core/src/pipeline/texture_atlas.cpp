@@ -141,8 +141,8 @@ constexpr int kHarmonicBelow = 20000;
 
 // Above the bound (a cone budget stopped the placement, or the user gave the cones) the user's
 // faces' D is taken as the pieces' within this fraction of it: the same map sampled over other
-// triangles. At 8 cones (the pieces drawn harmonic) the glmark2 bunny's 69,666 faces and its
-// 75,392 pieces both have 0.4699, the cow's 5,804 faces 1.2348 and its 10,028 pieces 1.2325.
+// triangles. At 8 cones the glmark2 bunny's 69,666 faces have 0.46995 and its pieces as developed
+// 0.46993, the cow's 5,804 faces 1.23485 and its pieces 1.23417.
 constexpr double kSameD = 0.02;
 
 // D and the 95th percentile of QC of faces as drawn.
@@ -181,7 +181,7 @@ struct UserFaces {
 // their QC: the user's triangles are the surface asked for, and a piecewise linear map on them is
 // as conformal as their shapes let it be (a coarse part's map is less so than on the pieces that
 // subdivide its faces, drawn harmonic inside: simbody's 28-face pelvis part QC p95 19.9 against
-// 3.80, the 19,994-face dragon 1.306 against 1.214, the 99,739-face bunny 1.0305 against 1.0289).
+// 3.80, the 19,994-face dragon 1.306 against 1.214, the 99,739-face bunny 1.0307 against 1.0289).
 // The harmonic drawing costs a factorization, and on the faces of a fine mesh it moves QC p95
 // little: on the 160 files of the real-mesh set and CGAL's with a subdivision, by at most 8 % of
 // its excess over 1 above 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
@@ -197,16 +197,24 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
     return std::any_of(charts.corners.begin(), charts.corners.end(),
                        [](const auto& t) { return !(signed_area(t) > 0); });
   };
+  // D within the bound or kSameD of the pieces', and no two faces of a chart overlapping.
+  const auto deliverable = [&](const Charts& c) {
+    const double d = face_distortion(mesh.positions(), mesh.faces(), c.corners);
+    return (d <= bound || !(d > (1 + kSameD) * pieces.distortion)) &&
+           overlapping_faces(mesh, in->seam, c).empty();
+  };
   std::vector<int> moved = untangle_turned_faces(mesh, in->seam, charts);
   const bool turned_developed = turned();
   const double qc_developed = qc_p95(mesh.positions(), mesh.faces(), charts.corners);
   if (turned_developed || mesh.num_faces() < kHarmonicBelow ||
       qc_developed - 1 > (1 + kSameQc) * (pieces.qc_p95 - 1)) {
     const Charts untangled = charts;
+    const std::vector<int> moved_untangled = moved;
     drawn.redrawn = draw_harmonic_insides(mesh, mesh.positions(), in->seam,
                                           std::vector<char>(charts.num_charts, 1), charts);
-    // Kept where QC p95 over all the faces is no higher, too: each chart's can fall while the
-    // whole's rises (Cura's nozzle at 8 cones: 1.430 as developed, 1.459 redrawn).
+    // Where the drawing as developed turned no face, the redrawn one is kept only where QC p95
+    // over all the faces is no higher, too: each chart's can fall while the whole's rises (Cura's
+    // nozzle at 8 cones: 1.430 as developed, 1.459 redrawn).
     if (!turned_developed && drawn.redrawn > 0 &&
         !(qc_p95(mesh.positions(), mesh.faces(), charts.corners) <= qc_developed)) {
       charts = untangled;
@@ -221,13 +229,17 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
     for (int w : untangle_turned_faces(mesh, in->seam, charts)) {
       if (std::find(moved.begin(), moved.end(), w) == moved.end()) moved.push_back(w);
     }
-    if (turned()) return std::nullopt;
+    if (turned() || !deliverable(charts)) {
+      // The drawing as developed, where it turned no face and delivers.
+      if (turned_developed || drawn.redrawn == 0 || !deliverable(untangled)) return std::nullopt;
+      charts = untangled;
+      moved = moved_untangled;
+      drawn.redrawn = 0;
+    }
+  } else if (!deliverable(charts)) {
+    return std::nullopt;
   }
   drawn.untangled = static_cast<int>(moved.size());
-  // Above the bound (or with none, the user's cones) no higher than the pieces' (within kSameD).
-  const double d = face_distortion(mesh.positions(), mesh.faces(), charts.corners);
-  if (!(d <= bound) && d > (1 + kSameD) * pieces.distortion) return std::nullopt;
-  if (!overlapping_faces(mesh, in->seam, charts).empty()) return std::nullopt;
   drawn.in = std::move(*in);
   return drawn;
 }

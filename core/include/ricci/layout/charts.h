@@ -67,11 +67,12 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
 //! around it counter-clockwise (a vertex inside the kernel of its star has its faces all
 //! counter-clockwise; the mean is there where the star is not far from convex), in a few rounds
 //! over the faces still turned. A vertex inside a seam's path (two seam edges, a wedge on each
-//! side, whose drawings one rotation relates to 1e-6: no cone) moves as one with its two wedges,
-//! towards the mean of its neighbours on both sides, its second wedge by the seam's rotation, so
-//! that the seam's two sides stay congruent. A face whose corners are all at cones, at branches
-//! or ends of seams, or on the boundary stays turned. Returns the wedges moved (each by a corner
-//! of it; one per vertex). `cut` as for lay_out_charts.
+//! side, whose drawings one rotation relates to 1e-6 of the edges' lengths: no cone, but one of
+//! whole turns) moves as one with its two wedges, towards the mean of its neighbours on both
+//! sides, its second wedge by that rotation (the nearest to taking both edges of one side to the
+//! other's), so that the seam's two sides stay congruent. A face whose corners are all at cones, at
+//! branches or ends of seams, or on the boundary stays turned. Returns the wedges moved (each by a
+//! corner of it; one per vertex). `cut` as for lay_out_charts.
 std::vector<int> untangle_turned_faces(const Triangulation& mesh, const std::vector<char>& cut,
                                        Charts& charts);
 
