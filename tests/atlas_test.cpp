@@ -518,6 +518,18 @@ TEST(Atlas, TheUsersFacesAreKeptWhereThePiecesAreMoreConformal) {
   EXPECT_LT(seams.worst, 1e-9);
 }
 
+TEST(Atlas, ChartsThatDoNotDrawOnTheUsersFacesComeBackOnThePiecesDrawnHarmonic) {
+  // PyMeshLab's cow at 8 cones (D 1.23): its charts moved onto its own faces do not qualify, so
+  // the atlas comes back on its common subdivision (10,028 pieces), with the charts' insides
+  // drawn as the harmonic map of their borders.
+  const std::string cow = std::string(RICCI_REAL_MESH_DIR) + "/pymeshlab-cow.obj";
+  const Atlas a = run_atlas(cow, "--max-cones 8");
+  expect_valid_atlas(a, cow, 1.3);
+  EXPECT_EQ(a.summary.find("delivered on your faces"), std::string::npos) << a.summary;
+  EXPECT_NE(a.summary.find("drawn harmonic inside their border"), std::string::npos) << a.summary;
+  EXPECT_GT(a.ply.faces.size(), read_mesh_file(cow).triangles.size());
+}
+
 TEST(Atlas, ObjOutputHasTextureCoordinatesPerCorner) {
   const std::string out = temp("atlas.obj");
   const CliRun r = ricci_flow(cgal("knot1.off") + " --target atlas -o " + out);
