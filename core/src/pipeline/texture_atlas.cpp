@@ -175,16 +175,17 @@ struct UserFaces {
 // A common subdivision's charts as developed, moved onto the user's faces (charts_on_input), turned
 // faces untangled; where a face stays turned, the part has fewer than kHarmonicBelow faces, or QC
 // p95 is above the pieces' as developed (by more than kSameQc of its excess over 1), their insides
-// drawn harmonic where that is more nearly
-// conformal, and untangled again. Given where no face turns over or overlaps another of its chart
-// and D is within `bound` or within kSameD of the pieces' (`bound` NaN: the latter), whatever
-// their QC: the user's triangles are the surface asked for, and a piecewise linear map on them is
-// as conformal as their shapes let it be (a coarse part's map is less so than on the pieces that
-// subdivide its faces, drawn harmonic inside: simbody's 28-face pelvis part QC p95 19.9 against
-// 3.80, the 19,994-face dragon 1.306 against 1.214, the 99,739-face bunny 1.0307 against 1.0289).
-// The harmonic drawing costs a factorization, and on the faces of a fine mesh it moves QC p95
-// little: on the 160 files of the real-mesh set and CGAL's with a subdivision, by at most 8 % of
-// its excess over 1 above 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
+// drawn harmonic where that is more nearly conformal (the drawing as developed kept where it
+// turned no face and the redrawn one is less conformal over all the faces, or would not deliver),
+// and untangled again. Given where no face turns over or overlaps another of its chart and D is
+// within `bound` or within kSameD of the pieces' (`bound` NaN: the latter), whatever their QC: the
+// user's triangles are the surface asked for, and a piecewise linear map on them is as conformal
+// as their shapes let it be (a coarse part's map is less so than on the pieces that subdivide its
+// faces, drawn harmonic inside: simbody's 28-face pelvis part QC p95 19.9 against 3.80, the
+// 19,994-face dragon 1.306 against 1.214, the 99,739-face bunny 1.0307 against 1.0289). The
+// harmonic drawing costs a factorization, and on the faces of a fine mesh it moves QC p95 little:
+// on the 160 files of the real-mesh set and CGAL's with a subdivision, by at most 8 % of its
+// excess over 1 above 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
 std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonSubdivision& sub,
                                           const Triangulation& delivered,
                                           const std::vector<char>& seam, const Charts& developed,
