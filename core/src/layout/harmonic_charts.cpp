@@ -249,6 +249,10 @@ std::optional<Glued> glued(const SeamSides& s, int v, const Charts& charts) {
 std::vector<int> untangle_turned_faces(const Triangulation& mesh, const std::vector<char>& cut,
                                        Charts& charts) {
   const int nf = mesh.num_faces();
+  if (std::all_of(charts.corners.begin(), charts.corners.end(),
+                  [](const auto& t) { return signed_area(t) > 0; })) {
+    return {};  // nothing turned: the wedges and seams below are not needed
+  }
   const std::vector<int> wedge = chart_wedges(mesh, cut);
   const std::vector<char> border = border_wedges(mesh, cut, wedge);
   const SeamSides seams = seam_sides(mesh, cut, wedge);

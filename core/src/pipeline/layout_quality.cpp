@@ -11,18 +11,18 @@
 
 namespace ricci {
 
-namespace {
-
-double triangle_area(const std::array<double, 3>& l) {
-  if (!(l[2] > 0)) return 0;  // collapsed
-  return 0.5 * l[2] * std::abs(triangle_apex(l[2], l[1], l[0])[1]);
-}
-
 double quantile(std::vector<double> x, double q) {
   if (x.empty()) return 1;
   const size_t k = std::min(x.size() - 1, static_cast<size_t>(q * static_cast<double>(x.size())));
   std::nth_element(x.begin(), x.begin() + static_cast<long>(k), x.end());
   return x[k];
+}
+
+namespace {
+
+double triangle_area(const std::array<double, 3>& l) {
+  if (!(l[2] > 0)) return 0;  // collapsed
+  return 0.5 * l[2] * std::abs(triangle_apex(l[2], l[1], l[0])[1]);
 }
 
 std::array<double, 3> side_lengths(const std::array<Eigen::Vector3d, 3>& p) {

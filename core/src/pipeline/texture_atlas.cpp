@@ -6,12 +6,14 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "ricci/layout/charts.h"
 #include "ricci/layout/packing.h"
 #include "ricci/layout/seams.h"
 #include "ricci/mesh/errors.h"
 #include "ricci/mesh/geometry.h"
+#include "ricci/pipeline/layout_quality.h"
 #include "ricci/subdivision/common_subdivision.h"
 
 namespace ricci::detail {
@@ -157,12 +159,7 @@ double qc_p95(const std::vector<Eigen::Vector3d>& positions,
   for (size_t f = 0; f < faces.size(); ++f) {
     qc[f] = drawn_quasi_conformal_ratio(positions, faces[f], corners[f]);
   }
-  if (qc.empty()) return 1;
-  // the reports' 95th percentile (layout_quality.h)
-  const size_t k =
-      std::min(qc.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(qc.size())));
-  std::nth_element(qc.begin(), qc.begin() + static_cast<long>(k), qc.end());
-  return qc[k];
+  return quantile(std::move(qc), 0.95);
 }
 
 // The charts on the user's faces, with how many of them were drawn harmonic inside and how many

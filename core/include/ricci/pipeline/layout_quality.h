@@ -32,6 +32,10 @@ struct LayoutQuality {
   int first_collapsed_face = -1;
 };
 
+//! The q-quantile of x (0 <= q <= 1) as the reports give it: the element of rank floor(q n), at
+//! most the largest; 1 where x is empty.
+double quantile(std::vector<double> x, double q);
+
 //! A triangle whose orientation its double-precision corners do not determine: |orientation|
 //! within what rounding the corners (each off by about 2^-52 of its magnitude, allowed 64 times
 //! that) can make of it. Such a face is degenerate in double precision (counted as collapsed),
