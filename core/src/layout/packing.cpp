@@ -361,7 +361,8 @@ Placed pack_rasters(const std::vector<std::array<Raster, kTurns>>& rasters,
 
 }  // namespace
 
-Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& o) {
+Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& o,
+                    double expected_utilization) {
   if (o.texture_size < 16 || o.padding < 0) {
     throw InvalidArgumentError(
         "packing: the texture size must be at least 16 texels and the "
@@ -389,7 +390,9 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     }
   }
   const Eigen::Matrix2d quarter{{0, -1}, {1, 0}};
-  double extent = std::sqrt(total / 0.6);
+  double extent =
+      std::sqrt(total / (expected_utilization > 0 && expected_utilization <= 1 ? expected_utilization
+                                                                              : 0.6));
   const long charted =
       std::count_if(charts.begin(), charts.end(), [](const Triangles& c) { return !c.empty(); });
   const bool alone = charted == 1 && o.padding < o.texture_size;

@@ -550,7 +550,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     atlas.seconds.harmonic += lap(clock);
     if (user) {
       const InputCharts& in = user->in;
-      packing = pack_charts(triangles_by_chart(in.charts), o.packing);
+      // The user's faces drawn as the pieces were: packed much as they were.
+      packing = pack_charts(triangles_by_chart(in.charts), o.packing, packing.utilization);
       atlas.seconds.packing += lap(clock);
       atlas.harmonic_charts = user->redrawn;
       atlas.untangled = user->untangled;
@@ -562,7 +563,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     atlas.harmonic_charts = draw_harmonic_insides(delivered, positions, seam,
                                                   std::vector<char>(charts.num_charts, 1), charts);
     atlas.seconds.harmonic += lap(clock);
-    if (atlas.harmonic_charts > 0) packing = pack_charts(triangles_by_chart(charts), o.packing);
+    if (atlas.harmonic_charts > 0) {
+      packing = pack_charts(triangles_by_chart(charts), o.packing, packing.utilization);
+    }
     atlas.seconds.packing += lap(clock);
   }
   deliver(delivered, positions, faces, seam, length3d, charts, packing, overlaps, mesh.input_area(),
