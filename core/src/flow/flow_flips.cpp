@@ -92,8 +92,8 @@ void detail::FlowState::start_flipping(int iteration, const std::string& why) {
 }
 
 // Moves u towards `start` in the longest valid steps, flipping to Delaunay after each when flips
-// are on. The walk ends where no step of 1e-6 of the way is valid, or after three steps in a row
-// of at most 1/64 of the way; without flips, when needed, that is remembered, and the walk made
+// are on. Without them, the walk ends where no step of 1e-6 of the way is valid, or after three
+// steps in a row of at most 1/64 of the way; when needed, that is remembered, and the walk made
 // again with flips once Newton gets stuck on this triangulation.
 // The walk's step halves while alpha > 1e-6: the last halving tried is the 19th.
 constexpr int kLastHalving = 19;
@@ -128,13 +128,9 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start) {
         break;
       }
     }
-    // Steps that stay short only creep along the valid set's boundary, with flips too: there
-    // Newton goes on from where the walk stopped, in fewer iterations than from the walk's
-    // creeping end. At BFF's 8 cones CGAL's diplodocus walked 30 steps of 22 ms, the last 12 each
-    // half the one before, for Newton's 7 iterations; stopped at its third short step, 4 steps
-    // and 6 iterations (the flow 1.38 s to 0.55 s, the same metric to the tolerance).
+    // Without flips, steps that stay short only creep along the valid set's boundary.
     short_steps = alpha <= detail::kShortStep ? short_steps + 1 : 0;
-    if (!found || short_steps > detail::StallWindow::kLengthBeforeFlips) {
+    if (!found || (!flipping && short_steps > detail::StallWindow::kLengthBeforeFlips)) {
       if (may_start_flipping()) blocked_walk.emplace(origin, start);
       return;
     }
