@@ -170,6 +170,7 @@ FlowResult detail::FlowState::run(const Eigen::VectorXd* start) {
   s.lm_weight = 1;
   s.stall = detail::StallWindow();
   s.blocked_walk.reset();
+  s.unfinished_walk.reset();
   s.flip_trial_points = false;
   s.steps.begin_solve();
   s.use_free_vertices(target);
@@ -242,6 +243,15 @@ FlowResult detail::FlowState::run(const Eigen::VectorXd* start) {
         // The step that was not taken is taken again, with flipped trial points.
         s.flip_trial_points = true;
         s.stall = detail::StallWindow();
+        r.stalled_at_boundary = false;
+        r.residual_history.pop_back();
+        --it;
+        continue;
+      }
+      if (!stop.empty() && s.unfinished_walk) {
+        // Newton stalled from where the walk stopped creeping: back there, the walk the whole
+        // way, and Newton again from its end (the flips Newton made are undone).
+        s.finish_walk();
         r.stalled_at_boundary = false;
         r.residual_history.pop_back();
         --it;

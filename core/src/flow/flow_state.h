@@ -56,6 +56,18 @@ struct FlowState {
   // EdgeFlips::WhenNeeded: a walk to a start that the input's triangulation blocked, from where
   // and to where; when flips start, the walk is made again with them.
   std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> blocked_walk;
+  // Where a walk with flips stopped creeping towards its start (walk_to): if Newton stalls from
+  // there, the flow goes back to that point and walks on, the whole way (run()).
+  struct UnfinishedWalk {
+    Eigen::VectorXd start, u;
+    IntrinsicTriangulation triangulation;
+    std::vector<double> eta;
+    MetricState metric;
+    size_t flips_made = 0;  // of flip_sequence
+    int num_flips = 0, connectivity_changes = 0;
+  };
+  std::optional<UnfinishedWalk> unfinished_walk;
+  void finish_walk();
   // u at this solve's first Newton iteration. Flips that start by iteration kStartOverByIteration
   // start from there: on the real meshes and CGAL's scans whose flips started at iteration 2 or 3,
   // Newton then took as many iterations as with flips always, and from where it stopped up to 6
@@ -101,7 +113,7 @@ struct FlowState {
   void use_free_vertices(const TargetCurvature& target);
   void keep_delaunay();
   void adopt_flips(detail::LineSearch& step);
-  void walk_to(const Eigen::VectorXd& start);
+  void walk_to(const Eigen::VectorXd& start, bool whole_way = false);
   std::string precondition_failure(const TargetCurvature& target);
   std::string iterate(const TargetCurvature& target, int it);
   double attainable_floor(const TargetCurvature& target) const;
