@@ -94,8 +94,10 @@ void detail::FlowState::start_flipping(int iteration, const std::string& why) {
 // Moves u towards `start` in the longest valid steps, flipping to Delaunay after each when flips
 // are on. Without them, the walk ends where no step of 1e-6 of the way is valid, or after three
 // steps in a row of at most 1/64 of the way; when needed, that is remembered, and the walk made
-// again with flips once Newton gets stuck on this triangulation. With them, it ends where no step
-// of 1e-6 of the way is valid, or where its steps creep (kCreepingSteps), unless `whole_way`.
+// again with flips once Newton gets stuck on this triangulation. With them, where every flip is a
+// Ptolemy flip, the start is first reached at once, as a line search's trial point is; else (a
+// flip refused there) the walk ends where no step of 1e-6 of the way is valid, or where its steps
+// creep (kCreepingSteps), unless `whole_way`.
 // The walk's step halves while alpha > 1e-6: the last halving tried is the 19th.
 constexpr int kLastHalving = 19;
 // With flips, the walk stops after this many steps in a row of at most 1/64 of the way, each at
@@ -108,6 +110,19 @@ constexpr int kCreepingSteps = 3;
 
 void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way) {
   if (!start.allFinite()) return;
+  if (flipping && all_ptolemy(structure)) {
+    // The whole way at once: the start's Delaunay triangulation by Ptolemy flips from the
+    // lengths, valid whatever u (delaunay.h), unless a flip was refused there.
+    detail::LineSearch jump;
+    detail::evaluate_trial_point(triangulation, structure, start, true, jump);
+    if (jump.state.valid()) {
+      if (jump.flipped) adopt_flips(jump);
+      u = start;
+      metric = std::move(jump.state);
+      keep_delaunay();
+      return;
+    }
+  }
   const Eigen::VectorXd origin = u;
   int short_steps = 0, creeping = 0;
   double last_alpha = 1;

@@ -250,6 +250,19 @@ bool invalid_at_boundary(const Triangulation& mesh, const MetricState& state) {
 
 }  // namespace
 
+void evaluate_trial_point(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
+                          const Eigen::VectorXd& u, bool flip_invalid, LineSearch& s) {
+  s.state = evaluate_metric(mesh, structure, u);
+  s.flipped.reset();
+  s.flips = FlipReport();
+  if (!s.state.valid() && flip_invalid && all_ptolemy(structure)) {
+    s.flipped.emplace(mesh);
+    ConformalStructure flipped_structure = structure;
+    s.flips = make_delaunay(*s.flipped, flipped_structure, u, s.state, 10 * mesh.num_edges());
+    s.flipped_eta = std::move(flipped_structure.eta);
+  }
+}
+
 LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                        const TargetCurvature& target, const std::vector<int>& free_index,
                        const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
@@ -257,20 +270,11 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
   LineSearch s;
   s.u = u;
   const int n = static_cast<int>(du.size());
-  flip_invalid = flip_invalid && all_ptolemy(structure);
   for (int halving = 0; halving <= max_halvings; ++halving, s.alpha *= 0.5) {
     for (int v = 0; v < u.size(); ++v) {
       if (free_index[v] >= 0) s.u[v] = u[v] + s.alpha * du[free_index[v]];
     }
-    s.state = evaluate_metric(mesh, structure, s.u);
-    s.flipped.reset();
-    s.flips = FlipReport();
-    if (!s.state.valid() && flip_invalid) {
-      s.flipped.emplace(mesh);
-      ConformalStructure flipped_structure = structure;
-      s.flips = make_delaunay(*s.flipped, flipped_structure, s.u, s.state, 10 * mesh.num_edges());
-      s.flipped_eta = std::move(flipped_structure.eta);
-    }
+    evaluate_trial_point(mesh, structure, s.u, flip_invalid, s);
     if (!s.state.valid()) {
       s.blocked_by_validity = true;
       s.blocked_at_boundary =

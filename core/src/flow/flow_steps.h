@@ -168,6 +168,12 @@ struct LineSearch {
   FlipReport flips;
 };
 
+//! The metric at u (lengths and angles) in `s.state`; where a triangle is invalid there and
+//! flip_invalid holds with all_ptolemy(structure), first flipped to Delaunay on a copy (s.flipped,
+//! s.flipped_eta, s.flips): valid then, but where a flip was refused (a self-loop, or rounding).
+void evaluate_trial_point(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
+                          const Eigen::VectorXd& u, bool flip_invalid, LineSearch& s);
+
 //! Armijo backtracking on |Kbar - K|^2 / 2 from u along du, halving at most max_halvings times,
 //! never accepting a point where a triangle is invalid. With flip_invalid, a trial point whose
 //! triangles are invalid is first flipped to Delaunay on a copy when every flip is a Ptolemy flip
