@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "flow/delaunay.h"
 #include "flow/flow_steps.h"
 #include "flow/metric.h"
 #include "pipeline/texture_atlas.h"
@@ -127,6 +128,10 @@ TEST(RicciFlow, AStartReachedByPtolemyFlipsGivesTheColdStartsMetric) {
   ASSERT_EQ(p.cones.size(), 8u);
   const TargetCurvature target = detail::atlas_target(mesh, p, false);
   const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target);
+  IntrinsicTriangulation input_delaunay(mesh);
+  ConformalStructure input_class = s;
+  make_input_delaunay(input_delaunay, input_class);
+  ASSERT_FALSE(evaluate_metric(input_delaunay, input_class, p.u).valid());
   FlowOptions always;
   always.edge_flips = EdgeFlips::Always;
   const FlowResult cold = run_ricci_flow(mesh, s, target, always);

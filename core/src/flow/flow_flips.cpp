@@ -94,25 +94,31 @@ void detail::FlowState::start_flipping(int iteration, const std::string& why) {
 // Moves u towards `start` in the longest valid steps, flipping to Delaunay after each when flips
 // are on. Without them, the walk ends where no step of 1e-6 of the way is valid, or after three
 // steps in a row of at most 1/64 of the way; when needed, that is remembered, and the walk made
-// again with flips once Newton gets stuck on this triangulation. With them, where every flip is a
-// Ptolemy flip, the start is first reached at once, as a line search's trial point is; else (a
-// flip refused there) the walk ends where no step of 1e-6 of the way is valid, or where its steps
-// creep (kCreepingSteps), unless `whole_way`.
+// again with flips once Newton gets stuck on this triangulation. With them, where the line search
+// flips its trial points (every flip a Ptolemy flip; in H2 only after a stall), the start is first
+// reached at once as a trial point is. Else, or where that fails (a flip refused, or an invalid
+// triangle on the boundary, which no flip mends), the walk ends where no step of 1e-6 of the way
+// is valid, or where its steps creep (kCreepingSteps) while the vertices Newton holds are at the
+// start's u already, unless `whole_way`.
 // The walk's step halves while alpha > 1e-6: the last halving tried is the 19th.
 constexpr int kLastHalving = 19;
 // With flips, the walk stops after this many steps in a row of at most 1/64 of the way, each at
 // most half the one before: they converge to a point short of the start, and flips do not always
-// take the walk on from there. At BFF's 8 cones CGAL's diplodocus walked 30 steps of about 22 ms,
-// its last 12 each half the one before, for Newton's 7 iterations; stopped at the third such step,
-// 5 steps and 6 iterations. Stopped at any three short steps in a row, occt-tr12j's Newton
-// stalled at iteration 22 (and walked on from there, converged at 31; 9 with the whole walk).
+// take the walk on from there. Only where every vertex that Newton holds (free_index -1) has the
+// start's u already: Newton does not move those, and stopping short elsewhere would change the
+// metric it converges to (the atlas's cones and boundary are at u = 0 all the way). At BFF's 8
+// cones CGAL's diplodocus walked 30 steps of about 22 ms, its last 12 each half the one before, for
+// Newton's 7 iterations; stopped at the third such step, 5 steps and 6 iterations. Stopped at any
+// three short steps in a row, occt-tr12j's Newton stalled at iteration 22 (and walked on from
+// there, converged at 31; 9 with the whole walk).
 constexpr int kCreepingSteps = 3;
 
 void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way) {
   if (!start.allFinite()) return;
-  if (flipping && all_ptolemy(structure)) {
+  if (flipping && all_ptolemy(structure) && (!hyperbolic() || flip_trial_points)) {
     // The whole way at once: the start's Delaunay triangulation by Ptolemy flips from the
-    // lengths, valid whatever u (delaunay.h), unless a flip was refused there.
+    // lengths, valid whatever u (delaunay.h), unless a flip was refused there or a boundary
+    // triangle is invalid.
     detail::LineSearch jump;
     detail::evaluate_trial_point(triangulation, structure, start, true, jump);
     if (jump.state.valid()) {
@@ -124,6 +130,10 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way) {
     }
   }
   const Eigen::VectorXd origin = u;
+  bool held_at_start = true;
+  for (int v = 0; v < static_cast<int>(u.size()) && held_at_start; ++v) {
+    held_at_start = free_index[v] >= 0 || u[v] == start[v];
+  }
   int short_steps = 0, creeping = 0;
   double last_alpha = 1;
   for (int step = 0; step < 200; ++step) {
@@ -166,7 +176,7 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way) {
     // on from there, and the walk is made the whole way only if Newton stalls (run()).
     creeping = alpha <= detail::kShortStep && alpha <= 0.5 * last_alpha ? creeping + 1 : 0;
     last_alpha = alpha;
-    if (flipping && !whole_way && creeping >= kCreepingSteps) {
+    if (flipping && !whole_way && held_at_start && creeping >= kCreepingSteps) {
       unfinished_walk = UnfinishedWalk{start,
                                        u,
                                        triangulation,
@@ -190,11 +200,13 @@ void detail::FlowState::finish_walk() {
   flip_sequence.resize(w.flips_made);
   result.num_flips = w.num_flips;
   result.connectivity_changes = w.connectivity_changes;
-  steps.set_pattern(triangulation, free_index, false);
+  steps.set_pattern(triangulation, free_index, flip_sequence.empty());
   walk_to(w.start, true);
   k = curvature(triangulation, metric);
   stall = detail::StallWindow();
   lm_weight = 1;
+  newton_start = u;
+  start_round_off = curvature_round_off(triangulation, metric).maxCoeff();
 }
 
 }  // namespace ricci

@@ -250,7 +250,8 @@ FlowResult detail::FlowState::run(const Eigen::VectorXd* start) {
       }
       if (!stop.empty() && s.unfinished_walk) {
         // Newton stalled from where the walk stopped creeping: back there, the walk the whole
-        // way, and Newton again from its end (the flips Newton made are undone).
+        // way, and Newton again from its end (the flips Newton made are undone; its iterations
+        // stay in the histories and count towards the limit).
         s.finish_walk();
         r.stalled_at_boundary = false;
         r.residual_history.pop_back();
@@ -274,6 +275,7 @@ FlowResult detail::FlowState::run(const Eigen::VectorXd* start) {
         break;
       }
     }
+    s.unfinished_walk.reset();  // a copy of the triangulation
     if (r.converged) s.normalize_scale(target);
     s.update_goal();
     r.residual = detail::max_residual(s.k, target);

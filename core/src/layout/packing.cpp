@@ -390,8 +390,9 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     }
   }
   const Eigen::Matrix2d quarter{{0, -1}, {1, 0}};
+  // A hint outside (0, 1] is no utilization; below 0.1 it would pad far more than asked.
   const bool expected = expected_utilization > 0 && expected_utilization <= 1;
-  double extent = std::sqrt(total / (expected ? expected_utilization : 0.6));
+  double extent = std::sqrt(total / (expected ? std::max(expected_utilization, 0.1) : 0.6));
   const long charted =
       std::count_if(charts.begin(), charts.end(), [](const Triangles& c) { return !c.empty(); });
   const bool alone = charted == 1 && o.padding < o.texture_size;
