@@ -170,7 +170,8 @@ struct LineSearch {
 
 //! The metric at u (lengths and angles) in `s.state`; where a triangle is invalid there and
 //! flip_invalid holds with all_ptolemy(structure), first flipped to Delaunay on a copy (s.flipped,
-//! s.flipped_eta, s.flips): valid then, but where a flip was refused (a self-loop, or rounding).
+//! s.flipped_eta, s.flips): valid then, but where a flip was refused (a self-loop, or rounding)
+//! or a boundary triangle is invalid (no flip mends it).
 void evaluate_trial_point(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                           const Eigen::VectorXd& u, bool flip_invalid, LineSearch& s);
 

@@ -28,11 +28,10 @@ struct Packing {
 };
 
 //! Packs the charts (each a list of triangles, all in one length unit) into [0, 1]^2, keeping
-//! their relative sizes. `expected_utilization` sizes the first packing's margin (the padding
-//! in the charts' units): where it is near what the packing gives (that of a packing of much the
-//! same charts), no second packing is needed for the padding; outside (0, 1] it is 0.6, and at
-//! least 0.1. \throws InvalidArgumentError for a
-//! texture size below 16 or a negative padding.
+//! their relative sizes. `expected_utilization` sizes the first packing's margin (the padding in
+//! the charts' units): near what the packing gives (that of a packing of much the same charts),
+//! no second packing is needed for the padding; outside (0, 1] it counts as 0.6, below 0.1 as 0.1.
+//! \throws InvalidArgumentError for a texture size below 16 or a negative padding.
 Packing pack_charts(const std::vector<std::vector<std::array<Eigen::Vector2d, 3>>>& charts,
                     const PackingOptions& options = {}, double expected_utilization = 0.6);
 
