@@ -11,13 +11,6 @@ namespace ricci {
 
 namespace {
 
-int corner_of(const Triangulation& mesh, int f, int v) {
-  for (int c = 0; c < 3; ++c) {
-    if (mesh.face_vertex(f, c) == v) return c;
-  }
-  return -1;
-}
-
 // lambda-length of a Yamabe edge: l = lambda e^((ui+uj)/2) in E2, and the same with sinh(l/2)
 // or sin(l/2) for l/2 in H2 and S2.
 double lambda(const ConformalStructure& s, int e) {
@@ -62,17 +55,65 @@ bool is_ptolemy_delaunay(const Triangulation& mesh, Geometry geometry, const Met
   return sum >= -tolerance;
 }
 
+namespace {
+
+// A face's share of is_delaunay's sums for its edge opposite corner c, from the face's angle
+// Jacobian j: dK_a/du_b = -d theta_a/d u_b, and the size of the two ends' own derivatives.
+struct DelaunayShare {
+  double off_diagonal, scale;
+};
+
+DelaunayShare delaunay_share(const std::array<std::array<double, 3>, 3>& j, int c) {
+  const int a = (c + 1) % 3, b = (c + 2) % 3;
+  return {0.5 * (j[a][b] + j[b][a]), std::abs(j[a][a]) + std::abs(j[b][b])};
+}
+
+// is_delaunay from its faces' shares, summed in edge_faces' order.
+bool delaunay_from_shares(const DelaunayShare& first, const DelaunayShare& second,
+                          double tolerance) {
+  double off_diagonal = 0, scale = 0;
+  off_diagonal -= first.off_diagonal;
+  scale += first.scale;
+  off_diagonal -= second.off_diagonal;
+  scale += second.scale;
+  return off_diagonal <= tolerance * scale;
+}
+
+int corner_of_edge(const Triangulation& mesh, int f, int e) {
+  const auto& edges = mesh.face_edges(f);
+  return edges[0] == e ? 0 : edges[1] == e ? 1 : 2;
+}
+
+// The interior edges that are not Delaunay, in decreasing index: each face's angle Jacobian
+// computed once for its three edges, not once per edge (the walks of the atlas at 8 cones scan
+// every edge at each of their steps).
+std::vector<int> non_delaunay_edges(const Triangulation& mesh, const MetricState& state,
+                                    double tolerance) {
+  std::vector<DelaunayShare> share(static_cast<size_t>(mesh.num_halfedges()));
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const auto j = face_angle_jacobian(mesh, state, f);
+    for (int c = 0; c < 3; ++c) share[3 * f + c] = delaunay_share(j, c);
+  }
+  std::vector<int> edges;
+  for (int e = mesh.num_edges() - 1; e >= 0; --e) {
+    if (mesh.is_boundary_edge(e)) continue;
+    const auto [f, g] = mesh.edge_faces(e);
+    if (!delaunay_from_shares(share[3 * f + corner_of_edge(mesh, f, e)],
+                              share[3 * g + corner_of_edge(mesh, g, e)], tolerance)) {
+      edges.push_back(e);
+    }
+  }
+  return edges;
+}
+
+}  // namespace
+
 bool is_delaunay(const Triangulation& mesh, const MetricState& state, int e, double tolerance) {
   if (mesh.is_boundary_edge(e)) return true;
-  const auto [a, b] = mesh.edge_vertices(e);
-  double off_diagonal = 0, scale = 0;
-  for (int f : mesh.edge_faces(e)) {
-    const auto j = face_angle_jacobian(mesh, state, f);
-    const int ca = corner_of(mesh, f, a), cb = corner_of(mesh, f, b);
-    off_diagonal -= 0.5 * (j[ca][cb] + j[cb][ca]);  // dK_a/du_b = -d theta_a/d u_b
-    scale += std::abs(j[ca][ca]) + std::abs(j[cb][cb]);
-  }
-  return off_diagonal <= tolerance * scale;
+  const auto [f, g] = mesh.edge_faces(e);
+  return delaunay_from_shares(
+      delaunay_share(face_angle_jacobian(mesh, state, f), corner_of_edge(mesh, f, e)),
+      delaunay_share(face_angle_jacobian(mesh, state, g), corner_of_edge(mesh, g, e)), tolerance);
 }
 
 namespace {
@@ -179,14 +220,16 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
   // Only the edges that are not Delaunay now start the queue (usually few after the first
   // round).
   std::vector<int> stack;
-  std::vector<char> queued(mesh.num_edges(), 0);
-  for (int e = mesh.num_edges() - 1; e >= 0; --e) {
-    if (!delaunay(e)) {
-      stack.push_back(e);
-      queued[e] = 1;
+  if (from_lengths) {
+    for (int e = mesh.num_edges() - 1; e >= 0; --e) {
+      if (!delaunay(e)) stack.push_back(e);
     }
+  } else {
+    stack = non_delaunay_edges(mesh, state, 1e-10);
   }
   if (stack.empty()) return report;
+  std::vector<char> queued(mesh.num_edges(), 0);
+  for (int e : stack) queued[e] = 1;
   const Geometry g = structure.geometry;
   while (!stack.empty() && report.flips < max_flips) {
     const int e = stack.back();
