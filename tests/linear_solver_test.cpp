@@ -162,6 +162,31 @@ TEST(LinearSolver, TwoThreadsSolveWhatOneSolves) {
 // A fill-reducing order found ahead from the mesh's vertex graph, restricted to the rows of a
 // Hessian that holds the boundary, fills at most a quarter more than the Hessian's own (CHOLMOD's
 // choice, AMD at this size) and solves the same.
+// The ordering an analysis found, given back, is analysed to the same fill, and another
+// ordering to another: the flow reuses the last one after flips (StepSolver).
+TEST(LinearSolver, AnAnalysisGivesItsOrderingBack) {
+  Factored own(LinearSolverKind::Cholmod);
+  ASSERT_TRUE(own.factorized);
+  const std::vector<int> order = own.solver.ordering();
+  const int n = static_cast<int>(own.h.rows());
+  ASSERT_EQ(static_cast<int>(order.size()), n);
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int i = 0; i < n; ++i) ASSERT_EQ(sorted[i], i);  // a permutation
+  std::vector<int> identity(static_cast<size_t>(n));
+  std::iota(identity.begin(), identity.end(), 0);
+  EXPECT_NE(order, identity);
+
+  LinearSolver again(LinearSolverKind::Cholmod);
+  again.analyze(own.h, &order);
+  EXPECT_EQ(again.factor_entries(), own.solver.factor_entries());
+  EXPECT_EQ(again.ordering(), order);
+  LinearSolver in_rows(LinearSolverKind::Cholmod);
+  in_rows.analyze(own.h, &identity);
+  EXPECT_GT(in_rows.factor_entries(), 2 * own.solver.factor_entries());
+  EXPECT_TRUE(LinearSolver(LinearSolverKind::Ldlt).ordering().empty());
+}
+
 TEST(VertexOrder, OrderOfTheVertexGraphServesAHessianOfItsInterior) {
   const CompactMesh mesh = test::cgal_mesh("lion-head.off");
   const VertexOrder order = VertexOrder::start(mesh.num_vertices(), mesh.faces(), 0);

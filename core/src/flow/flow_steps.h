@@ -88,6 +88,9 @@ class StepSolver {
              double rtol, Eigen::VectorXd& du, FlowTimes& times);
   static constexpr double kReuseFactorBelowResidual = 0.25;
   static constexpr int kStaleSolveIterations = 8;
+  //! A new pattern (after flips) is analysed in the last one's ordering where the factor's fill
+  //! is at most this many times the last fill of an ordering found afresh.
+  static constexpr double kReusedOrderFill = 1.1;
 
   //! d target / d u, for a target that depends on u (the free rows and columns).
   using Coupling = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
@@ -139,6 +142,9 @@ class StepSolver {
   bool unflipped_ = true;
   VertexOrder order_;
   LinearSolver solver_;
+  // The last analysis's ordering (E2, H2), and the fill of the last one found afresh.
+  std::vector<int> last_order_;
+  long fresh_fill_ = 0;
   SparseMatrix normal_matrix_;   // S2: H^2
   bool normal_pattern_ = false;  // normal_matrix_ holds H^2's pattern on this pattern
   bool analyzed_ = false;

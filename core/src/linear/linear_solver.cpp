@@ -130,6 +130,13 @@ long LinearSolver::factor_entries() const {
   return impl_->ldlt.matrixL().nestedExpression().nonZeros() + impl_->ldlt.rows();
 }
 
+std::vector<int> LinearSolver::ordering() const {
+  if (kind_ != LinearSolverKind::Cholmod) return {};
+  const cholmod_factor& l = impl_->cholmod.factor();
+  const int* perm = static_cast<const int*>(l.Perm);
+  return perm ? std::vector<int>(perm, perm + l.n) : std::vector<int>{};
+}
+
 Eigen::MatrixXd LinearSolver::solve(const Eigen::MatrixXd& b) const {
   if (kind_ == LinearSolverKind::Cholmod) return impl_->cholmod.solve(b);
   return impl_->ldlt.solve(b);

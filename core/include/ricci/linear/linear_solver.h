@@ -42,6 +42,9 @@ class LinearSolver {
   LinearSolverKind kind() const { return kind_; }
   //! The entries of the last analysis's factor (its fill). \pre analyze() was called.
   long factor_entries() const;
+  //! The last analysis's ordering (row order[k] eliminated k-th), as analyze() takes it; empty
+  //! for the LDL^T kind. \pre analyze() was called.
+  std::vector<int> ordering() const;
   int num_analyses() const { return num_analyses_; }
   int num_factorizations() const { return num_factorizations_; }
 
