@@ -112,17 +112,19 @@ bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, b
     // Flips change a few edges of the pattern between two analyses: the last ordering, kept while
     // its fill stays within kReusedOrderFill of the last one found afresh, spares the ordering
     // (the bull's atlas at 8 cones: 5 analyses, 0.03 s to 0.015 s; its fill 6 % more).
+    const bool cholmod = solver_.kind() == LinearSolverKind::Cholmod;
     bool reused = false;
-    if (rows.empty() && !spherical && static_cast<long>(last_order_.size()) == system->rows()) {
+    if (cholmod && rows.empty() && !spherical &&
+        static_cast<long>(last_order_.size()) == system->rows()) {
       solver_.analyze(*system, &last_order_);
       reused = static_cast<double>(solver_.factor_entries()) <=
                kReusedOrderFill * static_cast<double>(fresh_fill_);
     }
     if (!reused) {
       solver_.analyze(*system, rows.empty() ? nullptr : &rows);
-      fresh_fill_ = solver_.factor_entries();
+      if (cholmod) fresh_fill_ = solver_.factor_entries();
     }
-    if (!spherical) last_order_ = solver_.ordering();
+    if (cholmod && !spherical) last_order_ = solver_.ordering();
     analyzed_ = true;
     times.analysis += seconds_since(t);
   }

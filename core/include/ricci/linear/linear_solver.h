@@ -40,7 +40,8 @@ class LinearSolver {
   Eigen::VectorXd precondition(const Eigen::VectorXd& b) const;
 
   LinearSolverKind kind() const { return kind_; }
-  //! The entries of the last analysis's factor (its fill). \pre analyze() was called.
+  //! The entries of the last analysis's factor (its fill). \pre analyze() was called, and for the
+  //! LDL^T kind factorize() too.
   long factor_entries() const;
   //! The last analysis's ordering (row order[k] eliminated k-th), as analyze() takes it; empty
   //! for the LDL^T kind. \pre analyze() was called.
