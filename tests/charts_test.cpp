@@ -216,5 +216,48 @@ TEST(Charts, AChartWhoseHarmonicInsideWouldTurnKeepsItsDrawing) {
   }
 }
 
+TEST(Charts, AScrambledBlockOfTheInsideIsUntangledAsARegion) {
+  // Twelve inside vertices of the left chart, each put where another of them was: most faces
+  // around them turn over, and a vertex moved alone towards the mean of its neighbours (whose
+  // places are scrambled too) cannot undo it. The block with a ring of faces around it, its outer
+  // wedges held on a convex square, is a convex combination map: no face turned.
+  const CutGrid g = cut_grid(8);
+  std::vector<int> block;
+  for (int v = 0; v < g.mesh.num_vertices(); ++v) {
+    const Eigen::Vector3d& p = g.mesh.positions()[v];
+    if (p.x() > 0.1 && p.x() < 0.4 && p.y() > 0.2 && p.y() < 0.7) block.push_back(v);
+  }
+  ASSERT_EQ(block.size(), 12u);
+  std::vector<Eigen::Vector2d> at(g.mesh.num_vertices());
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) at[g.mesh.faces()[f][c]] = g.charts.corners[f][c];
+  }
+  Charts scrambled = g.charts;
+  for (size_t i = 0; i < block.size(); ++i) {
+    const int to = block[(5 * i + 7) % block.size()];  // 5 is prime to 12: a permutation
+    move_vertex(g, block[i], at[to] - at[block[i]], scrambled);
+  }
+  const auto turned = [&](const Charts& c) {
+    return std::count_if(c.corners.begin(), c.corners.end(),
+                         [](const auto& t) { return !(signed_area(t) > 0); });
+  };
+  ASSERT_GE(turned(scrambled), 10);
+  const Charts before = scrambled;
+  const std::vector<int> moved =
+      untangle_turned_faces(g.mesh, g.mesh.positions(), g.cut, scrambled);
+  EXPECT_EQ(turned(scrambled), 0);
+  EXPECT_FALSE(moved.empty());
+  // The other chart, the border and the vertices two rings and more from the block stay.
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d& p = g.mesh.positions()[g.mesh.faces()[f][c]];
+      if (p.x() > 0.4 || p.x() < 1e-12 || p.y() < 1e-12 || p.y() > 1 - 1e-12 || p.y() > 0.9) {
+        EXPECT_EQ(scrambled.corners[f][c], before.corners[f][c]);
+      }
+    }
+  }
+  EXPECT_TRUE(overlapping_faces(g.mesh, g.cut, scrambled).empty());
+}
+
 }  // namespace
 }  // namespace ricci::test

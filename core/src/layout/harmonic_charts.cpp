@@ -244,10 +244,127 @@ std::optional<Glued> glued(const SeamSides& s, int v, const Charts& charts) {
   return g;
 }
 
+// Rings of faces grown around a group of faces still turned, at most, and the faces a region
+// may hold.
+constexpr int kRegionRings = 4;
+constexpr int kRegionFaces = 4096;
+
+// Each group of faces still turned (joined through shared wedges), with the faces within a few
+// rings of it, redrawn: the region's wedges that reach outside it and the border's held, every
+// other wedge at the mean of its neighbours in the mean value weights of its 3D star (Floater's:
+// positive, so the map is a convex combination map, an embedding where the held polygon is convex,
+// by Tutte's theorem, and near the drawing the 3D shapes would give). From one ring to
+// kRegionRings, the first that leaves no face of the region turned is kept. Returns the wedges
+// moved.
+std::vector<int> redraw_tangled_regions(const Triangulation& mesh,
+                                        const std::vector<Eigen::Vector3d>& positions,
+                                        const std::vector<int>& wedge,
+                                        const std::vector<char>& border,
+                                        const std::vector<std::vector<int>>& corners_of,
+                                        Charts& charts) {
+  const int nf = mesh.num_faces();
+  std::vector<int> moved;
+  std::vector<int> group_of(nf, -1), stamp(nf, -1), unknown(3 * static_cast<size_t>(nf), -1);
+  const auto turned = [&](int f) { return !(signed_area(charts.corners[f]) > 0); };
+  // The faces that share a wedge with face f.
+  const auto around = [&](int f, const auto& visit) {
+    for (int c = 0; c < 3; ++c) {
+      for (int k : corners_of[wedge[3 * f + c]]) visit(k / 3);
+    }
+  };
+  int stamp_count = 0;
+  for (int seed = 0; seed < nf; ++seed) {
+    if (group_of[seed] >= 0 || !turned(seed)) continue;
+    std::vector<int> region{seed};
+    group_of[seed] = seed;
+    for (size_t i = 0; i < region.size(); ++i) {
+      around(region[i], [&](int g) {
+        if (group_of[g] < 0 && turned(g)) group_of[g] = seed, region.push_back(g);
+      });
+    }
+    const int id = stamp_count++;
+    for (int f : region) stamp[f] = id;
+    for (int ring = 1; ring <= kRegionRings; ++ring) {
+      const size_t before = region.size();
+      for (size_t i = 0; i < before; ++i) {
+        around(region[i], [&](int g) {
+          if (stamp[g] != id) stamp[g] = id, region.push_back(g);
+        });
+      }
+      if (static_cast<int>(region.size()) > kRegionFaces) break;
+      // The free wedges: off the border, every corner in the region.
+      std::vector<int> free;
+      for (int f : region) {
+        for (int c = 0; c < 3; ++c) {
+          const int w = wedge[3 * f + c];
+          if (border[w] || unknown[w] >= 0) continue;
+          bool inside = true;
+          for (int k : corners_of[w]) inside = inside && stamp[k / 3] == id;
+          if (inside) unknown[w] = static_cast<int>(free.size()), free.push_back(w);
+        }
+      }
+      bool kept = false;
+      if (!free.empty()) {
+        const int n = static_cast<int>(free.size());
+        std::vector<Eigen::Triplet<double>> entries;
+        Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
+        for (int i = 0; i < n; ++i) {
+          for (int k : corners_of[free[i]]) {
+            const int f = k / 3, c = k % 3;
+            const std::array<int, 3>& t = mesh.faces()[f];
+            const Eigen::Vector3d& x = positions[t[c]];
+            const Eigen::Vector3d a = positions[t[(c + 1) % 3]] - x;
+            const Eigen::Vector3d b = positions[t[(c + 2) % 3]] - x;
+            const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+            const double half_tangent = std::tan(std::min(angle, kPi - 1e-3) / 2);
+            for (int side = 1; side <= 2; ++side) {
+              const int neighbour = wedge[3 * f + (c + side) % 3];
+              const double length = (side == 1 ? a : b).norm();
+              double weight = half_tangent / length;
+              if (!(weight > 0) || !std::isfinite(weight)) weight = 1;
+              entries.emplace_back(i, i, weight);
+              if (unknown[neighbour] >= 0) {
+                entries.emplace_back(i, unknown[neighbour], -weight);
+              } else {
+                rhs.row(i) += weight * charts.corners[neighbour / 3][neighbour % 3].transpose();
+              }
+            }
+          }
+        }
+        Eigen::SparseMatrix<double> system(n, n);
+        system.setFromTriplets(entries.begin(), entries.end());
+        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(system);
+        const Eigen::MatrixXd x =
+            lu.info() == Eigen::Success ? Eigen::MatrixXd(lu.solve(rhs)) : Eigen::MatrixXd();
+        if (x.size() > 0 && x.allFinite()) {
+          std::vector<std::array<Eigen::Vector2d, 3>> drawn(region.size());
+          kept = true;
+          for (size_t r = 0; r < region.size() && kept; ++r) {
+            for (int c = 0; c < 3; ++c) {
+              const int i = unknown[wedge[3 * region[r] + c]];
+              drawn[r][c] =
+                  i >= 0 ? Eigen::Vector2d(x.row(i).transpose()) : charts.corners[region[r]][c];
+            }
+            kept = signed_area(drawn[r]) > 0;
+          }
+          if (kept) {
+            for (size_t r = 0; r < region.size(); ++r) charts.corners[region[r]] = drawn[r];
+            moved.insert(moved.end(), free.begin(), free.end());
+          }
+        }
+      }
+      for (int w : free) unknown[w] = -1;
+      if (kept) break;
+    }
+  }
+  return moved;
+}
+
 }  // namespace
 
-std::vector<int> untangle_turned_faces(const Triangulation& mesh, const std::vector<char>& cut,
-                                       Charts& charts) {
+std::vector<int> untangle_turned_faces(const Triangulation& mesh,
+                                       const std::vector<Eigen::Vector3d>& positions,
+                                       const std::vector<char>& cut, Charts& charts) {
   const int nf = mesh.num_faces();
   if (std::all_of(charts.corners.begin(), charts.corners.end(),
                   [](const auto& t) { return signed_area(t) > 0; })) {
@@ -319,6 +436,9 @@ std::vector<int> untangle_turned_faces(const Triangulation& mesh, const std::vec
         if (!(position(w) == from) && !moved[w]) moved[w] = 1, wedges_moved.push_back(w);
       }
     }
+  }
+  for (int w : redraw_tangled_regions(mesh, positions, wedge, border, corners_of, charts)) {
+    if (!moved[w]) moved[w] = 1, wedges_moved.push_back(w);
   }
   return wedges_moved;
 }

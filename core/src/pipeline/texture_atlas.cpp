@@ -201,7 +201,7 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
     return (d <= bound || !(d > (1 + kSameD) * pieces.distortion)) &&
            overlapping_faces(mesh, in->seam, c).empty();
   };
-  std::vector<int> moved = untangle_turned_faces(mesh, in->seam, charts);
+  std::vector<int> moved = untangle_turned_faces(mesh, mesh.positions(), in->seam, charts);
   const bool turned_developed = turned();
   const double qc_developed = qc_p95(mesh.positions(), mesh.faces(), charts.corners);
   if (turned_developed || mesh.num_faces() < kHarmonicBelow ||
@@ -224,7 +224,7 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
       if (charts.corners[w / 3][w % 3] == untangled.corners[w / 3][w % 3]) kept.push_back(w);
     }
     moved = std::move(kept);
-    for (int w : untangle_turned_faces(mesh, in->seam, charts)) {
+    for (int w : untangle_turned_faces(mesh, mesh.positions(), in->seam, charts)) {
       if (std::find(moved.begin(), moved.end(), w) == moved.end()) moved.push_back(w);
     }
     if (turned() || !deliverable(charts)) {

@@ -71,10 +71,15 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
 //! whole turns) moves as one with its two wedges, towards the mean of its neighbours on both
 //! sides, its second wedge by that rotation (the nearest to taking both edges of one side to the
 //! other's), so that the seam's two sides stay congruent. A face whose corners are all at cones, at
-//! branches or ends of seams, or on the boundary stays turned. Returns the wedges moved (each by a
-//! corner of it; one per vertex). `cut` as for lay_out_charts.
-std::vector<int> untangle_turned_faces(const Triangulation& mesh, const std::vector<char>& cut,
-                                       Charts& charts);
+//! branches or ends of seams, or on the boundary stays turned. Then each group of faces still
+//! turned is redrawn with the faces within one to four rings of it: the wedges off the border
+//! whose faces are all in that region at the mean of their neighbours in mean value weights of
+//! their 3D stars (`positions`), the others held, kept at the first region whose faces all turn
+//! counter-clockwise. Returns the wedges moved (each by a corner of it; one per vertex). `cut` as
+//! for lay_out_charts.
+std::vector<int> untangle_turned_faces(const Triangulation& mesh,
+                                       const std::vector<Eigen::Vector3d>& positions,
+                                       const std::vector<char>& cut, Charts& charts);
 
 //! The quasi-conformal ratio of a face's map from its 3D corners (`positions` at `face`) to its
 //! drawing `corners`.
