@@ -159,9 +159,6 @@ TEST(LinearSolver, TwoThreadsSolveWhatOneSolves) {
   }
 }
 
-// A fill-reducing order found ahead from the mesh's vertex graph, restricted to the rows of a
-// Hessian that holds the boundary, fills at most a quarter more than the Hessian's own (CHOLMOD's
-// choice, AMD at this size) and solves the same.
 // The ordering an analysis found, given back, is analysed to the same fill, and another
 // ordering to another: the flow reuses the last one after flips (StepSolver).
 TEST(LinearSolver, AnAnalysisGivesItsOrderingBack) {
@@ -187,6 +184,9 @@ TEST(LinearSolver, AnAnalysisGivesItsOrderingBack) {
   EXPECT_TRUE(LinearSolver(LinearSolverKind::Ldlt).ordering().empty());
 }
 
+// A fill-reducing order found ahead from the mesh's vertex graph, restricted to the rows of a
+// Hessian that holds the boundary, fills at most a quarter more than the Hessian's own (CHOLMOD's
+// choice, AMD at this size) and solves the same.
 TEST(VertexOrder, OrderOfTheVertexGraphServesAHessianOfItsInterior) {
   const CompactMesh mesh = test::cgal_mesh("lion-head.off");
   const VertexOrder order = VertexOrder::start(mesh.num_vertices(), mesh.faces(), 0);

@@ -64,6 +64,8 @@ void StepSolver::set_pattern(const Triangulation& mesh, const std::vector<int>& 
   // the connectivity at most of its steps and solves none (tr12j's atlas: 33 changes, 6 analyses).
   assembler_.reset();
   mesh_ = &mesh;
+  // The last ordering's rows are other vertices' under another free set.
+  if (free_index != free_index_) last_order_.clear();
   free_index_ = free_index;
   num_free_ = static_cast<int>(
       std::count_if(free_index_.begin(), free_index_.end(), [](int i) { return i >= 0; }));

@@ -254,8 +254,9 @@ constexpr int kRegionFaces = 4096;
 // other wedge at the mean of its neighbours in the mean value weights of its 3D star (Floater's:
 // positive, so the map is a convex combination map, an embedding where the held polygon is convex,
 // by Tutte's theorem, and near the drawing the 3D shapes would give). From one ring to
-// kRegionRings, the first that leaves no face of the region turned is kept. Returns the wedges
-// moved.
+// kRegionRings, the first is kept where every face with a wedge solved for turns
+// counter-clockwise, some of them turned before (a face with no such wedge, turned at a cone,
+// keeps its corners and does not hold the rest). Returns the wedges moved.
 std::vector<int> redraw_tangled_regions(const Triangulation& mesh,
                                         const std::vector<Eigen::Vector3d>& positions,
                                         const std::vector<int>& wedge,
@@ -293,23 +294,23 @@ std::vector<int> redraw_tangled_regions(const Triangulation& mesh,
       }
       if (static_cast<int>(region.size()) > kRegionFaces) break;
       // The free wedges: off the border, every corner in the region.
-      std::vector<int> free;
+      std::vector<int> solved;
       for (int f : region) {
         for (int c = 0; c < 3; ++c) {
           const int w = wedge[3 * f + c];
           if (border[w] || unknown[w] >= 0) continue;
           bool inside = true;
           for (int k : corners_of[w]) inside = inside && stamp[k / 3] == id;
-          if (inside) unknown[w] = static_cast<int>(free.size()), free.push_back(w);
+          if (inside) unknown[w] = static_cast<int>(solved.size()), solved.push_back(w);
         }
       }
       bool kept = false;
-      if (!free.empty()) {
-        const int n = static_cast<int>(free.size());
+      if (!solved.empty()) {
+        const int n = static_cast<int>(solved.size());
         std::vector<Eigen::Triplet<double>> entries;
         Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
         for (int i = 0; i < n; ++i) {
-          for (int k : corners_of[free[i]]) {
+          for (int k : corners_of[solved[i]]) {
             const int f = k / 3, c = k % 3;
             const std::array<int, 3>& t = mesh.faces()[f];
             const Eigen::Vector3d& x = positions[t[c]];
@@ -337,23 +338,34 @@ std::vector<int> redraw_tangled_regions(const Triangulation& mesh,
         const Eigen::MatrixXd x =
             lu.info() == Eigen::Success ? Eigen::MatrixXd(lu.solve(rhs)) : Eigen::MatrixXd();
         if (x.size() > 0 && x.allFinite()) {
+          // Kept where every face with a corner solved for turns counter-clockwise: the others
+          // keep their corners (a face turned at a cone stays so, and does not hold the rest).
           std::vector<std::array<Eigen::Vector2d, 3>> drawn(region.size());
           kept = true;
+          bool mended = false;  // a face turned before, counter-clockwise now
           for (size_t r = 0; r < region.size() && kept; ++r) {
+            bool solved_corner = false;
             for (int c = 0; c < 3; ++c) {
               const int i = unknown[wedge[3 * region[r] + c]];
+              solved_corner = solved_corner || i >= 0;
               drawn[r][c] =
                   i >= 0 ? Eigen::Vector2d(x.row(i).transpose()) : charts.corners[region[r]][c];
             }
-            kept = signed_area(drawn[r]) > 0;
+            kept = !solved_corner || signed_area(drawn[r]) > 0;
+            mended = mended || (solved_corner && turned(region[r]));
           }
+          kept = kept && mended;
           if (kept) {
+            for (int w : solved) {
+              if (!(x.row(unknown[w]).transpose() == charts.corners[w / 3][w % 3])) {
+                moved.push_back(w);
+              }
+            }
             for (size_t r = 0; r < region.size(); ++r) charts.corners[region[r]] = drawn[r];
-            moved.insert(moved.end(), free.begin(), free.end());
           }
         }
       }
-      for (int w : free) unknown[w] = -1;
+      for (int w : solved) unknown[w] = -1;
       if (kept) break;
     }
   }
