@@ -45,8 +45,10 @@ FlowResult expect_converges(const std::string& mesh_name, const CompactMesh& mes
                                   r.iterations);
   expect_gauss_bonnet(mesh, g, r);
   EXPECT_GE(r.num_analyses, 1);
-  EXPECT_LE(r.num_analyses, 1 + r.connectivity_changes)
-      << "symbolic factorization once per connectivity";
+  // A pattern after flips is analysed in the last one's ordering and, where that fills more than
+  // kReusedOrderFill times a fresh one's, again afresh (StepSolver): at most twice.
+  EXPECT_LE(r.num_analyses, 2 * (1 + r.connectivity_changes))
+      << "symbolic factorization at most twice per connectivity";
   // Each iteration factorizes H, or solves with an earlier factorization as MINRES's
   // preconditioner (StepSolver::solve).
   EXPECT_GE(r.num_factorizations, 1);

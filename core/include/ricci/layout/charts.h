@@ -74,9 +74,10 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
 //! branches or ends of seams, or on the boundary stays turned. Then each group of faces still
 //! turned is redrawn with the faces within one to four rings of it: the wedges off the border
 //! whose faces are all in that region at the mean of their neighbours in mean value weights of
-//! their 3D stars (`positions`), the others held, kept at the first region whose faces all turn
-//! counter-clockwise. Returns the wedges moved (each by a corner of it; one per vertex). `cut` as
-//! for lay_out_charts.
+//! their 3D stars (`positions`), the others held, kept at the first region where every face with
+//! a wedge solved for turns counter-clockwise and one of them was turned (a face whose corners are
+//! all held stays as it was). Returns the wedges moved (each by a corner of it; one per vertex).
+//! `cut` as for lay_out_charts.
 std::vector<int> untangle_turned_faces(const Triangulation& mesh,
                                        const std::vector<Eigen::Vector3d>& positions,
                                        const std::vector<char>& cut, Charts& charts);
