@@ -265,7 +265,8 @@ std::vector<int> redraw_tangled_regions(const Triangulation& mesh,
                                         Charts& charts) {
   const int nf = mesh.num_faces();
   std::vector<int> moved;
-  std::vector<int> group_of(nf, -1), stamp(nf, -1), unknown(3 * static_cast<size_t>(nf), -1);
+  std::vector<char> grouped(nf, 0);
+  std::vector<int> stamp(nf, -1), unknown(3 * static_cast<size_t>(nf), -1);
   const auto turned = [&](int f) { return !(signed_area(charts.corners[f]) > 0); };
   // The faces that share a wedge with face f.
   const auto around = [&](int f, const auto& visit) {
@@ -275,23 +276,25 @@ std::vector<int> redraw_tangled_regions(const Triangulation& mesh,
   };
   int stamp_count = 0;
   for (int seed = 0; seed < nf; ++seed) {
-    if (group_of[seed] >= 0 || !turned(seed)) continue;
+    if (grouped[seed] || !turned(seed)) continue;
     std::vector<int> region{seed};
-    group_of[seed] = seed;
+    grouped[seed] = 1;
     for (size_t i = 0; i < region.size(); ++i) {
       around(region[i], [&](int g) {
-        if (group_of[g] < 0 && turned(g)) group_of[g] = seed, region.push_back(g);
+        if (!grouped[g] && turned(g)) grouped[g] = 1, region.push_back(g);
       });
     }
     const int id = stamp_count++;
     for (int f : region) stamp[f] = id;
+    size_t last_ring = 0;  // where the faces the last ring added begin
     for (int ring = 1; ring <= kRegionRings; ++ring) {
       const size_t before = region.size();
-      for (size_t i = 0; i < before; ++i) {
+      for (size_t i = last_ring; i < before; ++i) {
         around(region[i], [&](int g) {
           if (stamp[g] != id) stamp[g] = id, region.push_back(g);
         });
       }
+      last_ring = before;
       if (static_cast<int>(region.size()) > kRegionFaces) break;
       // The free wedges: off the border, every corner in the region.
       std::vector<int> solved;
