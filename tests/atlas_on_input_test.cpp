@@ -2,6 +2,7 @@
 // faces, on a square of two faces whose diagonal a new vertex splits into two pieces each.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -18,7 +19,8 @@ struct Square {
   CommonSubdivision sub;
   Triangulation delivered;
   Charts charts;
-  int diagonal = -1;  // the input edge 0-2
+  int diagonal = -1;       // the input edge 0-2
+  std::vector<int> under;  // input_edge_under
 };
 
 // The square (0, 0) .. (1, 1), faces {0, 1, 2} and {0, 2, 3}, and vertex 4 at the diagonal's
@@ -49,7 +51,9 @@ Square square() {
     charts.corners.push_back(q);
   }
   Triangulation delivered = Triangulation::from_faces(5, sub.faces);
-  return {std::move(mesh), std::move(sub), std::move(delivered), std::move(charts), diagonal};
+  std::vector<int> under = input_edge_under(mesh, delivered, sub);
+  return {std::move(mesh),   std::move(sub), std::move(delivered),
+          std::move(charts), diagonal,       std::move(under)};
 }
 
 // Per delivered edge, 1 on the edges between the listed vertex pairs.
@@ -64,10 +68,31 @@ std::vector<char> seam_on(const Triangulation& t, const std::vector<std::array<i
   return seam;
 }
 
+TEST(ChartsOnInput, EachDeliveredEdgeKnowsTheInputEdgeUnderIt) {
+  const Square s = square();
+  ASSERT_GE(s.diagonal, 0);
+  ASSERT_EQ(s.under.size(), static_cast<size_t>(s.delivered.num_edges()));
+  for (int e = 0; e < s.delivered.num_edges(); ++e) {
+    const auto [a, b] = s.delivered.edge_vertices(e);
+    if (a == 4 || b == 4) {
+      // From the diagonal's midpoint: on the diagonal towards 0 and 2, across the faces to 1, 3.
+      const int other = a == 4 ? b : a;
+      EXPECT_EQ(s.under[e], other == 0 || other == 2 ? s.diagonal : -1) << a << "-" << b;
+    } else {
+      // Between two input vertices: the input edge itself.
+      ASSERT_GE(s.under[e], 0) << a << "-" << b;
+      const auto ends = s.mesh.edge_vertices(s.under[e]);
+      EXPECT_EQ(std::min(ends[0], ends[1]), std::min(a, b));
+      EXPECT_EQ(std::max(ends[0], ends[1]), std::max(a, b));
+    }
+  }
+}
+
 TEST(ChartsOnInput, EachInputFaceTakesItsPiecesChartAndCorners) {
   const Square s = square();
   ASSERT_GE(s.diagonal, 0);
-  const auto in = charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {}), s.charts);
+  const auto in =
+      charts_on_input(s.mesh, s.sub, s.delivered, s.under, seam_on(s.delivered, {}), s.charts);
   ASSERT_TRUE(in.has_value());
   EXPECT_EQ(in->charts.num_charts, 1);
   EXPECT_EQ(in->charts.chart, (std::vector<int>{0, 0}));
@@ -84,8 +109,8 @@ TEST(ChartsOnInput, ASeamAlongAWholeInputEdgeIsThatEdge) {
   Square s = square();
   s.charts.num_charts = 2;
   s.charts.chart = {0, 0, 1, 1};
-  const auto in =
-      charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {{0, 4}, {4, 2}}), s.charts);
+  const auto in = charts_on_input(s.mesh, s.sub, s.delivered, s.under,
+                                  seam_on(s.delivered, {{0, 4}, {4, 2}}), s.charts);
   ASSERT_TRUE(in.has_value());
   EXPECT_EQ(in->charts.chart, (std::vector<int>{0, 1}));
   for (int e = 0; e < s.mesh.num_edges(); ++e) EXPECT_EQ(in->seam[e], e == s.diagonal) << e;
@@ -94,19 +119,21 @@ TEST(ChartsOnInput, ASeamAlongAWholeInputEdgeIsThatEdge) {
 TEST(ChartsOnInput, NoneWhereTheSeamsOrChartsDoNotFollowTheInputsFaces) {
   Square s = square();
   // A seam along half of the diagonal only.
-  EXPECT_FALSE(
-      charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {{0, 4}}), s.charts));
+  EXPECT_FALSE(charts_on_input(s.mesh, s.sub, s.delivered, s.under, seam_on(s.delivered, {{0, 4}}),
+                               s.charts));
   // A seam inside input face 0 (from its corner 1 to the diagonal's midpoint).
-  EXPECT_FALSE(
-      charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {{1, 4}}), s.charts));
+  EXPECT_FALSE(charts_on_input(s.mesh, s.sub, s.delivered, s.under, seam_on(s.delivered, {{1, 4}}),
+                               s.charts));
   // The pieces of input face 0 in two charts.
   Charts split = s.charts;
   split.num_charts = 2;
   split.chart = {0, 1, 1, 1};
-  EXPECT_FALSE(charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {}), split));
+  EXPECT_FALSE(
+      charts_on_input(s.mesh, s.sub, s.delivered, s.under, seam_on(s.delivered, {}), split));
   // Another mesh's subdivision.
   s.sub.num_input_vertices = 3;
-  EXPECT_FALSE(charts_on_input(s.mesh, s.sub, s.delivered, seam_on(s.delivered, {}), s.charts));
+  EXPECT_FALSE(
+      charts_on_input(s.mesh, s.sub, s.delivered, s.under, seam_on(s.delivered, {}), s.charts));
 }
 
 }  // namespace

@@ -7,7 +7,6 @@
 // vertices, becomes its chord. The two sides of a seam are congruent polylines, so their chords
 // are equal too: the seams still glue.
 #include <algorithm>
-#include <unordered_map>
 
 #include "pipeline/texture_atlas.h"
 #include "ricci/layout/charts.h"
@@ -16,41 +15,16 @@ namespace ricci::detail {
 
 std::optional<InputCharts> charts_on_input(const CompactMesh& mesh, const CommonSubdivision& sub,
                                            const Triangulation& delivered,
+                                           const std::vector<int>& under,
                                            const std::vector<char>& seam, const Charts& charts) {
   const int nv = mesh.num_vertices();
   if (sub.num_input_vertices != nv) return std::nullopt;  // not this mesh's subdivision
-  const auto key = [nv](int a, int b) {
-    return static_cast<long long>(std::min(a, b)) * nv + std::max(a, b);
-  };
-  std::unordered_map<long long, int> edge_of;
-  edge_of.reserve(static_cast<size_t>(mesh.num_edges()));
-  for (int e = 0; e < mesh.num_edges(); ++e) {
-    const auto [a, b] = mesh.edge_vertices(e);
-    edge_of[key(a, b)] = e;
-  }
-  // Per delivered edge, the input edge it lies on (-1: none), and per input edge its delivered
-  // edges and how many of them are seams: all or none.
+  // Per input edge its delivered edges and how many of them are seams: all or none.
   InputCharts out;
   out.seam.assign(mesh.num_edges(), 0);
   std::vector<int> pieces(mesh.num_edges(), 0), seams(mesh.num_edges(), 0);
   for (int e = 0; e < delivered.num_edges(); ++e) {
-    const auto [a, b] = delivered.edge_vertices(e);
-    int on = -1;
-    if (a < nv && b < nv) {
-      const auto it = edge_of.find(key(a, b));
-      if (it != edge_of.end()) on = it->second;
-    } else {
-      const int ea = a < nv ? -1 : sub.vertex_input_edge[a - nv];
-      const int eb = b < nv ? -1 : sub.vertex_input_edge[b - nv];
-      on = ea >= 0 ? ea : eb;
-      if (on >= 0) {
-        const auto ends = mesh.edge_vertices(on);
-        const auto on_it = [&](int v, int ev) {
-          return v < nv ? v == ends[0] || v == ends[1] : ev == on;
-        };
-        if (!on_it(a, ea) || !on_it(b, eb)) on = -1;
-      }
-    }
+    const int on = under[e];
     if (on < 0) {
       if (seam[e]) return std::nullopt;  // a seam inside an input face
       continue;

@@ -185,9 +185,10 @@ struct UserFaces {
 // excess over 1 above 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
 std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonSubdivision& sub,
                                           const Triangulation& delivered,
+                                          const std::vector<int>& under,
                                           const std::vector<char>& seam, const Charts& developed,
                                           double bound, const AsDrawn& pieces) {
-  std::optional<InputCharts> in = charts_on_input(mesh, sub, delivered, seam, developed);
+  std::optional<InputCharts> in = charts_on_input(mesh, sub, delivered, under, seam, developed);
   if (!in) return std::nullopt;
   UserFaces drawn;
   Charts& charts = in->charts;
@@ -286,8 +287,8 @@ void deliver(const Triangulation& delivered, const std::vector<Eigen::Vector3d>&
 
 }  // namespace
 
-std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
-                                 const CommonSubdivision& sub) {
+std::vector<int> input_edge_under(const CompactMesh& mesh, const Triangulation& delivered,
+                                  const CommonSubdivision& sub) {
   std::vector<std::vector<int>> input_edges(delivered.num_vertices());
   for (int e = 0; e < mesh.num_edges(); ++e) {
     for (int v : mesh.edge_vertices(e)) input_edges[v].push_back(e);
@@ -297,15 +298,15 @@ std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& d
     if (e >= 0) input_edges[v].push_back(e);
   }
   for (auto& list : input_edges) std::sort(list.begin(), list.end());
-  std::vector<char> allowed(delivered.num_edges(), 0);
+  std::vector<int> under(delivered.num_edges(), -1);
   for (int e = 0; e < delivered.num_edges(); ++e) {
     const auto [a, b] = delivered.edge_vertices(e);
     const auto& x = input_edges[a];
     const auto& y = input_edges[b];
     size_t i = 0, j = 0;
-    while (i < x.size() && j < y.size() && !allowed[e]) {
+    while (i < x.size() && j < y.size() && under[e] < 0) {
       if (x[i] == y[j]) {
-        allowed[e] = 1;
+        under[e] = x[i];
       } else if (x[i] < y[j]) {
         ++i;
       } else {
@@ -313,7 +314,15 @@ std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& d
       }
     }
   }
-  return allowed;
+  return under;
+}
+
+std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
+                                 const CommonSubdivision& sub) {
+  const std::vector<int> under = input_edge_under(mesh, delivered, sub);
+  std::vector<char> on(under.size());
+  for (size_t e = 0; e < under.size(); ++e) on[e] = under[e] >= 0;
+  return on;
 }
 
 std::vector<double> lengths_in_3d(const Triangulation& delivered,
@@ -427,8 +436,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       for (int c = 0; c < 3; ++c) flat[f][c] = lengths[mesh.face_edge(f, c)];
     }
   }
-  const std::vector<char> allowed =
-      sub ? on_input_edges(mesh, delivered, *sub) : std::vector<char>{};
+  const std::vector<int> under = sub ? input_edge_under(mesh, delivered, *sub) : std::vector<int>{};
+  std::vector<char> allowed;  // the edges on the user's, where the pieces are delivered
+  for (int e : under) allowed.push_back(e >= 0);
 
   // === Seams and charts; charts whose faces overlap split between the sheets, until none does
   atlas.seconds = {};
@@ -546,7 +556,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     const AsDrawn pieces{face_distortion(positions, faces, charts.corners),
                          qc_p95(positions, faces, charts.corners)};
     std::optional<UserFaces> user =
-        user_faces_drawn(mesh, *sub, delivered, seam, charts, run.atlas.bound, pieces);
+        user_faces_drawn(mesh, *sub, delivered, under, seam, charts, run.atlas.bound, pieces);
     atlas.seconds.harmonic += lap(clock);
     if (user) {
       const InputCharts& in = user->in;

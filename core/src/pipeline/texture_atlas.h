@@ -39,8 +39,11 @@ namespace ricci::detail {
 TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& placement,
                              bool quarter_angles);
 
-//! Per edge of `delivered`, a common subdivision's triangulation of `mesh`: 1 where it lies on an
-//! edge of the user's mesh (both ends on the closure of one input edge).
+//! Per edge of `delivered`, a common subdivision's triangulation of `mesh`: the edge of the
+//! user's mesh it lies on (both ends on that input edge's closure), -1 where it lies on none.
+std::vector<int> input_edge_under(const CompactMesh& mesh, const Triangulation& delivered,
+                                  const CommonSubdivision& sub);
+//! 1 per edge of `delivered` that lies on an edge of the user's mesh (input_edge_under).
 std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
                                  const CommonSubdivision& sub);
 
@@ -52,8 +55,10 @@ struct InputCharts {
   std::vector<char> seam;  //!< per input edge
   Charts charts;           //!< per input face
 };
+//! `under`: input_edge_under of `delivered`.
 std::optional<InputCharts> charts_on_input(const CompactMesh& mesh, const CommonSubdivision& sub,
                                            const Triangulation& delivered,
+                                           const std::vector<int>& under,
                                            const std::vector<char>& seam, const Charts& charts);
 
 //! Per edge of `delivered`, its length in 3D between `positions` (seams are shortest there).
