@@ -265,38 +265,51 @@ TEST(Atlas, GenusFourFlangeIsAValidAtlas) {
 }
 
 TEST(Atlas, FewConesOnHighGenusGiveWideConesAndStillNoOverlap) {
-  // gmsh's lever (genus 6) at 8 cones: cones of 2 to 2.7 turns, whose corners on the part's
+  // gmsh's lever (genus 6) at 8 cones: cones of 1.6 to 2.8 turns, whose corners on the part's
   // obtuse triangles open past a full turn, so that pieces of one input face overlap; the seam
-  // parts them inside that face. D of such a budget is about 0.39.
+  // parts them inside that face. D of such a budget is about 0.4 (0.390 before the cones were
+  // moved off corners they would open near a half turn, 0.405 after).
   const std::string lever = std::string(RICCI_REAL_MESH_DIR) + "/gmsh-lever.stl";
   const Atlas a = run_atlas(lever, "--max-cones 8");
-  expect_valid_atlas(a, lever, 0.4);
+  expect_valid_atlas(a, lever, 0.42);
 }
 
 TEST(Atlas, ACadPartWhoseFlowStallsWithItsConesGetsThoseOfATighterBound) {
-  // Cura's printer part (genus 3, 1.9k faces): with the 34 cones for D <= 0.2 the Delaunay
+  // Cura's printer part (genus 3, 1.9k faces): with the 35 cones for D <= 0.2 the Delaunay
   // triangulation of the flat metric would need edges from a vertex to itself, which the flips
-  // refuse, and the flow stalls; the cones for D <= 0.1 flow. The atlas is within the bound
-  // asked, and the summary and the report say which bound its cones were placed for, and why.
+  // refuse, and the flow stalls; the cones of a tighter bound are placed (at most twice) until
+  // one flows (0.05 today; 0.1 before the cones were moved off wide corners). The atlas is within
+  // the bound asked, and the summary and the report say which bound its cones were placed for,
+  // and why.
   const std::string part = std::string(RICCI_REAL_MESH_DIR) + "/cura-felixpro2.obj";
   const std::string report = temp("part.json");
   const Atlas a = run_atlas(part, "--report " + report);
   expect_valid_atlas(a, part, 0.2);
-  EXPECT_NE(a.summary.find("The cones were placed again, for D <= 0.1: with the cones for D <= "
-                           "0.2"),
-            std::string::npos)
-      << a.summary;
+  const std::string said = "The cones were placed again, for D <= ";
+  const size_t again = a.summary.find(said);
+  ASSERT_NE(again, std::string::npos) << a.summary;
+  const double tighter = std::stod(a.summary.substr(again + said.size(), 8));
+  EXPECT_LT(tighter, 0.2);
+  EXPECT_NE(a.summary.find(": with the cones for D <= 0.2", again), std::string::npos) << a.summary;
   const std::string json = slurp(report);
-  EXPECT_NE(json.find("\"bound\": 0.1"), std::string::npos);
+  const std::string bound_key = "\"bound\": ";
+  const size_t bound_at = json.find(bound_key);
+  ASSERT_NE(bound_at, std::string::npos);
+  EXPECT_EQ(std::stod(json.substr(bound_at + bound_key.size(), 12)), tighter);
   const std::string key = "\"bound_instead\": \"";
   const size_t at = json.find(key);
   ASSERT_NE(at, std::string::npos);
   const size_t begin = at + key.size();
   const std::string why = json.substr(begin, json.find('"', begin) - begin);
   EXPECT_EQ(why.rfind("with the cones for D <= 0.2 (", 0), 0u) << why;
-  EXPECT_NE(why.find("cones): the atlas was not reached: stalled"), std::string::npos) << why;
-  // Both placements' costs count: two factorizations.
-  EXPECT_NE(json.find("\"placement\": {\"factorizations\": 2,"), std::string::npos);
+  int stalled = 0;
+  const std::string stall = "cones): the atlas was not reached: stalled";
+  for (size_t i = why.find(stall); i != std::string::npos; i = why.find(stall, i + 1)) ++stalled;
+  EXPECT_GE(stalled, 1) << why;
+  // Every placement's cost counts: a factorization each.
+  EXPECT_NE(json.find("\"placement\": {\"factorizations\": " + std::to_string(1 + stalled) + ","),
+            std::string::npos)
+      << why;
 }
 
 TEST(Atlas, ASurfaceWhoseBoundaryTrianglesDegenerateFlowsOnItsDouble) {
@@ -487,6 +500,21 @@ TEST(Atlas, WhereTheUsersFacesDrawWithoutTurningOverTheAtlasKeepsThem) {
   ASSERT_NE(at, std::string::npos);
   EXPECT_EQ(seams.edges, std::stoi(json.substr(at + key.size(), 12)));
   EXPECT_NE(json.find("\"on_input_faces\": true"), std::string::npos);
+}
+
+TEST(Atlas, ConesOfTwoTurnsLeaveTheUsersFacesDrawable) {
+  // CGAL's bull at 8 cones: two cones of about two turns, placed where no corner of their faces
+  // opens near a half turn, and the flow's 3,600 flips: the atlas comes back on the bull's own
+  // 12,396 faces, none turned over (at vertices of five faces with corners of 115 degrees a face
+  // was turned at each, and the atlas came back on 22,034 pieces).
+  const std::string bull = cgal("bull.off");
+  const Atlas a = run_atlas(bull, "--max-cones 8");
+  expect_valid_atlas(a, bull, 1.4);
+  EXPECT_NE(a.summary.find("delivered on your faces"), std::string::npos) << a.summary;
+  EXPECT_EQ(a.ply.faces.size(), read_mesh_file(bull).triangles.size());
+  const SeamSides seams = seam_sides(a);
+  EXPECT_GT(seams.edges, 0);
+  EXPECT_LT(seams.worst, 1e-7);
 }
 
 TEST(Atlas, AFaceTheUsersFacesTurnOverIsUntangled) {

@@ -3,6 +3,7 @@
 // quarter angles do what they say.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "flow/linear_cone_model.h"
@@ -115,6 +116,34 @@ TEST(ConePlacement, ABudgetStopsThePlacementAndSaysSo) {
   EXPECT_LE(p.cones.size(), 3u);
   EXPECT_FALSE(p.bound_reached);
   EXPECT_NE(p.why_not.find("budget"), std::string::npos) << p.why_not;
+}
+
+TEST(ConePlacement, NoConeOpensACornerOfItsFacesNearAHalfTurn) {
+  // CGAL's bull at 8 cones: the peaks of |u| put two cones of about 12 rad (a little less than two
+  // turns) at vertices of five faces, whose corners of 115 and 102 degrees the flat metric would
+  // open to about 3.5 rad. Each corner of a cone's faces, in 3D, times the cone's angle over the
+  // vertex's angle sum, stays below a half turn.
+  const CompactMesh bull = cgal_mesh("bull.off");
+  ConePlacementOptions o;
+  o.max_cones = 8;
+  const ConePlacement p = place_cones(bull, o);
+  ASSERT_EQ(p.cones.size(), 8u);
+  int wide = 0;
+  for (const Cone& c : p.cones) {
+    double widest = 0, sum = 0;
+    for (const auto& t : bull.faces()) {
+      for (int k = 0; k < 3; ++k) {
+        if (t[k] != c.vertex) continue;
+        const Eigen::Vector3d a = bull.positions()[t[(k + 1) % 3]] - bull.positions()[t[k]];
+        const Eigen::Vector3d b = bull.positions()[t[(k + 2) % 3]] - bull.positions()[t[k]];
+        const double corner = std::acos(a.normalized().dot(b.normalized()));
+        widest = std::max(widest, corner), sum += corner;
+      }
+    }
+    EXPECT_LT(widest * c.angle / sum, kPi) << "cone at " << c.vertex;
+    wide += c.angle > 2 * kPi;
+  }
+  EXPECT_EQ(wide, 2);
 }
 
 TEST(ConePlacement, QuarterAnglesAreQuarterTurnsSummingToGaussBonnet) {
