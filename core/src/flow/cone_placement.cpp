@@ -36,11 +36,11 @@ constexpr size_t kMaxBlock = 32;
 constexpr size_t kIncrementalFrom = 16;
 // A cone that would open a corner of its faces past a half turn (no triangle has such a corner)
 // is moved within kWideMoveRings rings to a vertex where it opens none past kDrawableCorner (a
-// margin for the estimate: the bull's was 3.48 for a corner of 3.73), its D within kWideMoveSlack
-// of the set's. Measured at 8 cones (D of the exact metric): CGAL's bull 1.366 to 1.285 and man
-// 1.534 to 1.538, both then on their own faces; within one ring and 2 %, the bull's two cones
-// found one move, within 2 rings and 5 % both. Moving cones that open corners of 0.9 pi to a
-// half turn as well moved two of the cow's 55, whose own faces drew already: seams 13 % longer.
+// margin for the estimate: the bull's was 3.48 for a corner of 3.73), where no other cone comes
+// to open one past a half turn, its D within kWideMoveSlack of the set's before any such move.
+// Measured at 8 cones (D of the exact metric): CGAL's bull 1.366 to 1.285 and man 1.534 to
+// 1.538, both then on their own faces; within one ring and 2 %, the bull's two cones found one
+// move, within 2 rings and 5 % both.
 constexpr double kDrawableCorner = 0.9 * kPi;
 constexpr double kWideMoveSlack = 0.05;
 constexpr int kWideMoveRings = 2;
@@ -179,6 +179,24 @@ class Search {
   double opened_corner(int v, double theta) const {
     return widest_corner_[v] * theta / angle_sum_[v];
   }
+  // The widest corner that s's i-th cone opens.
+  double opened_corner(const State& s, size_t i) const {
+    return opened_corner(s.cones[i], 2 * kPi - s.solution.k[static_cast<long>(i)]);
+  }
+  // The columns of these vertices, in blocks of at most kMaxBlock (their right-hand sides are
+  // dense); kept as spare ones where `spare`, else dropped with the next cone kept.
+  void solve_in_blocks(const std::vector<int>& vertices, bool spare) {
+    for (size_t i = 0; i < vertices.size(); i += kMaxBlock) {
+      const std::vector<int> block(
+          vertices.begin() + static_cast<long>(i),
+          vertices.begin() + static_cast<long>(std::min(vertices.size(), i + kMaxBlock)));
+      if (spare) {
+        solve_columns(block);
+      } else {
+        model_.solve_columns(block);
+      }
+    }
+  }
   // The vertices within `depth` rings of v where a cone may go (not a cone of s, not on the
   // boundary), v's own excluded.
   std::vector<int> free_within(const State& s, int v, int depth) {
@@ -199,11 +217,7 @@ class Search {
     for (int v : rings(s.cones[sharpest], 2)) {
       if (!is_cone_[v] && !mesh_.is_boundary_vertex(v)) tried_there.push_back(v);
     }
-    for (size_t i = 0; i < tried_there.size(); i += kMaxBlock) {  // dropped with the next cone
-      const size_t end = std::min(tried_there.size(), i + kMaxBlock);
-      model_.solve_columns(std::vector<int>(tried_there.begin() + static_cast<long>(i),
-                                            tried_there.begin() + static_cast<long>(end)));
-    }
+    solve_in_blocks(tried_there, false);
     int best = -1;
     double widest = -std::numeric_limits<double>::infinity();
     for (int v : tried_there) {
@@ -399,31 +413,39 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   }
 
   // === Cones that would open a corner of their faces past a half turn moved to a vertex nearby
-  // that opens none past kDrawableCorner, the one of least D, where D stays within
-  // kWideMoveSlack of the set's (and the bound, where it held). Such a corner cannot be drawn as
-  // the corner of one triangle: on the user's own faces the atlas would turn that face over
-  // (CGAL's bull at 8 cones: two cones of 12 rad at vertices of five faces with corners of 115
-  // and 102 degrees, corners of 3.7 and 3.9 rad).
+  // where they open none past kDrawableCorner and no other cone comes to open one past a half turn,
+  // the one of least D, where D stays within kWideMoveSlack of the set's before these moves (and
+  // the bound and the angle floor, where they held). Such a corner cannot be drawn as the corner of
+  // one triangle: on the user's own faces the atlas would turn that face over (CGAL's bull at 8
+  // cones: two cones of 12 rad at vertices of five faces with corners of 115 and 102 degrees,
+  // corners of 3.7 and 3.9 rad).
   if (state.solution.ok) {
+    const double d_before = state.d;
     for (size_t i = 0; i < state.cones.size(); ++i) {
+      if (!(search.opened_corner(state, i) > kPi)) continue;
       const double theta = 2 * kPi - state.solution.k[static_cast<long>(i)];
-      if (!(search.opened_corner(state.cones[i], theta) > kPi)) continue;
       std::vector<int> moves;
       for (int v : search.free_within(state, state.cones[i], kWideMoveRings)) {
         if (search.opened_corner(v, theta) <= kDrawableCorner) moves.push_back(v);
       }
-      search.solve_columns(moves);
+      search.solve_in_blocks(moves, true);
       Search::State best;
       int best_v = -1;
       const bool was_done = search.done(state);
       for (int v : moves) {
         Search::State trial = search.step(state, v, static_cast<int>(i));
         if (!trial.solution.ok || (was_done && !search.done(trial)) ||
-            (state.angles_ok && !trial.angles_ok) || !(trial.d <= (1 + kWideMoveSlack) * state.d) ||
-            !(trial.d < best.d)) {
+            (state.angles_ok && !trial.angles_ok) ||
+            !(trial.d <= (1 + kWideMoveSlack) * d_before) || !(trial.d < best.d) ||
+            !(search.opened_corner(trial, i) <= kDrawableCorner)) {
           continue;
         }
-        best = std::move(trial), best_v = v;
+        bool others_drawable = true;
+        for (size_t j = 0; j < trial.cones.size() && others_drawable; ++j) {
+          others_drawable = j == i || search.opened_corner(trial, j) <= kPi ||
+                            search.opened_corner(state, j) > kPi;
+        }
+        if (others_drawable) best = std::move(trial), best_v = v;
       }
       if (best_v >= 0) {
         search.follow(state, best, best_v, static_cast<int>(i));

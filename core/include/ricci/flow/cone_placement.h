@@ -21,9 +21,11 @@
 // angle at least the floor, or the cone budget is reached. Last, a cone that would open a corner
 // of its faces past a half turn (its 3D corner times the cone angle over the vertex's 3D angle
 // sum: near a cone the flat metric opens every corner about alike) is moved within two rings to
-// the vertex of least D that opens none past 0.9 pi, where D stays within 5 % and the bound
-// holds: such a corner cannot be one triangle's, and an atlas on the user's own faces would turn
-// it over.
+// the vertex of least D where it opens none past 0.9 pi and no other cone comes to open one past
+// a half turn, where D stays within 5 % of the set's before these moves and the bound and the
+// angle floor still hold where they held: such a corner cannot be one triangle's, and an atlas on
+// the user's own faces would turn it over. Quarter angles are rounded after this, which can move
+// a cone's angle, and with it the corners it opens, by up to a quarter turn.
 #pragma once
 
 #include <string>
@@ -46,7 +48,8 @@ struct ConePlacementOptions {
   //! this. pi / 4 keeps a cone's wedge laid out with corner angles the mesh's own triangles can
   //! have, and the exact flow's cone (which moves from the linear model's) still positive.
   double min_cone_angle = kPi / 4;
-  //! Gauss-Seidel relocation sweeps over the cones (0: the greedy's places).
+  //! Gauss-Seidel relocation sweeps over the cones (0: the greedy's places, but for cones that
+  //! would open a corner past a half turn).
   int relocation_sweeps = 4;
   //! Round every cone curvature to a multiple of pi / 2 (keeping their sum), for atlases whose
   //! charts meet by quarter turns; cones rounded to 0 are dropped.
@@ -76,7 +79,7 @@ struct ConePlacement {
   //! Right-hand sides solved: the columns (in blocks), g's, and from many cones u's and the
   //! columns' sums (LinearConeModel).
   int back_solves = 0;
-  int relocations = 0;  //!< cones moved by the sweeps
+  int relocations = 0;  //!< cones moved by the sweeps and off corners past a half turn
   int dropped = 0;      //!< cones dropped at the end
   double seconds = 0;
 };
