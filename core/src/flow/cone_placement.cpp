@@ -72,7 +72,7 @@ class Search {
     for (const auto& t : mesh.faces()) {
       for (int k = 0; k < 3; ++k) {
         const Eigen::Vector3d a = p[t[(k + 1) % 3]] - p[t[k]], b = p[t[(k + 2) % 3]] - p[t[k]];
-        const double corner = std::atan2(a.cross(b).norm(), a.dot(b));
+        const double corner = angle_between(a, b);
         widest_corner_[t[k]] = std::max(widest_corner_[t[k]], corner);
         angle_sum_[t[k]] += corner;
       }

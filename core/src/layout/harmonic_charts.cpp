@@ -19,6 +19,7 @@
 
 #include "ricci/layout/charts.h"
 #include "ricci/linear/linear_solver.h"
+#include "ricci/mesh/compact_mesh.h"
 #include "ricci/mesh/geometry.h"
 
 namespace ricci {
@@ -319,7 +320,7 @@ std::vector<int> redraw_tangled_regions(const Triangulation& mesh,
             const Eigen::Vector3d& x = positions[t[c]];
             const Eigen::Vector3d a = positions[t[(c + 1) % 3]] - x;
             const Eigen::Vector3d b = positions[t[(c + 2) % 3]] - x;
-            const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+            const double angle = angle_between(a, b);
             const double half_tangent = std::tan(std::min(angle, kPi - 1e-3) / 2);
             for (int side = 1; side <= 2; ++side) {
               const int neighbour = wedge[3 * f + (c + side) % 3];

@@ -317,12 +317,15 @@ std::vector<int> input_edge_under(const CompactMesh& mesh, const Triangulation& 
   return under;
 }
 
-std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
-                                 const CommonSubdivision& sub) {
-  const std::vector<int> under = input_edge_under(mesh, delivered, sub);
+std::vector<char> on_input_edges(const std::vector<int>& under) {
   std::vector<char> on(under.size());
   for (size_t e = 0; e < under.size(); ++e) on[e] = under[e] >= 0;
   return on;
+}
+
+std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
+                                 const CommonSubdivision& sub) {
+  return on_input_edges(input_edge_under(mesh, delivered, sub));
 }
 
 std::vector<double> lengths_in_3d(const Triangulation& delivered,
@@ -437,8 +440,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     }
   }
   const std::vector<int> under = sub ? input_edge_under(mesh, delivered, *sub) : std::vector<int>{};
-  std::vector<char> allowed;  // the edges on the user's, where the pieces are delivered
-  for (int e : under) allowed.push_back(e >= 0);
+  const std::vector<char> allowed = on_input_edges(under);  // empty without pieces
 
   // === Seams and charts; charts whose faces overlap split between the sheets, until none does
   atlas.seconds = {};

@@ -43,7 +43,9 @@ TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& place
 //! user's mesh it lies on (both ends on that input edge's closure), -1 where it lies on none.
 std::vector<int> input_edge_under(const CompactMesh& mesh, const Triangulation& delivered,
                                   const CommonSubdivision& sub);
-//! 1 per edge of `delivered` that lies on an edge of the user's mesh (input_edge_under).
+//! 1 per edge of `delivered` that lies on an edge of the user's mesh (input_edge_under), from
+//! that mapping or computing it.
+std::vector<char> on_input_edges(const std::vector<int>& under);
 std::vector<char> on_input_edges(const CompactMesh& mesh, const Triangulation& delivered,
                                  const CommonSubdivision& sub);
 

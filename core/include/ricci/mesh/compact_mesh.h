@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,12 @@
 #include "ricci/mesh/triangulation.h"
 
 namespace ricci {
+
+//! The angle between two vectors in 3D, in [0, pi]; accurate near 0 and pi too (from the sine and
+//! the cosine together, where acos of their quotient of norms loses digits).
+inline double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
 
 class CompactMesh : public Triangulation {
  public:
