@@ -1,5 +1,6 @@
-// charts_on_input (pipeline/texture_atlas.h): a common subdivision's charts moved onto the user's
-// faces, on a square of two faces whose diagonal a new vertex splits into two pieces each.
+// charts_on_input, pieces_closure and partly_cut_charts (pipeline/texture_atlas.h): a common
+// subdivision's charts moved onto the user's faces, all or but some cut into their pieces, on a
+// square of two faces whose diagonal a new vertex splits into two pieces each.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -42,6 +43,10 @@ Square square() {
   sub.input_face = {0, 0, 1, 1};
   sub.vertex_input_edge = {diagonal};
   sub.vertex_edge_parameter = {0.5};
+  sub.final_face = {0, 0, 1, 1};
+  sub.u = Eigen::VectorXd::LinSpaced(5, 0.1, 0.5);
+  sub.vertex_input_face = {0, 0, 0, 1, 0};
+  sub.vertex_barycentric = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 1}, {0.5, 0, 0.5}};
   Charts charts;
   charts.num_charts = 1;
   charts.chart.assign(4, 0);
@@ -134,6 +139,60 @@ TEST(ChartsOnInput, NoneWhereTheSeamsOrChartsDoNotFollowTheInputsFaces) {
   s.sub.num_input_vertices = 3;
   EXPECT_FALSE(
       charts_on_input(s.mesh, s.sub, s.delivered, s.under, seam_on(s.delivered, {}), s.charts));
+}
+
+TEST(PartlyCut, TheClosureCrossesTheInputEdgesThatANewVertexSplits) {
+  Square s = square();
+  // The diagonal is split at vertex 4: face 0 takes face 1 along.
+  EXPECT_EQ(pieces_closure(s.mesh, s.under, {0}), (std::vector<char>{1, 1}));
+  EXPECT_EQ(pieces_closure(s.mesh, s.under, {}), (std::vector<char>{0, 0}));
+  // Were the diagonal one delivered edge (the other half taken for no input edge's), it stops.
+  bool first = true;
+  for (int& e : s.under) {
+    if (e != s.diagonal) continue;
+    if (!first) e = -1;
+    first = false;
+  }
+  EXPECT_EQ(pieces_closure(s.mesh, s.under, {0}), (std::vector<char>{1, 0}));
+}
+
+TEST(PartlyCut, CutFacesComeAsTheirPiecesAndTheOthersAsTheUsers) {
+  const Square s = square();
+  const std::vector<char> seam = seam_on(s.delivered, {{0, 4}, {4, 2}});
+  Charts charts = s.charts;
+  charts.num_charts = 2;
+  charts.chart = {0, 0, 1, 1};
+  const auto in = charts_on_input(s.mesh, s.sub, s.delivered, s.under, seam, charts);
+  ASSERT_TRUE(in.has_value());
+  // Neither cut: the user's two faces, their corners where the pieces put them, the diagonal a
+  // seam, no new vertex.
+  const PartlyCutCharts none =
+      partly_cut_charts(s.mesh, s.sub, s.delivered, seam, charts, *in, {0, 0});
+  EXPECT_EQ(none.input_faces_cut, 0);
+  EXPECT_EQ(none.sub.faces, s.mesh.faces());
+  EXPECT_EQ(none.sub.positions.size(), 4u);
+  EXPECT_EQ(none.sub.input_face, (std::vector<int>{0, 1}));
+  EXPECT_EQ(none.charts.chart, (std::vector<int>{0, 1}));
+  EXPECT_EQ(none.charts.corners, in->charts.corners);
+  const Triangulation two = Triangulation::from_faces(4, none.sub.faces);
+  ASSERT_EQ(none.seam.size(), static_cast<size_t>(two.num_edges()));
+  for (int e = 0; e < two.num_edges(); ++e) {
+    const auto [a, b] = two.edge_vertices(e);
+    EXPECT_EQ(none.seam[e], a == 0 && b == 2) << a << "-" << b;
+  }
+  // Both cut: the four pieces with the new vertex and its data, the two halves of the diagonal
+  // seams.
+  const PartlyCutCharts both =
+      partly_cut_charts(s.mesh, s.sub, s.delivered, seam, charts, *in, {1, 1});
+  EXPECT_EQ(both.input_faces_cut, 2);
+  EXPECT_EQ(both.sub.faces, s.sub.faces);
+  EXPECT_EQ(both.sub.positions, s.sub.positions);
+  EXPECT_EQ(both.sub.u, s.sub.u);
+  EXPECT_EQ(both.sub.vertex_input_edge, s.sub.vertex_input_edge);
+  EXPECT_EQ(both.sub.vertex_barycentric, s.sub.vertex_barycentric);
+  EXPECT_EQ(both.sub.input_face, s.sub.input_face);
+  EXPECT_EQ(both.charts.corners, charts.corners);
+  EXPECT_EQ(both.seam, seam);
 }
 
 }  // namespace

@@ -162,60 +162,68 @@ double qc_p95(const std::vector<Eigen::Vector3d>& positions,
   return quantile(std::move(qc), 0.95);
 }
 
-// The charts on the user's faces, with how many of them were drawn harmonic inside and how many
-// wedges moved off turned faces.
-struct UserFaces {
-  InputCharts in;
+// Charts drawn on faces other than the pieces', with how many of them were drawn harmonic inside
+// and how many wedges moved off turned faces.
+struct Drawn {
+  Charts charts;
   int redrawn = 0, untangled = 0;
 };
 
-// A common subdivision's charts as developed, moved onto the user's faces (charts_on_input), turned
-// faces untangled; where a face stays turned, the part has fewer than kHarmonicBelow faces, or QC
-// p95 is above the pieces' as developed (by more than kSameQc of its excess over 1), their insides
-// drawn harmonic where that is more nearly conformal (the drawing as developed kept where it
-// turned no face and the redrawn one is less conformal over all the faces, or would not deliver),
-// and untangled again. Given where no face turns over or overlaps another of its chart and D is
-// within `bound` or within kSameD of the pieces' (`bound` NaN: the latter), whatever their QC: the
-// user's triangles are the surface asked for, and a piecewise linear map on them is as conformal
-// as their shapes let it be (a coarse part's map is less so than on the pieces that subdivide its
-// faces, drawn harmonic inside: simbody's 28-face pelvis part QC p95 19.9 against 3.80, the
-// 19,994-face dragon 1.306 against 1.214, the 99,739-face bunny 1.0307 against 1.0289). The
-// harmonic drawing costs a factorization, and on the faces of a fine mesh it moves QC p95 little:
-// on the 160 files of the real-mesh set and CGAL's with a subdivision, by at most 8 % of its
-// excess over 1 above 1,700 faces, 30 % above 500 (and up to 14 times on a part of 92).
-std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonSubdivision& sub,
-                                          const Triangulation& delivered,
-                                          const std::vector<int>& under,
-                                          const std::vector<char>& seam, const Charts& developed,
-                                          double bound, const AsDrawn& pieces) {
-  std::optional<InputCharts> in = charts_on_input(mesh, sub, delivered, under, seam, developed);
-  if (!in) return std::nullopt;
-  UserFaces drawn;
-  Charts& charts = in->charts;
+// Charts as developed on the pieces, moved onto other faces `t` (the user's, or the user's with
+// some cut into their pieces), turned faces untangled; where a face stays turned, the faces are
+// fewer than kHarmonicBelow, or QC p95 is above the pieces' as developed (by more than kSameQc of
+// its excess over 1), their insides drawn harmonic where that is more nearly conformal (the
+// drawing as developed kept where it turned no face and the redrawn one is less conformal over all
+// the faces, or would not deliver), and untangled again. Given where no face turns over or
+// overlaps another of its chart and D is within `bound` or within kSameD of the pieces' (`bound`
+// NaN: the latter), whatever their QC: the user's triangles are the surface asked for, and a
+// piecewise linear map on them is as conformal as their shapes let it be (a coarse part's map is
+// less so than on the pieces that subdivide its faces, drawn harmonic inside: simbody's 28-face
+// pelvis part QC p95 19.9 against 3.80, the 19,994-face dragon 1.306 against 1.214, the
+// 99,739-face bunny 1.0307 against 1.0289). The harmonic drawing costs a factorization, and on
+// the faces of a fine mesh it moves QC p95 little: on the 160 files of the real-mesh set and
+// CGAL's with a subdivision, by at most 8 % of its excess over 1 above 1,700 faces, 30 % above 500
+// (and up to 14 times on a part of 92). Where not given, `stuck` gets the faces that stay turned
+// or overlap another (none where D alone exceeds).
+std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
+                                             const std::vector<Eigen::Vector3d>& positions,
+                                             const std::vector<char>& seam, Charts charts,
+                                             double bound, const AsDrawn& pieces,
+                                             std::vector<int>& stuck) {
+  const std::vector<std::array<int, 3>>& faces = t.faces();
+  Drawn drawn;
   const auto turned = [&] {
     return std::any_of(charts.corners.begin(), charts.corners.end(),
-                       [](const auto& t) { return !(signed_area(t) > 0); });
+                       [](const auto& q) { return !(signed_area(q) > 0); });
   };
+  const auto overlaps = [&](const Charts& c) { return overlapping_faces(t, seam, c); };
   // D within the bound or kSameD of the pieces', and no two faces of a chart overlapping.
   const auto deliverable = [&](const Charts& c) {
-    const double d = face_distortion(mesh.positions(), mesh.faces(), c.corners);
-    return (d <= bound || !(d > (1 + kSameD) * pieces.distortion)) &&
-           overlapping_faces(mesh, in->seam, c).empty();
+    const double d = face_distortion(positions, faces, c.corners);
+    return (d <= bound || !(d > (1 + kSameD) * pieces.distortion)) && overlaps(c).empty();
   };
-  std::vector<int> moved = untangle_turned_faces(mesh, mesh.positions(), in->seam, charts);
+  const auto not_given = [&] {
+    stuck.clear();
+    for (int f = 0; f < t.num_faces(); ++f) {
+      if (!(signed_area(charts.corners[f]) > 0)) stuck.push_back(f);
+    }
+    for (const auto& [f, g] : overlaps(charts)) stuck.push_back(f), stuck.push_back(g);
+    return std::nullopt;
+  };
+  std::vector<int> moved = untangle_turned_faces(t, positions, seam, charts);
   const bool turned_developed = turned();
-  const double qc_developed = qc_p95(mesh.positions(), mesh.faces(), charts.corners);
-  if (turned_developed || mesh.num_faces() < kHarmonicBelow ||
+  const double qc_developed = qc_p95(positions, faces, charts.corners);
+  if (turned_developed || t.num_faces() < kHarmonicBelow ||
       qc_developed - 1 > (1 + kSameQc) * (pieces.qc_p95 - 1)) {
     const Charts untangled = charts;
     const std::vector<int> moved_untangled = moved;
-    drawn.redrawn = draw_harmonic_insides(mesh, mesh.positions(), in->seam,
-                                          std::vector<char>(charts.num_charts, 1), charts);
+    drawn.redrawn =
+        draw_harmonic_insides(t, positions, seam, std::vector<char>(charts.num_charts, 1), charts);
     // Where the drawing as developed turned no face, the redrawn one is kept only where QC p95
     // over all the faces is no higher, too: each chart's can fall while the whole's rises (Cura's
     // nozzle at 8 cones: 1.430 as developed, 1.459 redrawn).
     if (!turned_developed && drawn.redrawn > 0 &&
-        !(qc_p95(mesh.positions(), mesh.faces(), charts.corners) <= qc_developed)) {
+        !(qc_p95(positions, faces, charts.corners) <= qc_developed)) {
       charts = untangled;
       drawn.redrawn = 0;
     }
@@ -225,22 +233,67 @@ std::optional<UserFaces> user_faces_drawn(const CompactMesh& mesh, const CommonS
       if (charts.corners[w / 3][w % 3] == untangled.corners[w / 3][w % 3]) kept.push_back(w);
     }
     moved = std::move(kept);
-    for (int w : untangle_turned_faces(mesh, mesh.positions(), in->seam, charts)) {
+    for (int w : untangle_turned_faces(t, positions, seam, charts)) {
       if (std::find(moved.begin(), moved.end(), w) == moved.end()) moved.push_back(w);
     }
     if (turned() || !deliverable(charts)) {
       // The drawing as developed, where it turned no face and delivers.
-      if (turned_developed || drawn.redrawn == 0 || !deliverable(untangled)) return std::nullopt;
+      if (turned_developed || drawn.redrawn == 0 || !deliverable(untangled)) return not_given();
       charts = untangled;
       moved = moved_untangled;
       drawn.redrawn = 0;
     }
   } else if (!deliverable(charts)) {
-    return std::nullopt;
+    return not_given();
   }
   drawn.untangled = static_cast<int>(moved.size());
-  drawn.in = std::move(*in);
+  drawn.charts = std::move(charts);
   return drawn;
+}
+
+// Rounds of faces cut into their pieces around those still turned or overlapping, and the share
+// of the input's faces cut beyond which the pieces are delivered.
+constexpr int kPartlyCutRounds = 3;
+constexpr double kMostCut = 0.5;
+// The user's faces but a few cut are delivered where their QC p95 exceeds 1 by at most this many
+// times what the pieces' as developed does. A coarse part's faces are less conformal than its
+// pieces (on the real set and CGAL's, 1.1 to 1.4 times the excess of the pieces drawn harmonic:
+// Cura's twotrees 2.93 against 2.40); on the 180 faces of CGAL's mpi, slivers of 3D, 28.5
+// against 2.81.
+constexpr double kPartlyCutQc = 2;
+
+// The atlas delivered on the user's faces, with those around faces that cannot be drawn there
+// (a cone opening their corner past a half turn: CGAL's man, 3 of 34,986 faces) cut into their
+// pieces, out to input edges no new vertex splits, so that the delivered mesh conforms; more
+// around the faces that stay turned or overlap, for kPartlyCutRounds. `stuck`: the input faces
+// that turned or overlapped on the user's faces.
+std::optional<std::pair<PartlyCutCharts, Drawn>> partly_cut_drawn(
+    const CompactMesh& mesh, const CommonSubdivision& sub, const Triangulation& delivered,
+    const std::vector<int>& under, const std::vector<char>& seam, const Charts& developed,
+    const InputCharts& in, double bound, const AsDrawn& pieces, std::vector<int> stuck) {
+  std::vector<char> cut_up(mesh.num_faces(), 0);
+  for (int round = 0; round < kPartlyCutRounds && !stuck.empty(); ++round) {
+    const std::vector<char> more = pieces_closure(mesh, under, stuck);
+    if (more == cut_up) break;
+    cut_up = more;
+    if (static_cast<double>(std::count(cut_up.begin(), cut_up.end(), 1)) >
+        kMostCut * mesh.num_faces()) {
+      break;
+    }
+    PartlyCutCharts partly = partly_cut_charts(mesh, sub, delivered, seam, developed, in, cut_up);
+    const Triangulation t =
+        Triangulation::from_faces(static_cast<int>(partly.sub.positions.size()), partly.sub.faces);
+    std::vector<int> again;
+    std::optional<Drawn> drawn = drawn_where_deliverable(t, partly.sub.positions, partly.seam,
+                                                         partly.charts, bound, pieces, again);
+    if (drawn) {
+      const double qc = qc_p95(partly.sub.positions, partly.sub.faces, drawn->charts.corners);
+      if (!(qc - 1 <= kPartlyCutQc * (pieces.qc_p95 - 1))) return std::nullopt;
+      return std::make_pair(std::move(partly), std::move(*drawn));
+    }
+    for (int g : again) stuck.push_back(partly.sub.input_face[g]);
+  }
+  return std::nullopt;
 }
 
 // Fills run's layout and atlas from the delivered mesh's charts, seams and packing.
@@ -388,6 +441,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   AtlasResult& atlas = run.atlas;
   atlas.on_input_faces = false;
   atlas.untangled = 0;
+  atlas.input_faces_cut = 0;
   atlas.flow_distortion = area_distortion(mesh, run.result.u);
   atlas.cone_angles.clear();
   std::vector<int> cones, branches;
@@ -547,31 +601,59 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     packing = std::move(fuller);
     atlas.halvings += count;
   }
-  // A common subdivision's charts moved onto the user's faces, delivered where they draw so
-  // (user_faces_drawn), measured against the pieces as developed. Else the pieces' charts with
-  // their insides drawn harmonic, their borders as developed: the pieces' new vertices are where
-  // the flow's crossings put them, which costs conformality (the cow, 1.8k flips: QC p95 1.376 as
-  // developed, 1.292 redrawn); a chart that the redrawing turns, overlaps or makes less conformal
-  // (its QC p95) stays as developed.
+  // A common subdivision's charts moved onto the user's faces (charts_on_input), delivered where
+  // they draw so (drawn_where_deliverable), measured against the pieces as developed; else with
+  // the faces around those that do not draw cut into their pieces (partly_cut_drawn). Else the
+  // pieces' charts with their insides drawn harmonic, their borders as developed: the pieces' new
+  // vertices are where the flow's crossings put them, which costs conformality (the cow, 1.8k
+  // flips: QC p95 1.376 as developed, 1.292 redrawn); a chart that the redrawing turns, overlaps or
+  // makes less conformal (its QC p95) stays as developed.
   atlas.harmonic_charts = 0;
   if (sub && overlaps.empty()) {
     const AsDrawn pieces{face_distortion(positions, faces, charts.corners),
                          qc_p95(positions, faces, charts.corners)};
-    std::optional<UserFaces> user =
-        user_faces_drawn(mesh, *sub, delivered, under, seam, charts, run.atlas.bound, pieces);
-    atlas.seconds.harmonic += lap(clock);
+    const std::optional<InputCharts> in =
+        charts_on_input(mesh, *sub, delivered, under, seam, charts);
+    std::vector<int> stuck;
+    std::optional<Drawn> user =
+        in ? drawn_where_deliverable(mesh, mesh.positions(), in->seam, in->charts, run.atlas.bound,
+                                     pieces, stuck)
+           : std::nullopt;
+    std::optional<std::pair<PartlyCutCharts, Drawn>> partly;
+    if (in && !user) {
+      partly = partly_cut_drawn(mesh, *sub, delivered, under, seam, charts, *in, run.atlas.bound,
+                                pieces, std::move(stuck));
+      // No face cut into more than one piece: the user's faces as they are.
+      if (partly && partly->first.input_faces_cut == 0) user = std::move(partly->second);
+    }
     if (user) {
-      const InputCharts& in = user->in;
+      atlas.seconds.harmonic += lap(clock);
       // The user's faces drawn as the pieces were: packed much as they were.
-      packing = pack_charts(triangles_by_chart(in.charts), o.packing, packing.utilization);
+      packing = pack_charts(triangles_by_chart(user->charts), o.packing, packing.utilization);
       atlas.seconds.packing += lap(clock);
       atlas.harmonic_charts = user->redrawn;
       atlas.untangled = user->untangled;
       atlas.on_input_faces = true;
-      deliver(mesh, mesh.positions(), mesh.faces(), in.seam, lengths_in_3d(mesh, mesh.positions()),
-              in.charts, packing, {}, mesh.input_area(), o, run);
+      deliver(mesh, mesh.positions(), mesh.faces(), in->seam, lengths_in_3d(mesh, mesh.positions()),
+              user->charts, packing, {}, mesh.input_area(), o, run);
       return;
     }
+    if (partly) {
+      auto& [cut, drawn] = *partly;
+      atlas.seconds.harmonic += lap(clock);
+      packing = pack_charts(triangles_by_chart(drawn.charts), o.packing, packing.utilization);
+      atlas.seconds.packing += lap(clock);
+      atlas.harmonic_charts = drawn.redrawn;
+      atlas.untangled = drawn.untangled;
+      atlas.input_faces_cut = cut.input_faces_cut;
+      const Triangulation t =
+          Triangulation::from_faces(static_cast<int>(cut.sub.positions.size()), cut.sub.faces);
+      deliver(t, cut.sub.positions, cut.sub.faces, cut.seam, lengths_in_3d(t, cut.sub.positions),
+              drawn.charts, packing, {}, mesh.input_area(), o, run);
+      run.subdivision = std::move(cut.sub);
+      return;
+    }
+    atlas.seconds.harmonic += lap(clock);
     atlas.harmonic_charts = draw_harmonic_insides(delivered, positions, seam,
                                                   std::vector<char>(charts.num_charts, 1), charts);
     atlas.seconds.harmonic += lap(clock);

@@ -16,7 +16,8 @@
 //                    faces untangled, the insides drawn harmonic where that is needed: delivered
 //                    where none of them turns over or overlaps, QC p95 is about the pieces' or
 //                    lower and D within the bound: the user's mesh comes back with texture
-//                    coordinates only
+//                    coordinates only; where some turn or overlap, those and the faces around
+//                    them cut into their pieces (partly_cut_charts), the others the user's
 // Not installed API.
 #pragma once
 
@@ -31,6 +32,7 @@
 #include "ricci/layout/charts.h"
 #include "ricci/mesh/compact_mesh.h"
 #include "ricci/pipeline/uniformization.h"
+#include "ricci/subdivision/subdivided_mesh.h"
 
 namespace ricci::detail {
 
@@ -62,6 +64,30 @@ std::optional<InputCharts> charts_on_input(const CompactMesh& mesh, const Common
                                            const Triangulation& delivered,
                                            const std::vector<int>& under,
                                            const std::vector<char>& seam, const Charts& charts);
+
+//! The user's faces with those marked in `cut_up` (per input face) replaced by their pieces:
+//! a coarser common subdivision of the same charts. Conforming where no input edge between a
+//! marked and an unmarked face is split by a new vertex (pieces_closure). `pieces`: the
+//! common subdivision's charts (per face of `delivered`, whose seams are `seam`), `in` those
+//! moved onto the user's faces (charts_on_input).
+struct PartlyCutCharts {
+  //! The delivered faces in the input's order, a cut face's pieces in its place (a cut face of
+  //! one piece is its own face); the input's vertices first, in order.
+  CommonSubdivision sub;
+  std::vector<char> seam;   //!< per edge of Triangulation::from_faces(sub.faces)
+  Charts charts;            //!< per delivered face, as developed
+  int input_faces_cut = 0;  //!< the input faces delivered as more than one piece
+};
+PartlyCutCharts partly_cut_charts(const CompactMesh& mesh, const CommonSubdivision& sub,
+                                  const Triangulation& delivered, const std::vector<char>& seam,
+                                  const Charts& pieces, const InputCharts& in,
+                                  const std::vector<char>& cut_up);
+
+//! The input faces to cut into pieces so that `faces` are: they, and every input face across an
+//! input edge of theirs that a new vertex of the subdivision splits (more than one delivered
+//! edge `under` it), until none is. Per input face.
+std::vector<char> pieces_closure(const CompactMesh& mesh, const std::vector<int>& under,
+                                 const std::vector<int>& faces);
 
 //! Per edge of `delivered`, its length in 3D between `positions` (seams are shortest there).
 std::vector<double> lengths_in_3d(const Triangulation& delivered,

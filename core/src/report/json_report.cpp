@@ -152,6 +152,7 @@ std::string layout_json(const Uniformization& run) {
       << ", \"harmonic_charts\": " << a.harmonic_charts
       << ", \"on_input_faces\": " << (a.on_input_faces ? "true" : "false")
       << ", \"untangled_vertices\": " << a.untangled
+      << ", \"input_faces_cut\": " << a.input_faces_cut
       << ", \"seam_length\": " << number(a.seam_length) << ", \"seam_edges\": " << a.seam_edges
       << ", \"overlapping_faces\": " << a.overlapping_faces
       << ", \"utilization\": " << number(a.utilization) << ", \"padding\": " << number(a.padding)

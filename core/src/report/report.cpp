@@ -254,8 +254,12 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
             << "), max |u - mean u| " << p.max_deviation;
     }
     std::ostringstream harmonic;
-    if (a.on_input_faces) {
+    if (a.on_input_faces || a.input_faces_cut > 0) {
       harmonic << "; drawn on the common subdivision, delivered on your faces";
+      if (a.input_faces_cut > 0) {
+        harmonic << " but " << a.input_faces_cut
+                 << (a.input_faces_cut == 1 ? " cut into its pieces" : " cut into their pieces");
+      }
       if (a.harmonic_charts > 0) harmonic << ", " << a.harmonic_charts << " harmonic inside";
       if (a.untangled > 0) {
         harmonic << ", " << a.untangled << (a.untangled == 1 ? " vertex" : " vertices")

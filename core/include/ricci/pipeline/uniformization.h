@@ -128,6 +128,11 @@ struct AtlasResult {
   //! There: vertices moved (each towards the mean of its neighbours, the least way that turns its
   //! faces counter-clockwise) where the drawing on the input's faces turned a face over.
   int untangled = 0;
+  //! Where the user's faces draw but for a few: the input faces delivered cut into their pieces
+  //! (those that do not draw, a cone opening a corner past a half turn, and around them out to
+  //! input edges that no new vertex splits); the others are delivered as they are, and
+  //! run.subdivision holds both. 0 where on_input_faces or all are pieces.
+  int input_faces_cut = 0;
   //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
   std::vector<std::array<Eigen::Vector2d, 3>> texture;
   double utilization = 0;
