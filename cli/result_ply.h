@@ -18,7 +18,8 @@
 // faces on the sphere or without a layout). Whenever a component
 // has a layout, the face property ricci_layout (uchar) says whose: 0 none, 1 the plane, 2 the
 // Poincare disk, 3 the unit sphere. When the flow flipped edges and the input's faces would turn
-// over, the mesh is the common subdivision (common_subdivision.h): the vertices above, then the new
+// over, the mesh is the common subdivision (common_subdivision.h; for an atlas, possibly the
+// input's faces with some cut into their pieces: texture_atlas.h): the vertices above, then the new
 // ones (on input edges, or inside input faces: common_subdivision.h), with vertex properties
 // ricci_input_face (int, -1 for the repaired mesh's vertices) and ricci_bary_0..2 (double, the
 // barycentric coordinates in that input face), and the face property ricci_input_face (int, the

@@ -94,8 +94,9 @@ std::vector<double> lengths_in_3d(const Triangulation& delivered,
                                   const std::vector<Eigen::Vector3d>& positions);
 
 //! The atlas layout of a converged flow: run.corners (z = 0), run.face_chart, run.subdivision
-//! where the flow flipped edges and the charts stay on it (not run.atlas.on_input_faces),
-//! run.atlas; run.layout holds the delivered corners.
+//! where the flow flipped edges and the charts stay on it or some of the user's faces are cut into
+//! their pieces (run.atlas.input_faces_cut; not where run.atlas.on_input_faces), run.atlas;
+//! run.layout holds the delivered corners.
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
 
 //! The area distortion D of laid-out faces, as an independent check of an atlas measures it: with

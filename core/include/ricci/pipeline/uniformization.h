@@ -128,10 +128,10 @@ struct AtlasResult {
   //! There: vertices moved (each towards the mean of its neighbours, the least way that turns its
   //! faces counter-clockwise) where the drawing on the input's faces turned a face over.
   int untangled = 0;
-  //! Where the user's faces draw but for a few: the input faces delivered cut into their pieces
-  //! (those that do not draw, a cone opening a corner past a half turn, and around them out to
-  //! input edges that no new vertex splits); the others are delivered as they are, and
-  //! run.subdivision holds both. 0 where on_input_faces or all are pieces.
+  //! Where the user's faces draw but for a few: the input faces delivered as more than one piece
+  //! (around those that do not draw, a cone opening a corner past a half turn, out to input edges
+  //! that no new vertex splits); the others are delivered as they are, and run.subdivision holds
+  //! both. 0 where on_input_faces or all are pieces.
   int input_faces_cut = 0;
   //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
   std::vector<std::array<Eigen::Vector2d, 3>> texture;
@@ -175,7 +175,8 @@ struct Uniformization {
   std::vector<int> face_chart;
   //! The mesh delivered instead of the input's: when the flow flipped edges and the input's faces
   //! drawn by their corners would turn over (common_subdivision.h) or be farther from conformal
-  //! than its pieces; when the Poincare disk's
+  //! than its pieces (an atlas: or the input's faces with a few cut into their pieces,
+  //! AtlasResult::input_faces_cut); when the Poincare disk's
   //! drawing split sides (disk_drawing.h) or needs charts (Layout::chart). `position` and
   //! `corners` are then its.
   std::optional<CommonSubdivision> subdivision;

@@ -15,7 +15,9 @@ struct CommonSubdivision {
   std::vector<Eigen::Vector3d> positions;  //!< 3D, on the input surface
   std::vector<std::array<int, 3>> faces;   //!< oriented as the input's
   std::vector<int> input_face;             //!< per face: the input face it lies in
-  std::vector<int> final_face;             //!< per face: the face of T' it lies in
+  //! Per face: the face of T' it lies in; -1 for an input face kept whole (an atlas with some
+  //! faces cut into their pieces: pipeline/texture_atlas.h).
+  std::vector<int> final_face;
   //! Per face: its chart where the layout is in several (Layout::chart) and the faces are not
   //! those of T' (the half of a doubled surface); empty otherwise.
   std::vector<int> chart;
