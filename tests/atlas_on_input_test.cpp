@@ -195,5 +195,60 @@ TEST(PartlyCut, CutFacesComeAsTheirPiecesAndTheOthersAsTheUsers) {
   EXPECT_EQ(both.seam, seam);
 }
 
+TEST(PartlyCut, ACutFacesPiecesTakeItsPlaceBesideTheUsersFaces) {
+  // The square with a third face {1, 5, 2} on its right, one piece of its own, across the whole
+  // input edge 1-2, a seam: faces 0 and 1 cut (across the split diagonal), face 2 not.
+  const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}};
+  CompactMesh mesh(p, {{0, 1, 2}, {0, 2, 3}, {1, 4, 2}});
+  CommonSubdivision sub;
+  sub.num_input_vertices = 5;
+  sub.positions = p;
+  sub.positions.emplace_back(0.5, 0.5, 0);
+  sub.faces = {{0, 1, 5}, {5, 1, 2}, {0, 5, 3}, {5, 2, 3}, {2, 1, 4}};
+  sub.input_face = {0, 0, 1, 1, 2};
+  sub.final_face = {0, 0, 1, 1, 2};
+  sub.u = Eigen::VectorXd::LinSpaced(6, 0.1, 0.6);
+  sub.vertex_input_face = {0, 0, 0, 1, 2, 0};
+  sub.vertex_barycentric.assign(6, Eigen::Vector3d(1, 0, 0));
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    if (mesh.edge_vertices(e) == std::array<int, 2>{0, 2}) sub.vertex_input_edge = {e};
+  }
+  sub.vertex_edge_parameter = {0.5};
+  const Triangulation delivered = Triangulation::from_faces(6, sub.faces);
+  const std::vector<int> under = input_edge_under(mesh, delivered, sub);
+  Charts charts;
+  charts.num_charts = 2;
+  charts.chart = {0, 0, 0, 0, 1};
+  for (const auto& t : sub.faces) {
+    std::array<Eigen::Vector2d, 3> q;
+    for (int c = 0; c < 3; ++c) q[c] = 2 * sub.positions[t[c]].head<2>();
+    charts.corners.push_back(q);
+  }
+  const std::vector<char> seam = seam_on(delivered, {{1, 2}});
+  const auto in = charts_on_input(mesh, sub, delivered, under, seam, charts);
+  ASSERT_TRUE(in.has_value());
+  const std::vector<char> cut_up = pieces_closure(mesh, under, {0});
+  EXPECT_EQ(cut_up, (std::vector<char>{1, 1, 0}));
+  const PartlyCutCharts partly = partly_cut_charts(mesh, sub, delivered, seam, charts, *in, cut_up);
+  EXPECT_EQ(partly.input_faces_cut, 2);
+  // In the input's order, a cut face's pieces in its place; face 2 as the input lists it, its
+  // corners turned to that order.
+  EXPECT_EQ(partly.sub.faces, (std::vector<std::array<int, 3>>{
+                                  {0, 1, 5}, {5, 1, 2}, {0, 5, 3}, {5, 2, 3}, {1, 4, 2}}));
+  EXPECT_EQ(partly.sub.input_face, (std::vector<int>{0, 0, 1, 1, 2}));
+  EXPECT_EQ(partly.charts.chart, (std::vector<int>{0, 0, 0, 0, 1}));
+  for (size_t f = 0; f < partly.sub.faces.size(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(partly.charts.corners[f][c], 2 * sub.positions[partly.sub.faces[f][c]].head<2>())
+          << f << " " << c;
+    }
+  }
+  // The seam on edge 1-2 alone, from both its faces.
+  const Triangulation t = Triangulation::from_faces(6, partly.sub.faces);
+  for (int e = 0; e < t.num_edges(); ++e) {
+    EXPECT_EQ(partly.seam[e], t.edge_vertices(e) == (std::array<int, 2>{1, 2})) << e;
+  }
+}
+
 }  // namespace
 }  // namespace ricci::detail
