@@ -184,7 +184,8 @@ struct Drawn {
 // the faces of a fine mesh it moves QC p95 little: on the 160 files of the real-mesh set and
 // CGAL's with a subdivision, by at most 8 % of its excess over 1 above 1,700 faces, 30 % above 500
 // (and up to 14 times on a part of 92). Where not given, `stuck` gets the faces that stay turned
-// or overlap another (none where D alone exceeds).
+// or overlap another (none where D alone exceeds), of the redrawn drawing, else of the one as
+// developed.
 std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
                                              const std::vector<Eigen::Vector3d>& positions,
                                              const std::vector<char>& seam, Charts charts,
@@ -202,12 +203,16 @@ std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
     const double d = face_distortion(positions, faces, c.corners);
     return (d <= bound || !(d > (1 + kSameD) * pieces.distortion)) && overlaps(c).empty();
   };
-  const auto not_given = [&] {
+  // The faces of drawing c turned or overlapping another; of `also` where c has none.
+  const auto not_given = [&](const Charts& c, const Charts* also = nullptr) {
     stuck.clear();
-    for (int f = 0; f < t.num_faces(); ++f) {
-      if (!(signed_area(charts.corners[f]) > 0)) stuck.push_back(f);
+    for (const Charts* d : {&c, also}) {
+      if (d == nullptr || !stuck.empty()) continue;
+      for (int f = 0; f < t.num_faces(); ++f) {
+        if (!(signed_area(d->corners[f]) > 0)) stuck.push_back(f);
+      }
+      for (const auto& [f, g] : overlaps(*d)) stuck.push_back(f), stuck.push_back(g);
     }
-    for (const auto& [f, g] : overlaps(charts)) stuck.push_back(f), stuck.push_back(g);
     return std::nullopt;
   };
   std::vector<int> moved = untangle_turned_faces(t, positions, seam, charts);
@@ -238,13 +243,15 @@ std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
     }
     if (turned() || !deliverable(charts)) {
       // The drawing as developed, where it turned no face and delivers.
-      if (turned_developed || drawn.redrawn == 0 || !deliverable(untangled)) return not_given();
+      if (turned_developed || drawn.redrawn == 0 || !deliverable(untangled)) {
+        return not_given(charts, &untangled);
+      }
       charts = untangled;
       moved = moved_untangled;
       drawn.redrawn = 0;
     }
   } else if (!deliverable(charts)) {
-    return not_given();
+    return not_given(charts);
   }
   drawn.untangled = static_cast<int>(moved.size());
   drawn.charts = std::move(charts);
