@@ -174,7 +174,7 @@ TEST(PartlyCut, CutFacesComeAsTheirPiecesAndTheOthersAsTheUsers) {
   EXPECT_EQ(none.sub.input_face, (std::vector<int>{0, 1}));
   EXPECT_EQ(none.charts.chart, (std::vector<int>{0, 1}));
   EXPECT_EQ(none.charts.corners, in->charts.corners);
-  const Triangulation two = Triangulation::from_faces(4, none.sub.faces);
+  const Triangulation& two = none.delivered;
   ASSERT_EQ(none.seam.size(), static_cast<size_t>(two.num_edges()));
   for (int e = 0; e < two.num_edges(); ++e) {
     const auto [a, b] = two.edge_vertices(e);
@@ -244,7 +244,7 @@ TEST(PartlyCut, ACutFacesPiecesTakeItsPlaceBesideTheUsersFaces) {
     }
   }
   // The seam on edge 1-2 alone, from both its faces.
-  const Triangulation t = Triangulation::from_faces(6, partly.sub.faces);
+  const Triangulation& t = partly.delivered;
   for (int e = 0; e < t.num_edges(); ++e) {
     EXPECT_EQ(partly.seam[e], t.edge_vertices(e) == (std::array<int, 2>{1, 2})) << e;
   }

@@ -89,8 +89,7 @@ PartlyCutCharts partly_cut_charts(const CompactMesh& mesh, const CommonSubdivisi
                                   const Charts& pieces, const InputCharts& in,
                                   const std::vector<char>& cut_up) {
   const int nv = mesh.num_vertices();
-  PartlyCutCharts out;
-  CommonSubdivision& s = out.sub;
+  CommonSubdivision s;
   s.num_input_vertices = nv;
   s.num_flips = sub.num_flips;
   s.seconds = sub.seconds;
@@ -124,14 +123,15 @@ PartlyCutCharts partly_cut_charts(const CompactMesh& mesh, const CommonSubdivisi
   }
   // The faces in the input's order, a cut one's pieces in its place, each with its chart, its
   // corners and the seams of its sides.
-  Charts& charts = out.charts;
+  Charts charts;
+  int input_faces_cut = 0;
   charts.num_charts = pieces.num_charts;
   charts.max_relative_length_error = pieces.max_relative_length_error;
   std::vector<std::array<char, 3>> side_seam;
   for (int f = 0; f < mesh.num_faces(); ++f) {
     const std::array<int, 3>& own = mesh.faces()[f];
     if (pieces_of[f].size() > 1) {
-      ++out.input_faces_cut;
+      ++input_faces_cut;
       for (int h : pieces_of[f]) {
         std::array<int, 3> t{};
         std::array<char, 3> on{};
@@ -168,10 +168,10 @@ PartlyCutCharts partly_cut_charts(const CompactMesh& mesh, const CommonSubdivisi
     charts.corners.push_back({pieces.corners[h][turn], pieces.corners[h][(turn + 1) % 3],
                               pieces.corners[h][(turn + 2) % 3]});
   }
-  const Triangulation t = Triangulation::from_faces(static_cast<int>(kept.size()), s.faces);
-  out.seam.assign(t.num_edges(), 0);
+  Triangulation t = Triangulation::from_faces(static_cast<int>(kept.size()), s.faces);
+  std::vector<char> sides(t.num_edges(), 0);
   for (int f = 0; f < t.num_faces(); ++f) {
-    for (int c = 0; c < 3; ++c) out.seam[t.face_edge(f, c)] |= side_seam[f][c];
+    for (int c = 0; c < 3; ++c) sides[t.face_edge(f, c)] |= side_seam[f][c];
   }
   s.corners.resize(s.faces.size());
   s.vertex_layout.assign(kept.size(), Eigen::Vector3d::Zero());
@@ -184,7 +184,7 @@ PartlyCutCharts partly_cut_charts(const CompactMesh& mesh, const CommonSubdivisi
   for (size_t f = s.faces.size(); f-- > 0;) {  // each vertex from the first face that holds it
     for (int c = 0; c < 3; ++c) s.vertex_layout[s.faces[f][c]] = s.corners[f][c];
   }
-  return out;
+  return {std::move(s), std::move(t), std::move(sides), std::move(charts), input_faces_cut};
 }
 
 }  // namespace ricci::detail

@@ -299,11 +299,9 @@ std::optional<std::pair<PartlyCutCharts, Drawn>> partly_cut_drawn(
       break;
     }
     PartlyCutCharts partly = partly_cut_charts(mesh, sub, delivered, seam, developed, in, cut_up);
-    const Triangulation t =
-        Triangulation::from_faces(static_cast<int>(partly.sub.positions.size()), partly.sub.faces);
     std::vector<int> again;
-    std::optional<Drawn> drawn = drawn_where_deliverable(t, partly.sub.positions, partly.seam,
-                                                         partly.charts, bound, pieces, again);
+    std::optional<Drawn> drawn = drawn_where_deliverable(
+        partly.delivered, partly.sub.positions, partly.seam, partly.charts, bound, pieces, again);
     if (drawn) {
       const double qc = qc_p95(partly.sub.positions, partly.sub.faces, drawn->charts.corners);
       if (!(qc - 1 <= kPartlyCutQc * (pieces.qc_p95 - 1))) return std::nullopt;
@@ -664,10 +662,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       atlas.harmonic_charts = drawn.redrawn;
       atlas.untangled = drawn.untangled;
       atlas.input_faces_cut = cut.input_faces_cut;
-      const Triangulation t =
-          Triangulation::from_faces(static_cast<int>(cut.sub.positions.size()), cut.sub.faces);
-      deliver(t, cut.sub.positions, cut.sub.faces, cut.seam, lengths_in_3d(t, cut.sub.positions),
-              drawn.charts, packing, {}, mesh.input_area(), o, run);
+      deliver(cut.delivered, cut.sub.positions, cut.sub.faces, cut.seam,
+              lengths_in_3d(cut.delivered, cut.sub.positions), drawn.charts, packing, {},
+              mesh.input_area(), o, run);
       run.subdivision = std::move(cut.sub);
       return;
     }

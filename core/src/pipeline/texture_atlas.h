@@ -74,7 +74,8 @@ struct PartlyCutCharts {
   //! The delivered faces in the input's order, a cut face's pieces in its place (a cut face of
   //! one piece is its own face); the input's vertices first, in order.
   CommonSubdivision sub;
-  std::vector<char> seam;   //!< per edge of Triangulation::from_faces(sub.faces)
+  Triangulation delivered;  //!< of sub.faces
+  std::vector<char> seam;   //!< per edge of `delivered`
   Charts charts;            //!< per delivered face, as developed
   int input_faces_cut = 0;  //!< the input faces delivered as more than one piece
 };
