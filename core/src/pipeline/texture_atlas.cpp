@@ -299,6 +299,8 @@ std::optional<std::pair<PartlyCutCharts, Drawn>> partly_cut_drawn(
       break;
     }
     PartlyCutCharts partly = partly_cut_charts(mesh, sub, delivered, seam, developed, in, cut_up);
+    // No face of more than one piece cut: the drawing that did not deliver, again.
+    if (partly.input_faces_cut == 0) continue;
     std::vector<int> again;
     std::optional<Drawn> drawn = drawn_where_deliverable(
         partly.delivered, partly.sub.positions, partly.seam, partly.charts, bound, pieces, again);
@@ -635,13 +637,6 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
         in ? drawn_where_deliverable(mesh, mesh.positions(), in->seam, in->charts, run.atlas.bound,
                                      pieces, stuck)
            : std::nullopt;
-    std::optional<std::pair<PartlyCutCharts, Drawn>> partly;
-    if (in && !user) {
-      partly = partly_cut_drawn(mesh, *sub, delivered, under, seam, charts, *in, run.atlas.bound,
-                                pieces, std::move(stuck));
-      // No face cut into more than one piece: the user's faces as they are.
-      if (partly && partly->first.input_faces_cut == 0) user = std::move(partly->second);
-    }
     if (user) {
       atlas.seconds.harmonic += lap(clock);
       // The user's faces drawn as the pieces were: packed much as they were.
@@ -654,7 +649,9 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
               user->charts, packing, {}, mesh.input_area(), o, run);
       return;
     }
-    if (partly) {
+    if (auto partly = in ? partly_cut_drawn(mesh, *sub, delivered, under, seam, charts, *in,
+                                            run.atlas.bound, pieces, std::move(stuck))
+                         : std::nullopt) {
       auto& [cut, drawn] = *partly;
       atlas.seconds.harmonic += lap(clock);
       packing = pack_charts(triangles_by_chart(drawn.charts), o.packing, packing.utilization);
