@@ -622,6 +622,20 @@ TEST(Atlas, FacesThatAConeOpensPastAHalfTurnAreCutIntoTheirPieces) {
   expect_partly_cut(run_atlas(cow, "--max-cones 8"), cow, 1.3, 0.01, 1e-7);
 }
 
+TEST(Atlas, AFlowThatStallsFromItsEasedStartWalksToTheStartAsGiven) {
+  // OpenSCAD's tardis (genus 12) at the defaults, 29 cones: the jump to the linear model's u is
+  // eased at a few vertices (the start's Delaunay triangulation needs an edge from a vertex to
+  // itself), and Newton stalls from there at iteration 13, its steps cut to keep triangles
+  // valid. The flow goes back and walks to the start as given, and converges at the bound asked;
+  // without that, the cones were placed again for D <= 0.05 (121 cones, the whole atlas on its
+  // pieces).
+  const std::string tardis = std::string(RICCI_REAL_MESH_DIR) + "/openscad-tardis.stl";
+  const Atlas a = run_atlas(tardis);
+  EXPECT_EQ(a.summary.find("placed again"), std::string::npos) << a.summary;
+  EXPECT_NE(a.summary.find("Atlas: 29 cones"), std::string::npos) << a.summary;
+  expect_partly_cut(a, tardis, 0.2, 0.05, 1e-6);  // its seams glue to 2.2e-7
+}
+
 TEST(Atlas, ObjOutputHasTextureCoordinatesPerCorner) {
   const std::string out = temp("atlas.obj");
   const CliRun r = ricci_flow(cgal("knot1.off") + " --target atlas -o " + out);

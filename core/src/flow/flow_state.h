@@ -57,7 +57,9 @@ struct FlowState {
   // and to where; when flips start, the walk is made again with them.
   std::optional<std::pair<Eigen::VectorXd, Eigen::VectorXd>> blocked_walk;
   // Where a walk with flips stopped creeping towards its start (walk_to): if Newton stalls from
-  // there, the flow goes back to that point and walks on, the whole way (run()).
+  // there, the flow goes back to that point and walks on, the whole way (run()). Where the jump
+  // went to an eased start (jump_eased): if Newton stalls from there, the flow goes back to where
+  // the jump began and walks to the start as given.
   struct UnfinishedWalk {
     Eigen::VectorXd start, u;
     IntrinsicTriangulation triangulation;
@@ -65,6 +67,7 @@ struct FlowState {
     MetricState metric;
     size_t flips_made = 0;  // of flip_sequence
     int num_flips = 0, connectivity_changes = 0;
+    bool eased = false;
   };
   std::optional<UnfinishedWalk> unfinished_walk;
   void finish_walk();
@@ -113,7 +116,10 @@ struct FlowState {
   void use_free_vertices(const TargetCurvature& target);
   void keep_delaunay();
   void adopt_flips(detail::LineSearch& step);
-  void walk_to(const Eigen::VectorXd& start, bool whole_way = false);
+  void walk_to(const Eigen::VectorXd& start, bool whole_way = false, bool ease = true);
+  // The jump to `start` with Ptolemy flips (its result in `jump`), from `start` eased at the free
+  // vertices that an edge from a vertex to itself would need; returns the start jumped to.
+  Eigen::VectorXd jump_eased(const Eigen::VectorXd& start, LineSearch& jump);
   std::string precondition_failure(const TargetCurvature& target);
   std::string iterate(const TargetCurvature& target, int it);
   double attainable_floor(const TargetCurvature& target) const;

@@ -108,6 +108,9 @@ struct FlowResult {
   int flips_from_iteration = -1;
   std::string without_flips;
   int connectivity_changes = 0;  //!< flip rounds of this solve that changed the triangulation
+  //! Free vertices whose start was eased so that the jump to it needs no edge from a vertex to
+  //! itself (FlowState::jump_eased); 0 where the start was jumped to as given, or walked to.
+  int eased_start_vertices = 0;
   //! Yamabe in E2 and S2: the flips began from the intrinsic Delaunay triangulation of the input's
   //! lambda-lengths (EdgeFlip::isometric), the canonical discrete conformal class; false when the
   //! input was Delaunay already, or when the flow in that class stalled at the boundary and the
