@@ -100,9 +100,9 @@ void detail::FlowState::start_flipping(int iteration, const std::string& why) {
 // (the one whose u is too low) is raised to the mean of the face's other two, or where Newton
 // holds that corner, the other two lowered halfway towards it; then the jump again. At BFF's 8
 // cones CGAL's man took one easing (two fingertips), the cow one, the bull 8 (a horn's tip of
-// 13 vertices eased, from -12 towards their ring at -6); the walk it replaces took the man 0.28 s of 0.94.
-// Where Newton stalls from the eased start (the tardis's atlas at 29 cones: its steps cut to keep
-// triangles valid at iteration 13), the flow goes back and walks to the start as given
+// 13 vertices eased, from -12 towards their ring at -6); the walk it replaces took the man 0.28 s
+// of 0.94. Where Newton stalls from the eased start (the tardis's atlas at 29 cones: its steps cut
+// to keep triangles valid at iteration 13), the flow goes back and walks to the start as given
 // (finish_walk).
 constexpr int kEasings = 12;
 
