@@ -636,6 +636,19 @@ TEST(Atlas, AFlowThatStallsFromItsEasedStartWalksToTheStartAsGiven) {
   expect_partly_cut(a, tardis, 0.2, 0.05, 1e-6);  // its seams glue to 2.2e-7
 }
 
+TEST(Atlas, APieceStillTurnedAfterTheHarmonicDrawingIsUntangled) {
+  // PrusaSlicer's CR-8 bed, a 235 x 235 x 3 plate of needles (edges 0.0028 to 328): its 396
+  // faces come back as 7,420 pieces, one of them a sliver of two corners at one point drawn a
+  // rounding past it, turned. Its chart keeps the drawing as developed (pieces of no 3D area,
+  // which the harmonic drawing does not draw); untangled, one vertex moves. Until 2026-12-05 the
+  // run failed at every bound tried ("1 faces of the delivered subdivision are turned over").
+  const std::string bed = std::string(RICCI_REAL_MESH_DIR) + "/prusa-bed-cr8.stl";
+  const Atlas a = run_atlas(bed);
+  expect_valid_atlas(a, bed, 0.2);
+  EXPECT_NE(a.summary.find("of the common subdivision moved off turned faces"), std::string::npos)
+      << a.summary;
+}
+
 TEST(Atlas, ObjOutputHasTextureCoordinatesPerCorner) {
   const std::string out = temp("atlas.obj");
   const CliRun r = ricci_flow(cgal("knot1.off") + " --target atlas -o " + out);

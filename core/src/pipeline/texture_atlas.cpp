@@ -668,6 +668,16 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     atlas.seconds.harmonic += lap(clock);
     atlas.harmonic_charts = draw_harmonic_insides(delivered, positions, seam,
                                                   std::vector<char>(charts.num_charts, 1), charts);
+    // A piece still turned (a sliver of two corners at one point, drawn a rounding past it, on a
+    // CAD plate of needles, Prusa's CR-8 bed: its chart keeps its developed drawing, whose pieces
+    // of no 3D area the harmonic one cannot draw) is untangled as the user's faces are; an overlap
+    // that makes is found again.
+    if (std::any_of(charts.corners.begin(), charts.corners.end(),
+                    [](const auto& q) { return !(signed_area(q) > 0); })) {
+      atlas.untangled =
+          static_cast<int>(untangle_turned_faces(delivered, positions, seam, charts).size());
+      if (atlas.untangled > 0) overlaps = overlapping_faces(delivered, seam, charts);
+    }
     atlas.seconds.harmonic += lap(clock);
     if (atlas.harmonic_charts > 0) {
       packing = pack_charts(triangles_by_chart(charts), o.packing, packing.utilization);

@@ -265,9 +265,15 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
         harmonic << ", " << a.untangled << (a.untangled == 1 ? " vertex" : " vertices")
                  << " moved off turned faces";
       }
-    } else if (a.harmonic_charts > 0) {
-      harmonic << "; " << a.harmonic_charts << " of the common subdivision drawn harmonic inside "
-               << "their border";
+    } else {
+      if (a.harmonic_charts > 0) {
+        harmonic << "; " << a.harmonic_charts << " of the common subdivision drawn harmonic inside "
+                 << "their border";
+      }
+      if (a.untangled > 0) {
+        harmonic << "; " << a.untangled << (a.untangled == 1 ? " vertex" : " vertices")
+                 << " of the common subdivision moved off turned faces";
+      }
     }
     line("Atlas: ", cones.str(), "; ", a.num_charts, " charts (", a.splits,
          " splits of overlapping ones", harmonic.str(), "), seams ", a.seam_length, " sqrt(area), ",

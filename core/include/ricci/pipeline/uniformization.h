@@ -125,8 +125,9 @@ struct AtlasResult {
   //! max_relative_length_error is then still the charts' development's: the input's edges are
   //! drawn as chords, not at the metric's lengths.
   bool on_input_faces = false;
-  //! There: vertices moved (each towards the mean of its neighbours, the least way that turns its
-  //! faces counter-clockwise) where the drawing on the input's faces turned a face over.
+  //! Vertices moved (each towards the mean of its neighbours, the least way that turns its faces
+  //! counter-clockwise) where the drawing on the input's faces, or on the common subdivision's
+  //! pieces, turned a face over.
   int untangled = 0;
   //! Where the user's faces draw but for a few: the input faces delivered as more than one piece
   //! (around those that do not draw, a cone opening a corner past a half turn, out to input edges
