@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -118,37 +119,59 @@ TEST(RicciFlow, SolverResumesFromItsLastResult) {
   ASSERT_TRUE(warm.triangulation.has_value());
 }
 
+// The atlas's flow at BFF's 8 cones on a mesh: the cones, their target and structure, and the
+// input's intrinsic Delaunay triangulation with its class (where the flow's flips begin).
+struct AtEightCones {
+  ConePlacement placement;
+  TargetCurvature target;
+  ConformalStructure structure;
+  IntrinsicTriangulation input_delaunay;
+  ConformalStructure input_class;
+};
+
+AtEightCones at_eight_cones(const CompactMesh& mesh) {
+  ConePlacementOptions o;
+  o.max_cones = 8;
+  ConePlacement p = place_cones(mesh, o);
+  EXPECT_EQ(p.cones.size(), 8u);
+  TargetCurvature target = detail::atlas_target(mesh, p, false);
+  ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target);
+  AtEightCones e{std::move(p), std::move(target), s, IntrinsicTriangulation(mesh), s};
+  make_input_delaunay(e.input_delaunay, e.input_class);
+  return e;
+}
+
+// The flow with flips from u = 0 and from the linear model's u, both converged to one metric.
+std::pair<FlowResult, FlowResult> cold_and_warm(const CompactMesh& mesh, const AtEightCones& e) {
+  FlowOptions always;
+  always.edge_flips = EdgeFlips::Always;
+  FlowResult cold = run_ricci_flow(mesh, e.structure, e.target, always);
+  RicciFlowSolver solver(mesh, e.structure, always);
+  FlowResult warm = solver.solve(e.target, &e.placement.u);
+  EXPECT_TRUE(cold.converged) << cold.failure;
+  EXPECT_TRUE(warm.converged) << warm.failure;
+  EXPECT_LE((warm.u - cold.u).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_LE((warm.curvature - cold.curvature).cwiseAbs().maxCoeff(), 1e-9);
+  return {std::move(cold), std::move(warm)};
+}
+
 TEST(RicciFlow, AStartReachedByPtolemyFlipsGivesTheColdStartsMetric) {
   // The atlas's flow at 8 cones, from the linear model's u: invalid triangles on the input's
   // Delaunay triangulation, valid on the start's own (Ptolemy flips from the lengths), where
   // Newton begins. It converges in fewer iterations to the cold start's metric.
   const CompactMesh mesh = test::cgal_mesh("camel.off");
-  ConePlacementOptions o;
-  o.max_cones = 8;
-  const ConePlacement p = place_cones(mesh, o);
-  ASSERT_EQ(p.cones.size(), 8u);
-  const TargetCurvature target = detail::atlas_target(mesh, p, false);
-  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target);
-  IntrinsicTriangulation input_delaunay(mesh);
-  ConformalStructure input_class = s;
-  make_input_delaunay(input_delaunay, input_class);
-  ASSERT_FALSE(evaluate_metric(input_delaunay, input_class, p.u).valid());
-  FlowOptions always;
-  always.edge_flips = EdgeFlips::Always;
-  const FlowResult cold = run_ricci_flow(mesh, s, target, always);
-  RicciFlowSolver solver(mesh, s, always);
-  const FlowResult warm = solver.solve(target, &p.u);
-  ASSERT_TRUE(cold.converged) << cold.failure;
-  ASSERT_TRUE(warm.converged) << warm.failure;
+  const AtEightCones e = at_eight_cones(mesh);
+  ASSERT_FALSE(evaluate_metric(e.input_delaunay, e.input_class, e.placement.u).valid());
+  const auto [cold, warm] = cold_and_warm(mesh, e);
   EXPECT_LT(warm.iterations, cold.iterations);
-  EXPECT_LE((warm.u - cold.u).cwiseAbs().maxCoeff(), 1e-8);
-  EXPECT_LE((warm.curvature - cold.curvature).cwiseAbs().maxCoeff(), 1e-9);
-  FlowOptions no_newton = always;
+  EXPECT_EQ(warm.eased_start_vertices, 0);
+  FlowOptions no_newton;
+  no_newton.edge_flips = EdgeFlips::Always;
   no_newton.max_iterations = 0;
-  RicciFlowSolver at_start(mesh, s, no_newton);
-  const FlowResult begun = at_start.solve(target, &p.u);
-  ASSERT_EQ(begun.u.size(), p.u.size());
-  EXPECT_EQ((begun.u - p.u).cwiseAbs().maxCoeff(), 0);
+  RicciFlowSolver at_start(mesh, e.structure, no_newton);
+  const FlowResult begun = at_start.solve(e.target, &e.placement.u);
+  ASSERT_EQ(begun.u.size(), e.placement.u.size());
+  EXPECT_EQ((begun.u - e.placement.u).cwiseAbs().maxCoeff(), 0);
   EXPECT_GT(begun.num_flips, 0);
   std::printf("[ start    ] camel at 8 cones: %d iterations from the start (%d flips), %d cold\n",
               warm.iterations, warm.num_flips, cold.iterations);
@@ -160,33 +183,17 @@ TEST(RicciFlow, AStartWhoseDelaunayTriangulationNeedsALoopIsEasedToTheColdStarts
   // from a vertex to itself; the Ptolemy flips to it leave invalid triangles. The start is eased
   // at a few free vertices instead of walked to, and Newton converges to the cold start's metric.
   const CompactMesh mesh = read_mesh(RICCI_REAL_MESH_DIR "/pymeshlab-cow.obj");
-  ConePlacementOptions o;
-  o.max_cones = 8;
-  const ConePlacement p = place_cones(mesh, o);
-  ASSERT_EQ(p.cones.size(), 8u);
-  const TargetCurvature target = detail::atlas_target(mesh, p, false);
-  const ConformalStructure s = prepare_flow(mesh, Geometry::Euclidean, {}, target);
-  IntrinsicTriangulation flipped(mesh);
-  ConformalStructure flipped_class = s;
-  make_input_delaunay(flipped, flipped_class);
-  MetricState at_start = evaluate_metric(flipped, flipped_class, p.u);
+  AtEightCones e = at_eight_cones(mesh);
+  MetricState at_start = evaluate_metric(e.input_delaunay, e.input_class, e.placement.u);
   ASSERT_FALSE(at_start.valid());
-  const FlipReport flips =
-      make_delaunay(flipped, flipped_class, p.u, at_start, 10 * mesh.num_edges());
+  const FlipReport flips = make_delaunay(e.input_delaunay, e.input_class, e.placement.u, at_start,
+                                         10 * mesh.num_edges());
   EXPECT_GT(flips.blocked, 0);
   EXPECT_FALSE(at_start.valid()) << "the start's own triangulation needs no loop";
-  FlowOptions always;
-  always.edge_flips = EdgeFlips::Always;
-  const FlowResult cold = run_ricci_flow(mesh, s, target, always);
-  RicciFlowSolver solver(mesh, s, always);
-  const FlowResult warm = solver.solve(target, &p.u);
-  ASSERT_TRUE(cold.converged) << cold.failure;
-  ASSERT_TRUE(warm.converged) << warm.failure;
+  const auto [cold, warm] = cold_and_warm(mesh, e);
   EXPECT_GT(warm.eased_start_vertices, 0);
   EXPECT_LT(warm.eased_start_vertices, 20);
   EXPECT_EQ(cold.eased_start_vertices, 0);
-  EXPECT_LE((warm.u - cold.u).cwiseAbs().maxCoeff(), 1e-8);
-  EXPECT_LE((warm.curvature - cold.curvature).cwiseAbs().maxCoeff(), 1e-9);
   std::printf("[ eased    ] cow at 8 cones: %d vertices eased, %d iterations (%d cold)\n",
               warm.eased_start_vertices, warm.iterations, cold.iterations);
 }

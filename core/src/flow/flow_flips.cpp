@@ -183,17 +183,7 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way, bo
     if (!ease) detail::evaluate_trial_point(triangulation, structure, start, true, jump);
     if (jump.state.valid()) {
       result.eased_start_vertices = static_cast<int>((eased.array() != start.array()).count());
-      if (result.eased_start_vertices > 0) {
-        unfinished_walk = UnfinishedWalk{start,
-                                         u,
-                                         triangulation,
-                                         structure.eta,
-                                         metric,
-                                         flip_sequence.size(),
-                                         result.num_flips,
-                                         result.connectivity_changes,
-                                         true};
-      }
+      if (result.eased_start_vertices > 0) unfinished_walk = walk_from_here(start, true);
       if (jump.flipped) adopt_flips(jump);
       u = eased;
       metric = std::move(jump.state);
@@ -249,17 +239,23 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way, bo
     creeping = alpha <= detail::kShortStep && alpha <= 0.5 * last_alpha ? creeping + 1 : 0;
     last_alpha = alpha;
     if (flipping && !whole_way && held_at_start && creeping >= kCreepingSteps) {
-      unfinished_walk = UnfinishedWalk{start,
-                                       u,
-                                       triangulation,
-                                       structure.eta,
-                                       metric,
-                                       flip_sequence.size(),
-                                       result.num_flips,
-                                       result.connectivity_changes};
+      unfinished_walk = walk_from_here(start, false);
       return;
     }
   }
+}
+
+detail::FlowState::UnfinishedWalk detail::FlowState::walk_from_here(const Eigen::VectorXd& start,
+                                                                    bool eased) const {
+  return UnfinishedWalk{start,
+                        u,
+                        triangulation,
+                        structure.eta,
+                        metric,
+                        flip_sequence.size(),
+                        result.num_flips,
+                        result.connectivity_changes,
+                        eased};
 }
 
 void detail::FlowState::finish_walk() {

@@ -70,6 +70,8 @@ struct FlowState {
     bool eased = false;
   };
   std::optional<UnfinishedWalk> unfinished_walk;
+  // The state now, to come back to with a walk to `start`.
+  UnfinishedWalk walk_from_here(const Eigen::VectorXd& start, bool eased) const;
   void finish_walk();
   // u at this solve's first Newton iteration. Flips that start by iteration kStartOverByIteration
   // start from there: on the real meshes and CGAL's scans whose flips started at iteration 2 or 3,

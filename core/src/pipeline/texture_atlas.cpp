@@ -669,9 +669,10 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     atlas.harmonic_charts = draw_harmonic_insides(delivered, positions, seam,
                                                   std::vector<char>(charts.num_charts, 1), charts);
     // A piece still turned (a sliver of two corners at one point, drawn a rounding past it, on a
-    // CAD plate of needles, Prusa's CR-8 bed: its chart keeps its developed drawing, whose pieces
-    // of no 3D area the harmonic one cannot draw) is untangled as the user's faces are; an overlap
-    // that makes is found again.
+    // CAD plate of needles, PrusaSlicer's CR-8 bed: its chart keeps its developed drawing, whose
+    // pieces of no 3D area the harmonic one cannot draw) is untangled as the user's faces are; an
+    // overlap that makes is found again, and the charts packed again (a vertex on a seam moves
+    // its border).
     if (std::any_of(charts.corners.begin(), charts.corners.end(),
                     [](const auto& q) { return !(signed_area(q) > 0); })) {
       atlas.untangled =
@@ -679,7 +680,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       if (atlas.untangled > 0) overlaps = overlapping_faces(delivered, seam, charts);
     }
     atlas.seconds.harmonic += lap(clock);
-    if (atlas.harmonic_charts > 0) {
+    if (atlas.harmonic_charts > 0 || atlas.untangled > 0) {
       packing = pack_charts(triangles_by_chart(charts), o.packing, packing.utilization);
     }
     atlas.seconds.packing += lap(clock);
