@@ -51,6 +51,28 @@ TEST(MeshIo, ReadsTheTetrahedronAsObjAndOff) {
       "tet.off", "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n")));
 }
 
+TEST(MeshIo, ReadsTextWithAByteOrderMark) {
+  // UTF-8's mark made the first vertex's keyword unknown: its faces referred past the vertices.
+  expect_tetrahedron(
+      read_mesh(write_file("tet-utf8.obj", "\xEF\xBB\xBF" + std::string(kTetrahedronObj))));
+  // UTF-16, as Windows tools write it, in both byte orders.
+  for (const bool big : {true, false}) {
+    std::string utf16 = big ? "\xFE\xFF" : "\xFF\xFE";
+    for (const char c : std::string(kTetrahedronObj)) {
+      utf16 += big ? std::string{'\0', c} : std::string{c, '\0'};
+    }
+    expect_tetrahedron(read_mesh(write_file(big ? "tet-utf16be.obj" : "tet-utf16le.obj", utf16)));
+  }
+  // A character outside ASCII says so (an e with an acute accent in a comment).
+  const std::string accented = std::string("\xFF\xFE#\0\xE9\0\n\0", 8);
+  try {
+    read_mesh(write_file("accented.obj", accented + std::string(kTetrahedronObj)));
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("UTF-16"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MeshIo, ObjWithTextureNormalsGroupsMaterialsAndPolygons) {
   const std::string obj =
       "# exported\nmtllib square.mtl\no square\nv 0 0 0\nv 1 0 0\nv 1 1 0 1.0\nv 0 1 0\n"

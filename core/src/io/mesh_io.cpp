@@ -148,11 +148,40 @@ std::string sniff_format(std::string_view bytes) {
   return "obj";
 }
 
+// Text written with a byte order mark, as Windows tools write it: UTF-8's is dropped (before, an
+// OBJ lost its first vertex and was refused for a face's index), UTF-16's text is read as the
+// ASCII it spells (assimp's test box, big-endian, read as a file of no faces). A binary STL's
+// 80-byte header is anything, and is left alone.
+std::string_view without_byte_order_mark(const std::string& path, std::string_view bytes,
+                                         std::string& decoded) {
+  if (io::is_binary_stl(bytes)) return bytes;
+  if (bytes.substr(0, 3) == "\xEF\xBB\xBF") return bytes.substr(3);
+  const bool big = bytes.substr(0, 2) == "\xFE\xFF", little = bytes.substr(0, 2) == "\xFF\xFE";
+  if (!big && !little) return bytes;
+  decoded.clear();
+  decoded.reserve(bytes.size() / 2);
+  for (size_t i = 2; i + 1 < bytes.size(); i += 2) {
+    const auto byte = [&](size_t k) {
+      return static_cast<unsigned>(static_cast<unsigned char>(bytes[k]));
+    };
+    const unsigned unit = big ? (byte(i) << 8) | byte(i + 1) : (byte(i + 1) << 8) | byte(i);
+    if (unit >= 0x80) {
+      throw IoError("read_mesh: '" + path +
+                    "' is UTF-16 text with a character outside ASCII (byte " + std::to_string(i) +
+                    "); save it as ASCII or UTF-8");
+    }
+    decoded.push_back(static_cast<char>(unit));
+  }
+  return decoded;
+}
+
 }  // namespace
 
 namespace io {
 
 MeshFile read_mesh_bytes(const std::string& path, std::string_view bytes, std::string format) {
+  std::string decoded;
+  bytes = without_byte_order_mark(path, bytes, decoded);
   if (format != "off" && format != "obj" && format != "ply" && format != "stl") {
     format = sniff_format(bytes);
   }
