@@ -197,22 +197,32 @@ std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
     return std::any_of(charts.corners.begin(), charts.corners.end(),
                        [](const auto& q) { return !(signed_area(q) > 0); });
   };
-  const auto overlaps = [&](const Charts& c) { return overlapping_faces(t, seam, c); };
-  // D within the bound or kSameD of the pieces', and no two faces of a chart overlapping.
-  const auto deliverable = [&](const Charts& c) {
-    const double d = face_distortion(positions, faces, c.corners);
-    return (d <= bound || !(d > (1 + kSameD) * pieces.distortion)) && overlaps(c).empty();
+  // A drawing's D and its faces that overlap others of their chart, found once per drawing.
+  struct Checked {
+    double distortion = 0;
+    std::vector<std::pair<int, int>> overlaps;
   };
-  // The faces of drawing c turned or overlapping another; of `also` where c has none.
-  const auto not_given = [&](const Charts& c, const Charts* also = nullptr) {
-    stuck.clear();
-    for (const Charts* d : {&c, also}) {
-      if (d == nullptr || !stuck.empty()) continue;
+  const auto check = [&](const Charts& c) {
+    return Checked{face_distortion(positions, faces, c.corners), overlapping_faces(t, seam, c)};
+  };
+  // D within the bound or kSameD of the pieces', and no two faces of a chart overlapping.
+  const auto deliverable = [&](const Checked& k) {
+    return (k.distortion <= bound || !(k.distortion > (1 + kSameD) * pieces.distortion)) &&
+           k.overlaps.empty();
+  };
+  // The faces of drawing c (checked as k) turned or overlapping another; of `also` (checked as
+  // `also_checked`, or here) where c has none.
+  const auto not_given = [&](const Charts& c, const Checked& k, const Charts* also = nullptr,
+                             std::optional<Checked> also_checked = std::nullopt) {
+    const auto add = [&](const Charts& d, const Checked& kd) {
       for (int f = 0; f < t.num_faces(); ++f) {
-        if (!(signed_area(d->corners[f]) > 0)) stuck.push_back(f);
+        if (!(signed_area(d.corners[f]) > 0)) stuck.push_back(f);
       }
-      for (const auto& [f, g] : overlaps(*d)) stuck.push_back(f), stuck.push_back(g);
-    }
+      for (const auto& [f, g] : kd.overlaps) stuck.push_back(f), stuck.push_back(g);
+    };
+    stuck.clear();
+    add(c, k);
+    if (stuck.empty() && also != nullptr) add(*also, also_checked ? *also_checked : check(*also));
     return std::nullopt;
   };
   std::vector<int> moved = untangle_turned_faces(t, positions, seam, charts);
@@ -241,17 +251,18 @@ std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
     for (int w : untangle_turned_faces(t, positions, seam, charts)) {
       if (std::find(moved.begin(), moved.end(), w) == moved.end()) moved.push_back(w);
     }
-    if (turned() || !deliverable(charts)) {
+    const Checked now = check(charts);
+    if (turned() || !deliverable(now)) {
       // The drawing as developed, where it turned no face and delivers.
-      if (turned_developed || drawn.redrawn == 0 || !deliverable(untangled)) {
-        return not_given(charts, &untangled);
-      }
+      std::optional<Checked> before;
+      if (!turned_developed && drawn.redrawn > 0) before = check(untangled);
+      if (!before || !deliverable(*before)) return not_given(charts, now, &untangled, before);
       charts = untangled;
       moved = moved_untangled;
       drawn.redrawn = 0;
     }
-  } else if (!deliverable(charts)) {
-    return not_given(charts);
+  } else if (const Checked now = check(charts); !deliverable(now)) {
+    return not_given(charts, now);
   }
   drawn.untangled = static_cast<int>(moved.size());
   drawn.charts = std::move(charts);
