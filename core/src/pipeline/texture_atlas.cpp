@@ -457,6 +457,28 @@ TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& place
   return TargetCurvature::from_values(mesh, values);
 }
 
+ConePlacement unfolding_cones(const CompactMesh& mesh, double flat) {
+  std::vector<double> angle_sum(static_cast<size_t>(mesh.num_vertices()), 0.0);
+  const std::vector<double>& l = mesh.input_lengths();
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const std::array<int, 3>& e = mesh.face_edges(f);
+    const TriangleAngles a = corner_angles(Geometry::Euclidean, {l[e[0]], l[e[1]], l[e[2]]});
+    for (int c = 0; c < 3; ++c)
+      angle_sum[static_cast<size_t>(mesh.face_vertex(f, c))] += a.angle[c];
+  }
+  ConePlacement p;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const double theta = angle_sum[static_cast<size_t>(v)];
+    if (!mesh.is_boundary_vertex(v) && std::abs(theta - 2 * kPi) > flat)
+      p.cones.push_back({v, theta});
+  }
+  p.u = Eigen::VectorXd::Zero(mesh.num_vertices());
+  p.distortion = p.max_deviation = 0;
+  p.distortion_without_cones = kNaN;
+  p.bound_reached = true;
+  return p;
+}
+
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run) {
   run.layout_kind = LayoutKind::Atlas;
   // The flow on the surface doubled along its boundary delivers the half's pieces, laid out.

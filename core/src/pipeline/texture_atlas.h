@@ -41,6 +41,12 @@ namespace ricci::detail {
 TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& placement,
                              bool quarter_angles);
 
+//! The cones that unfold the surface: every interior vertex whose angle sum in the input metric is
+//! off 2 pi by more than `flat` (radians), at that angle sum, with u = 0. Their flat cone metric is
+//! the input's own: it needs no flow step and no flip, and its atlas draws every face as its own
+//! triangle (D 0), cut through all of them.
+ConePlacement unfolding_cones(const CompactMesh& mesh, double flat);
+
 //! Per edge of `delivered`, a common subdivision's triangulation of `mesh`: the edge of the
 //! user's mesh it lies on (both ends on that input edge's closure), -1 where it lies on none.
 std::vector<int> input_edge_under(const CompactMesh& mesh, const Triangulation& delivered,

@@ -243,8 +243,10 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
 // a second run): the cones are placed for the bound less this margin.
 constexpr double kPlacementMargin = 0.98;
 
-// The run for the preset resolved from the request (the atlas's cones placed once).
-Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOptions& request) {
+// The run for the preset resolved from the request (the atlas's cones placed once, or `unfolding`,
+// unfolding_cones, where given).
+Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOptions& request,
+                               const ConePlacement* unfolding = nullptr) {
   const UniformizationOptions o = with_cone_values(mesh, request);
   Uniformization run;
   std::tie(run.preset, run.geometry) = resolve_request(mesh, o);
@@ -253,7 +255,11 @@ Uniformization uniformize_once(const CompactMesh& mesh, const UniformizationOpti
   const int outer =
       run.preset == TargetPreset::UnitDisk ? outer_boundary_loop(mesh, mesh.input_lengths()) : -1;
   if (run.preset == TargetPreset::Atlas) {
-    if (o.cones.empty()) {
+    if (unfolding) {
+      run.atlas.placement = *unfolding;
+      run.atlas.bound = o.cone_placement.distortion_bound;
+      run.atlas.unfolded = true;
+    } else if (o.cones.empty()) {
       ConePlacementOptions placing = o.cone_placement;
       placing.distortion_bound *= kPlacementMargin;
       run.atlas.placement = place_cones(mesh, placing);
@@ -399,13 +405,13 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
     failed.push_back(std::move(*last));
     last = uniformize_once(mesh, fewer);
   }
-  if (!last) return run;
-  if (last->result.stop == FlowStop::Cancelled) return std::move(*last);
+  if (!last && (run.valid() || run.result.stop == FlowStop::Cancelled)) return run;
+  if (last && last->result.stop == FlowStop::Cancelled) return std::move(*last);
   const auto add_cost_to = [](Uniformization& to, const Uniformization& attempt) {
     add_cost(to.totals, to.atlas.placement, attempt);
   };
-  if (last->valid()) {
-    Uniformization& delivered = *last;
+  // `delivered` in place of the first run and the attempts that failed, at their cost too.
+  const auto instead_of_failed = [&](Uniformization& delivered) {
     const FlowTotals own = delivered.totals;
     delivered.totals = FlowTotals();
     add_cost_to(delivered, run);
@@ -414,17 +420,40 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
     std::string why = "with the cones for " + attempt(run);
     for (const Uniformization& f : failed) why += "; with those for " + attempt(f);
     delivered.atlas.bound_instead = why;
-    within_bound_asked(request, delivered.atlas.placement);
+  };
+  if (last && last->valid()) {
+    instead_of_failed(*last);
+    within_bound_asked(request, last->atlas.placement);
     return std::move(*last);
   }
-  // None gave an atlas: the first run's failure, and every attempt after it.
-  failed.push_back(std::move(*last));
+  if (last) failed.push_back(std::move(*last));
+  // None gave an atlas: the surface unfolded, where its cones are within the budget.
+  const ConePlacement unfolding = detail::unfolding_cones(mesh, request.flow.tolerance / 2);
+  const int budget =
+      request.cone_placement.max_cones > 0 ? request.cone_placement.max_cones : kDefaultConeBudget;
+  std::string unfolded_failure;
+  if (static_cast<int>(unfolding.cones.size()) <= budget) {
+    UniformizationOptions own_metric = request;
+    own_metric.flow.edge_flips = EdgeFlips::Never;  // u = 0: the input's triangulation is drawn
+    Uniformization unfolded = uniformize_once(mesh, own_metric, &unfolding);
+    if (unfolded.valid() || unfolded.result.stop == FlowStop::Cancelled) {
+      instead_of_failed(unfolded);
+      return unfolded;
+    }
+    unfolded_failure = "; unfolded (" + std::to_string(unfolding.cones.size()) +
+                       " cones): the atlas " + why_not_valid(unfolded);
+    failed.push_back(std::move(unfolded));
+  } else {
+    unfolded_failure = "; unfolding it would take " + std::to_string(unfolding.cones.size()) +
+                       " cones, above the budget of " + std::to_string(budget);
+  }
+  // The first run's failure, and every attempt after it.
   std::string tried;
   for (const Uniformization& f : failed) {
     add_cost_to(run, f);
-    tried += "; with the cones placed again for " + attempt(f);
+    if (!f.atlas.unfolded) tried += "; with the cones placed again for " + attempt(f);
   }
-  (run.converged() ? run.layout_failure : run.result.failure) += tried;
+  (run.converged() ? run.layout_failure : run.result.failure) += tried + unfolded_failure;
   return run;
 }
 

@@ -137,6 +137,7 @@ std::string layout_json(const Uniformization& run) {
         << ", \"linear_angle\": " << number(p.cones[k].angle) << "}";
     }
     j << "], \"user_cones\": " << (a.user_cones ? "true" : "false")
+      << ", \"unfolded\": " << (a.unfolded ? "true" : "false")
       << ", \"distortion\": " << number(a.distortion)
       << ", \"vertex_distortion\": " << number(a.flow_distortion)
       << ", \"linear_distortion\": " << number(p.distortion)

@@ -242,7 +242,11 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     std::ostringstream cones;  // the user's, or placed on the linear model at that cost
     cones.precision(3);
     cones << p.cones.size();
-    if (a.user_cones) {
+    if (a.unfolded) {
+      cones
+          << " cones, every interior vertex of curvature (the surface unfolded); area distortion D "
+          << a.distortion << " on the faces";
+    } else if (a.user_cones) {
       cones << " cones, yours; area distortion D " << a.distortion << " on the faces ("
             << a.flow_distortion << " at the vertices)";
     } else {
@@ -287,7 +291,12 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
            " is above the bound asked, ", a.bound_asked, ", which the linear model's cones met (",
            p.distortion, ")");
     }
-    if (!a.bound_instead.empty()) {
+    if (a.unfolded) {
+      line(
+          "Warning: no placed cones gave an atlas, so the surface is unfolded, its own metric "
+          "cut through every vertex of curvature: ",
+          a.bound_instead);
+    } else if (!a.bound_instead.empty()) {
       line("The cones were placed again, for D <= ", a.bound, ": ", a.bound_instead);
     }
   }
