@@ -697,6 +697,19 @@ TEST(Atlas, APartWhoseFlowStallsAtEveryBoundIsUnfolded) {
     most = std::max(most, j - i + 1);
   }
   EXPECT_GE(most, 784u);
+  // Not where it would break what was asked: quarter turns, or a budget below its cones.
+  const CliRun quarter =
+      ricci_flow(bed + " --target atlas --cone-angles quarter -o " + temp("quarter.ply"));
+  EXPECT_NE(quarter.exit_code, 0);
+  EXPECT_NE(quarter.err.find("; unfolding it would keep its own angles, not quarter turns"),
+            std::string::npos)
+      << quarter.err;
+  const CliRun budget =
+      ricci_flow(bed + " --target atlas --max-cones 100 -o " + temp("budget.ply"));
+  EXPECT_NE(budget.exit_code, 0);
+  EXPECT_NE(budget.err.find("; unfolding it would take 384 cones, above the budget of 100"),
+            std::string::npos)
+      << budget.err;
 }
 
 TEST(Atlas, ObjOutputHasTextureCoordinatesPerCorner) {

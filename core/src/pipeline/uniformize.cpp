@@ -427,12 +427,15 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
     return std::move(*last);
   }
   if (last) failed.push_back(std::move(*last));
-  // None gave an atlas: the surface unfolded, where its cones are within the budget.
+  // None gave an atlas: the surface unfolded, where its cones are within the budget (and no
+  // quarter turns were asked for).
   const ConePlacement unfolding = detail::unfolding_cones(mesh, request.flow.tolerance / 2);
   const int budget =
       request.cone_placement.max_cones > 0 ? request.cone_placement.max_cones : kDefaultConeBudget;
   std::string unfolded_failure;
-  if (static_cast<int>(unfolding.cones.size()) <= budget) {
+  if (request.cone_placement.quarter_angles) {
+    unfolded_failure = "; unfolding it would keep its own angles, not quarter turns";
+  } else if (static_cast<int>(unfolding.cones.size()) <= budget) {
     UniformizationOptions own_metric = request;
     own_metric.flow.edge_flips = EdgeFlips::Never;  // u = 0: the input's triangulation is drawn
     Uniformization unfolded = uniformize_once(mesh, own_metric, &unfolding);
