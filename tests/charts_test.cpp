@@ -48,6 +48,40 @@ TEST(Charts, EachFacePlacedByItsOwnSidesKeepsASliverWhoseNeighboursSideDiffers) 
   EXPECT_LT(std::abs(sliver_area(lay_out_charts(mesh, lengths, none))), 1e-12);
 }
 
+TEST(Charts, ASidePlacedAtTwiceItsOwnLengthOrMoreIsNotHandedOn) {
+  // A strip of faces, each sharing a side with the next: that side is 1.95 long in the face before
+  // and 0.5 in the face after, as pieces of a needle whose crossings the common subdivision put
+  // apart disagree. Each face scaled to its side as placed would grow the strip 3.9 times a face;
+  // drawn at their own size where the two differ by more than twice, the faces stay within the
+  // strip's own lengths, none turned.
+  const int n = 12;
+  std::vector<std::array<int, 3>> faces;
+  for (int i = 0; i < n; ++i) {
+    faces.push_back(i % 2 == 0 ? std::array<int, 3>{i, i + 1, i + 2}
+                               : std::array<int, 3>{i + 1, i, i + 2});
+  }
+  const Triangulation mesh = Triangulation::from_faces(n + 2, faces);
+  std::vector<std::array<double, 3>> sides(n);
+  double total = 0;
+  for (int f = 0; f < n; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const auto [a, b] = mesh.edge_vertices(mesh.face_edge(f, c));
+      // Face f spans vertices f, f + 1, f + 2: its side f..f+1 is shared with the face before,
+      // f+1..f+2 with the face after, f..f+2 is on the border.
+      sides[f][c] = a == f && b == f + 1 ? 0.5 : a == f + 1 && b == f + 2 ? 1.95 : 1.5;
+      total += sides[f][c];
+    }
+  }
+  const Charts charts = lay_out_charts(mesh, sides, std::vector<char>(mesh.num_edges(), 0));
+  ASSERT_EQ(charts.num_charts, 1);
+  EXPECT_EQ(charts.flipped_faces, 0);
+  double reach = 0;
+  for (const auto& t : charts.corners) {
+    for (const auto& q : t) reach = std::max(reach, (q - charts.corners[0][0]).norm());
+  }
+  EXPECT_LT(reach, total);
+}
+
 // A grid of unit squares under a line of needle pairs (1 long, 1e-8 wide, back to back across their
 // short side), one row of faces above. Breadth first from the grid's middle, the upper needles are
 // reached across their short side first: drawn from it, a needle points its far corner in a
