@@ -532,8 +532,17 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   }
   const std::vector<std::array<int, 3>>& faces = sub ? sub->faces : mesh.faces();
   const std::vector<Eigen::Vector3d>& positions = sub ? sub->positions : mesh.positions();
-  const Triangulation delivered =
-      Triangulation::from_faces(static_cast<int>(positions.size()), faces);
+  std::optional<Triangulation> delivered_mesh;
+  try {
+    delivered_mesh.emplace(Triangulation::from_faces(static_cast<int>(positions.size()), faces));
+  } catch (const InvalidMeshError&) {
+    // Pieces that meet at a vertex in several fans (robosuite's Baxter torso and forearm meshes:
+    // 25 input vertices of a part whose flow flipped edges): no atlas of these cones, and the run
+    // goes on to the next attempt instead of stopping the whole mesh.
+    run.subdivision_failure = "its pieces meet at some vertex in more than one fan";
+    return;
+  }
+  const Triangulation& delivered = *delivered_mesh;
   const std::vector<double> length3d = lengths_in_3d(delivered, positions);
   std::vector<std::array<double, 3>> flat;
   if (sub) {
