@@ -136,8 +136,10 @@ std::string layout_json(const Uniformization& run) {
         << ", \"angle\": " << number(k < a.cone_angles.size() ? a.cone_angles[k] : p.cones[k].angle)
         << ", \"linear_angle\": " << number(p.cones[k].angle) << "}";
     }
-    j << "], \"user_cones\": " << (a.user_cones ? "true" : "false")
-      << ", \"unfolded\": " << (a.unfolded ? "true" : "false")
+    j << "], \"user_cones\": " << (a.user_cones ? "true" : "false") << ", \"unfolded\": "
+      << (a.unfolded == AtlasResult::Unfolded::NoAtlas         ? "\"no atlas\""
+          : a.unfolded == AtlasResult::Unfolded::MoreConformal ? "\"more conformal\""
+                                                               : "null")
       << ", \"distortion\": " << number(a.distortion)
       << ", \"vertex_distortion\": " << number(a.flow_distortion)
       << ", \"linear_distortion\": " << number(p.distortion)

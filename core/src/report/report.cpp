@@ -242,7 +242,7 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     std::ostringstream cones;  // the user's, or placed on the linear model at that cost
     cones.precision(3);
     cones << p.cones.size();
-    if (a.unfolded) {
+    if (a.unfolded != AtlasResult::Unfolded::No) {
       cones
           << " cones, every interior vertex of curvature (the surface unfolded); area distortion D "
           << a.distortion << " on the faces";
@@ -291,10 +291,15 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
            " is above the bound asked, ", a.bound_asked, ", which the linear model's cones met (",
            p.distortion, ")");
     }
-    if (a.unfolded) {
+    if (a.unfolded == AtlasResult::Unfolded::NoAtlas) {
       line(
           "Warning: no placed cones gave an atlas, so the surface is unfolded, its own metric "
           "cut through every vertex of curvature: ",
+          a.bound_instead);
+    } else if (a.unfolded == AtlasResult::Unfolded::MoreConformal) {
+      line(
+          "The surface is unfolded, its own metric cut through every vertex of curvature, for a "
+          "map nearer conformal: ",
           a.bound_instead);
     } else if (!a.bound_instead.empty()) {
       line("The cones were placed again, for D <= ", a.bound, ": ", a.bound_instead);

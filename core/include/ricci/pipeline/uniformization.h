@@ -94,11 +94,14 @@ struct AtlasResult {
   //! angles, the linear model's figures NaN.
   ConePlacement placement;
   bool user_cones = false;  //!< the cones are the user's, not placed
-  //! No placed cones gave an atlas (the flow stalled, or the layout failed, at every bound tried:
-  //! bound_instead says how), and the surface is unfolded instead: a cone at every interior vertex
-  //! of curvature, at its angle sum, whose flat metric is the input's own (no flow, D 0), cut
-  //! through them all. Its seams are long and its charts many.
-  bool unfolded = false;
+  //! Why the surface is unfolded instead of cut at placed cones (bound_instead says more): a cone
+  //! at every interior vertex of curvature, at its angle sum, whose flat metric is the input's own
+  //! (no flow: D 0, each face its own shape), cut through them all; its seams are longer.
+  enum class Unfolded {
+    No,
+    NoAtlas,        //!< no placed cones gave an atlas (the flow stalled, or the layout failed)
+    MoreConformal,  //!< a coarse part whose placed cones left its faces far from conformal
+  } unfolded = Unfolded::No;
   //! The distortion bound the cones were placed for (less the placement's 2 % margin): the one
   //! asked, or a tighter one where with the cones of the one asked the flow or the layout
   //! failed, or the delivered faces' D exceeded the bound asked (bound_instead says why).
