@@ -1,6 +1,7 @@
 // charts_on_input, pieces_closure and partly_cut_charts (pipeline/texture_atlas.h): a common
 // subdivision's charts moved onto the user's faces, all or but some cut into their pieces, on a
-// square of two faces whose diagonal a new vertex splits into two pieces each.
+// square of two faces whose diagonal a new vertex splits into two pieces each; and
+// unfolding_cones, on a cube and a flat grid.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +11,9 @@
 #include <Eigen/Core>
 
 #include "pipeline/texture_atlas.h"
+#include "ricci/mesh/geometry.h"
 #include "ricci/subdivision/subdivided_mesh.h"
+#include "test_meshes.h"
 
 namespace ricci::detail {
 namespace {
@@ -248,6 +251,31 @@ TEST(PartlyCut, ACutFacesPiecesTakeItsPlaceBesideTheUsersFaces) {
   for (int e = 0; e < t.num_edges(); ++e) {
     EXPECT_EQ(partly.seam[e], t.edge_vertices(e) == (std::array<int, 2>{1, 2})) << e;
   }
+}
+
+TEST(UnfoldingCones, ACubeHasItsEightCornersAtThreeQuarterTurnsAFlatGridNone) {
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i < 8; ++i) p.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  const CompactMesh cube(p, {{0, 2, 1},
+                             {1, 2, 3},
+                             {4, 5, 6},
+                             {5, 7, 6},
+                             {0, 1, 4},
+                             {1, 5, 4},
+                             {2, 6, 3},
+                             {3, 6, 7},
+                             {0, 4, 2},
+                             {2, 4, 6},
+                             {1, 3, 5},
+                             {3, 7, 5}});
+  const ConePlacement c = unfolding_cones(cube, 1e-10);
+  ASSERT_EQ(c.cones.size(), 8u);
+  for (const Cone& cone : c.cones) EXPECT_NEAR(cone.angle, 1.5 * kPi, 1e-12);
+  EXPECT_EQ(c.u.size(), 8);
+  EXPECT_EQ(c.u.cwiseAbs().maxCoeff(), 0);
+  EXPECT_TRUE(c.bound_reached);
+  // A flat square grid: its interior vertices are flat, its boundary is free.
+  EXPECT_TRUE(unfolding_cones(ricci::test::square_grid(6), 1e-10).cones.empty());
 }
 
 }  // namespace

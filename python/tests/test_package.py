@@ -171,7 +171,7 @@ def test_a_coarse_part_is_unfolded_where_its_cones_would_shear_its_faces():
                                              "3torus.off"))
     r = ricci_flow.uniformize(V, F, target="atlas")
     assert r.converged and r.layout_kinds == ["atlas"]
-    assert r.atlas["unfolded"] == "more conformal" and r.atlas["distortion"] < 1e-9
+    assert r.atlas["unfolded"] == "more-conformal" and r.atlas["distortion"] < 1e-9
     P = r.vertices[r.faces]
     side3d = np.linalg.norm(P - np.roll(P, -1, axis=1), axis=2)
     side_uv = np.linalg.norm(r.texcoord - np.roll(r.texcoord, -1, axis=1), axis=2)

@@ -315,7 +315,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
         "below 2 pi), the budget and the sweeps non-negative");
   }
   const auto started = std::chrono::steady_clock::now();
-  const int budget = o.max_cones > 0 ? o.max_cones : kDefaultConeBudget;
+  const int budget = cone_budget(o);
   Search search(mesh, o);
   LinearConeModel& model = search.model();
   ConePlacement result;

@@ -24,10 +24,10 @@ constexpr double kPlacedMismatch = 2;
 // The corner opposite p-q of a triangle with sides a (opposite p), b (opposite q) and c (p-q),
 // counter-clockwise, the triangle scaled so that its side c spans p-q as placed: its shape, and so
 // its orientation, are its own even where p-q was placed by a neighbour whose length of that side
-// differs by rounding. Where it differs by more (kPlacedMismatch), the triangle keeps its own size
-// (still counter-clockwise): scaled, it would hand the mismatch on to the faces drawn from it,
-// multiplied at every such step (the arm's chart of 14 pieces of one needle, 4.5e-7 in area,
-// grew to 2.8e8).
+// differs by rounding. Where it differs by more (kPlacedMismatch), the third corner is placed from
+// p at the triangle's own size (still counter-clockwise; only the side p-q keeps the neighbour's
+// length): scaled, it would hand the mismatch on to the faces drawn from it, multiplied at every
+// such step (the arm's chart of 14 pieces of one needle, 4.5e-7 in area, grew to 2.8e8).
 Eigen::Vector2d third_corner(const Eigen::Vector2d& p, const Eigen::Vector2d& q, double a, double b,
                              double c) {
   const Eigen::Vector2d d = q - p;
@@ -35,8 +35,8 @@ Eigen::Vector2d third_corner(const Eigen::Vector2d& p, const Eigen::Vector2d& q,
   const auto [x, y] = triangle_apex(c, b, a);
   const Eigen::Vector2d along = d / placed, left(-along.y(), along.x());
   const double scale = placed / c;
-  const bool kept = scale > 1 / kPlacedMismatch && scale < kPlacedMismatch;
-  return p + (kept ? scale : 1.0) * (x * along + y * left);
+  const bool by_rounding = scale > 1 / kPlacedMismatch && scale < kPlacedMismatch;
+  return p + (by_rounding ? scale : 1.0) * (x * along + y * left);
 }
 
 // Faces by chart: connected across edges that are neither cut nor boundary.

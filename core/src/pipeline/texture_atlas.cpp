@@ -535,11 +535,15 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   std::optional<Triangulation> delivered_mesh;
   try {
     delivered_mesh.emplace(Triangulation::from_faces(static_cast<int>(positions.size()), faces));
-  } catch (const InvalidMeshError&) {
+  } catch (const InvalidMeshError& e) {
     // Pieces that meet at a vertex in several fans (robosuite's Baxter torso and forearm meshes:
     // 25 input vertices of a part whose flow flipped edges): no atlas of these cones, and the run
-    // goes on to the next attempt instead of stopping the whole mesh.
-    run.subdivision_failure = "its pieces meet at some vertex in more than one fan";
+    // goes on to the next attempt instead of stopping the whole mesh. The fact, without the
+    // repair advice meant for a user's mesh.
+    const std::string what = e.what();
+    const size_t from = what.rfind("mesh: ", 0) == 0 ? 6 : 0;
+    run.subdivision_failure =
+        "its pieces are no manifold surface: " + what.substr(from, what.find(';') - from);
     return;
   }
   const Triangulation& delivered = *delivered_mesh;

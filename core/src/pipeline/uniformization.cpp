@@ -60,6 +60,18 @@ void Uniformization::require_valid(const std::string& subject) const {
   }
 }
 
+std::string to_string(AtlasResult::Unfolded u) {
+  switch (u) {
+    case AtlasResult::Unfolded::No:
+      return "no";
+    case AtlasResult::Unfolded::NoAtlas:
+      return "no-atlas";
+    case AtlasResult::Unfolded::MoreConformal:
+      return "more-conformal";
+  }
+  return "?";
+}
+
 std::string to_string(LayoutKind k) {
   switch (k) {
     case LayoutKind::None:

@@ -361,13 +361,17 @@ constexpr int kTighterBounds = 2;
 // 0.2 (D 0.158 on its faces).
 constexpr int kFewerCones = 256;
 
-// One attempt, as the explanations list it: "D <= 0.2 (34 cones): the atlas was not reached: ...".
-std::string attempt(const Uniformization& run) {
+// The cones of an attempt, as the explanations name them: "D <= 0.2 (34 cones)".
+std::string cones_for(const Uniformization& run) {
   std::ostringstream s;
   s.precision(3);
-  s << "D <= " << run.atlas.bound << " (" << run.atlas.placement.cones.size()
-    << " cones): the atlas " << why_not_valid(run);
+  s << "D <= " << run.atlas.bound << " (" << run.atlas.placement.cones.size() << " cones)";
   return s.str();
+}
+
+// One attempt, as the explanations list it: "D <= 0.2 (34 cones): the atlas was not reached: ...".
+std::string attempt(const Uniformization& run) {
+  return cones_for(run) + ": the atlas " + why_not_valid(run);
 }
 
 // The budget can stop a tighter placement short of its bound, within the one asked: reached then.
@@ -382,16 +386,18 @@ void within_bound_asked(const UniformizationOptions& request, ConePlacement& p) 
 }
 
 // The surface unfolded (unfolding_cones): its own metric, reached with no flow step, so it cannot
-// stall. Not where it would break the request: more cones than `most`, or quarter turns asked for.
-// Else why not.
-std::variant<Uniformization, std::string> unfolded(const CompactMesh& mesh,
-                                                   const UniformizationOptions& request, int most) {
+// stall. Not where it would break the request: more cones than `most` or the budget, or quarter
+// turns asked for; else why not. Its cones may be sharper than the placement's floor
+// (min_cone_angle, which keeps a placed cone's wedge drawable): an unfolded cone's wedge is the
+// input's own faces.
+std::variant<Uniformization, std::string> unfolded_run(const CompactMesh& mesh,
+                                                       const UniformizationOptions& request,
+                                                       int most) {
   if (request.cone_placement.quarter_angles) {
     return std::string("unfolding it would keep its own angles, not quarter turns");
   }
   const ConePlacement unfolding = detail::unfolding_cones(mesh, request.flow.tolerance / 2);
-  const int budget =
-      request.cone_placement.max_cones > 0 ? request.cone_placement.max_cones : kDefaultConeBudget;
+  const int budget = cone_budget(request.cone_placement);
   if (static_cast<int>(unfolding.cones.size()) > std::min(most, budget)) {
     return "unfolding it would take " + std::to_string(unfolding.cones.size()) + " cones, above " +
            (most < budget ? "the " + std::to_string(most) + " it may take"
@@ -403,8 +409,10 @@ std::variant<Uniformization, std::string> unfolded(const CompactMesh& mesh,
 }
 
 // The run for the preset resolved from the request; the atlas's placed cones again for tighter
-// bounds while the run gives no atlas.
-Uniformization atlas_within_bounds(const CompactMesh& mesh, const UniformizationOptions& request) {
+// bounds while the run gives no atlas, and where none does, the surface unfolded (unfolded_run)
+// if `may_unfold`.
+Uniformization atlas_within_bounds(const CompactMesh& mesh, const UniformizationOptions& request,
+                                   bool may_unfold = true) {
   Uniformization run = uniformize_once(mesh, request);
   if (run.preset != TargetPreset::Atlas || run.atlas.user_cones) return run;
   std::vector<Uniformization> failed;  // the attempts after the first that gave no atlas
@@ -452,7 +460,8 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
   if (last) failed.push_back(std::move(*last));
   // None gave an atlas: the surface unfolded, where that keeps to the request.
   std::string unfolded_failure;
-  auto unfolding = unfolded(mesh, request, std::numeric_limits<int>::max());
+  auto unfolding = may_unfold ? unfolded_run(mesh, request, std::numeric_limits<int>::max())
+                              : std::variant<Uniformization, std::string>(std::string());
   if (auto* u = std::get_if<Uniformization>(&unfolding)) {
     if (u->valid() || u->result.stop == FlowStop::Cancelled) {
       instead_of_failed(*u);
@@ -461,7 +470,7 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
     unfolded_failure = "; unfolded (" + std::to_string(u->atlas.placement.cones.size()) +
                        " cones): the atlas " + why_not_valid(*u);
     failed.push_back(std::move(*u));
-  } else {
+  } else if (!std::get<std::string>(unfolding).empty()) {
     unfolded_failure = "; " + std::get<std::string>(unfolding);
   }
   // The first run's failure, and every attempt after it.
@@ -504,8 +513,8 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
     std::ostringstream s;
     s.precision(3);
     if (!run.valid()) return "with the cones for " + attempt(run);
-    s << "with the cones for D <= " << run.atlas.bound << " (" << run.atlas.placement.cones.size()
-      << " cones) the delivered faces' D was " << run.atlas.distortion;
+    s << "with the cones for " << cones_for(run) << " the delivered faces' D was "
+      << run.atlas.distortion;
     return s.str();
   };
   gave.push_back(describe(best));
@@ -516,7 +525,8 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
     UniformizationOptions tighter = request;
     tighter.cone_placement.distortion_bound =
         kRetryMargin * std::min(bound, linear) * asked / distortion;
-    Uniformization again = atlas_within_bounds(mesh, tighter);
+    // Not unfolded here: an atlas of placed cones was given, its D above the bound.
+    Uniformization again = atlas_within_bounds(mesh, tighter, false);
     again.atlas.bound_asked = asked;
     if (again.result.stop == FlowStop::Cancelled) return again;
     gave.push_back(describe(again));
@@ -565,18 +575,21 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
       !(best.quality.quasi_conformal_p95 > kUnfoldQc)) {
     return best;
   }
-  auto unfolding = unfolded(mesh, request, kUnfoldedCones);
+  auto unfolding = unfolded_run(mesh, request, kUnfoldedCones);
   auto* u = std::get_if<Uniformization>(&unfolding);
   if (!u) return best;
-  if (u->result.stop == FlowStop::Cancelled) return std::move(*u);
+  if (u->result.stop == FlowStop::Cancelled) {
+    *u = delivered_instead(best, std::move(*u));
+    return std::move(*u);
+  }
   if (!(u->valid() && u->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95)) {
-    best.totals.add(cost_of(u->totals));
+    add_cost(best.totals, best.atlas.placement, *u);
     return best;
   }
   std::ostringstream why;
   why.precision(3);
-  why << "with the cones for D <= " << best.atlas.bound << " (" << best.atlas.placement.cones.size()
-      << " cones) QC p95 on the faces was " << best.quality.quasi_conformal_p95;
+  why << "with the cones for " << cones_for(best) << " QC p95 on the faces was "
+      << best.quality.quasi_conformal_p95;
   if (!best.atlas.bound_instead.empty()) why << "; " << best.atlas.bound_instead;
   *u = delivered_instead(best, std::move(*u));
   add_placement_cost(u->atlas.placement, best.atlas.placement);

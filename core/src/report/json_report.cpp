@@ -137,9 +137,7 @@ std::string layout_json(const Uniformization& run) {
         << ", \"linear_angle\": " << number(p.cones[k].angle) << "}";
     }
     j << "], \"user_cones\": " << (a.user_cones ? "true" : "false") << ", \"unfolded\": "
-      << (a.unfolded == AtlasResult::Unfolded::NoAtlas         ? "\"no atlas\""
-          : a.unfolded == AtlasResult::Unfolded::MoreConformal ? "\"more conformal\""
-                                                               : "null")
+      << (a.unfolded == AtlasResult::Unfolded::No ? "null" : quoted(to_string(a.unfolded)))
       << ", \"distortion\": " << number(a.distortion)
       << ", \"vertex_distortion\": " << number(a.flow_distortion)
       << ", \"linear_distortion\": " << number(p.distortion)

@@ -239,7 +239,8 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
   if (run.layout_kind == LayoutKind::Atlas) {
     const AtlasResult& a = run.atlas;
     const ConePlacement& p = a.placement;
-    std::ostringstream cones;  // the user's, or placed on the linear model at that cost
+    // The surface unfolded, the user's cones, or cones placed on the linear model at that cost.
+    std::ostringstream cones;
     cones.precision(3);
     cones << p.cones.size();
     if (a.unfolded != AtlasResult::Unfolded::No) {

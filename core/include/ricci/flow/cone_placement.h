@@ -61,6 +61,10 @@ struct ConePlacementOptions {
 //! 133, takes 633; a 117k-face CAD head 353), so that it only stops a mesh that no number of
 //! cones flattens within the bound (a very coarse one).
 inline constexpr int kDefaultConeBudget = 1024;
+//! The cone budget the options give: max_cones, or kDefaultConeBudget where that is 0.
+inline int cone_budget(const ConePlacementOptions& o) {
+  return o.max_cones > 0 ? o.max_cones : kDefaultConeBudget;
+}
 
 struct ConePlacement {
   //! The cones, each with the angle 2 pi - k the linear model gives it (or its rounding).

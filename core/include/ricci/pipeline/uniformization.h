@@ -156,6 +156,9 @@ struct AtlasResult {
   } seconds;
 };
 
+//! "no", "no-atlas", "more-conformal".
+std::string to_string(AtlasResult::Unfolded u);
+
 struct Uniformization {
   TargetPreset preset = TargetPreset::Automatic;  //!< the one used (never Automatic)
   Geometry geometry = Geometry::Euclidean;
