@@ -170,8 +170,9 @@ const std::vector<ParameterSpec>& parameter_specs() {
        d.strict ? 1.0 : 0.0,
        {},
        "Refuse meshes that need repairs",
-       "Off (default): duplicate, degenerate and misoriented faces, non-manifold edges and "
-       "vertices are repaired in ways that keep the surface (the log says what was done; the "
+       "Off (default): copies of a vertex along an edge (a triangle soup), duplicate, "
+       "degenerate and misoriented faces, non-manifold edges and vertices are repaired in ways "
+       "that keep the surface (the log says what was done; the "
        "mesh's faces are rebuilt then), and every connected component is mapped by its own "
        "topology. On: such a mesh is refused and left as it was."},
       {"keepInputTriangulation",

@@ -383,7 +383,8 @@ TEST(Atlas, ADoubledSurfaceWithConesIsLaidOutFromItsPiecesOwnShapes) {
 
 #ifndef RICCI_SANITIZED  // the Release build only (tests/CMakeLists.txt says why)
 TEST(Atlas, PartsWhoseFacesExceedTheBoundGetTheConesOfATighterOne) {
-  // SUMO's tram: 142 small parts, most flowed on their doubles. The linear model's D of their
+  // SUMO's tram: 124 small parts (142 before its vertices at one position were joined), most
+  // flowed on their doubles. The linear model's D of their
   // cones is within 0.2, their delivered faces' D was up to 0.53; above the bound the cones are
   // placed again for a bound scaled down by the excess. Every part's D (the report's, one per
   // part) is then within the bound, and none is warned of. Two parts of 26 boundary loops were
@@ -407,7 +408,10 @@ TEST(Atlas, PartsWhoseFacesExceedTheBoundGetTheConesOfATighterOne) {
     above += std::stod(value) > 0.2;
     ++parts;
   }
-  EXPECT_GE(parts, 142);
+  const size_t said = a.summary.find(" connected components");
+  ASSERT_NE(said, std::string::npos);
+  EXPECT_EQ(parts, std::stoi(a.summary.substr(a.summary.rfind('\n', said) + 1)));
+  EXPECT_GE(parts, 100);
   int warned = 0;
   const std::string warning = "Warning: the delivered faces' area distortion D ";
   for (size_t at = a.summary.find(warning); at != std::string::npos;

@@ -2,6 +2,7 @@
 // place, the area is the input's, and each defect is reported with where it was.
 #include "ricci/repair/repair.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -147,6 +148,92 @@ TEST(Repair, RefusesWhatCannotBeRepaired) {
   }
   // Strict: the first defect, as the compact mesh names it.
   EXPECT_THROW(repair_mesh(p, {{0, 1, 2}, {0, 1, 2}}, {true}), InvalidMeshError);
+}
+
+// An octahedron written as a triangle soup (a vertex per corner, as some exporters write OBJ and
+// PLY): the corners at one position are one vertex, as an STL file's are, and the soup is one
+// closed surface. One copy is at -0 where the others are at +0.
+TEST(Repair, ATriangleSoupIsOneSurface) {
+  const Points corner = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const Faces octahedron = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                            {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  Points p;
+  Faces soup;
+  for (const auto& t : octahedron) {
+    std::array<int, 3> s{};
+    for (int k = 0; k < 3; ++k) s[k] = static_cast<int>(p.size()), p.push_back(corner[t[k]]);
+    soup.push_back(s);
+  }
+  p[5] = Eigen::Vector3d(-0.0, 0, 1);  // vertex 4 (0, 0, 1) of face 1
+  const RepairedMesh r = repair_mesh(p, soup);
+  ASSERT_EQ(r.components.size(), 1u);
+  const CompactMesh& m = r.components[0].mesh;
+  EXPECT_EQ(m.num_vertices(), 6);
+  EXPECT_EQ(m.num_faces(), 8);
+  EXPECT_EQ(m.genus(), 0);
+  EXPECT_EQ(m.num_boundary_loops(), 0);
+  const RepairReport::Entry* joined = entry(r, "vertices at one position joined");
+  ASSERT_NE(joined, nullptr);
+  EXPECT_EQ(joined->count, 24 - 6);
+  EXPECT_NEAR(repaired_area(r), area(p, soup), 1e-12);
+  for (size_t v = 0; v < p.size(); ++v) {
+    ASSERT_GE(r.represented_by[v], 0);
+    EXPECT_EQ(r.positions[r.represented_by[v]], p[v]) << "vertex " << v;
+  }
+}
+
+// Two triangles with copies of one point, touching there only, stay apart as they are.
+TEST(Repair, SheetsThatTouchAtOnePointOnlyKeepTheirVertices) {
+  const Points p = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {-1, 0, 0}, {0, -1, 0}};
+  const RepairedMesh r = repair_mesh(p, {{0, 1, 2}, {3, 4, 5}});
+  EXPECT_TRUE(r.report.empty());
+  ASSERT_EQ(r.components.size(), 2u);
+  EXPECT_EQ(r.represented_by[3], 3);
+}
+
+// Three triangles, each with its own copies of one edge's two points: joined, the edge has three
+// faces; two stay glued and the third is cut off again, on copies of the joined vertices. Every
+// input vertex takes the results of a vertex in its own face's component.
+TEST(Repair, AVertexJoinedAndCutOffAgainTakesItsOwnFacesResults) {
+  const Points p = {{0, 0, 0},    {1, 0, 0}, {0.5, 1, 0}, {1, 0, 0},  {0, 0, 0},
+                    {0.5, -1, 0}, {0, 0, 0}, {1, 0, 0},   {0.5, 0, 1}};
+  const RepairedMesh r = repair_mesh(p, {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}});
+  ASSERT_NE(entry(r, "vertices at one position joined"), nullptr);
+  ASSERT_NE(entry(r, "non-manifold edges cut open"), nullptr);
+  ASSERT_EQ(r.components.size(), 2u);
+  for (int w = 0; w < 9; ++w) {
+    const int face = w / 3;
+    const int delivered = r.represented_by[w];
+    ASSERT_GE(delivered, 0);
+    EXPECT_EQ(r.positions[delivered], p[w]) << "vertex " << w;
+    bool found = false;
+    for (const MeshComponent& c : r.components) {
+      if (std::find(c.face.begin(), c.face.end(), face) == c.face.end()) continue;
+      found = std::find(c.vertex.begin(), c.vertex.end(), delivered) != c.vertex.end();
+    }
+    EXPECT_TRUE(found) << "input vertex " << w << " takes vertex " << delivered
+                       << ", which is not in its own face's component";
+  }
+}
+
+// A strip of three quads whose last quad has its own copies of the first side's two points, with
+// a half turn: joined, it would be a Moebius strip. The points stay apart, the strip a disk.
+TEST(Repair, PointsWhoseJoiningWouldMakeAMoebiusStripStayApart) {
+  Points m;
+  for (int k = 0; k < 3; ++k) {
+    const double a = 2 * kPi * k / 3;
+    m.emplace_back(std::cos(a), std::sin(a), -0.2);
+    m.emplace_back(std::cos(a), std::sin(a), 0.2);
+  }
+  m.push_back(m[1]);  // 6
+  m.push_back(m[0]);  // 7
+  const Faces strip = {{0, 2, 3}, {0, 3, 1}, {2, 4, 5}, {2, 5, 3}, {4, 6, 7}, {4, 7, 5}};
+  const RepairedMesh r = repair_mesh(m, strip);
+  ASSERT_EQ(r.components.size(), 1u);
+  EXPECT_EQ(r.components[0].mesh.num_vertices(), 8);
+  EXPECT_EQ(r.components[0].mesh.num_boundary_loops(), 1);
+  EXPECT_EQ(entry(r, "vertices at one position joined"), nullptr);
+  EXPECT_NE(entry(r, "kept apart"), nullptr);
 }
 
 // A fuzzer's find: splitting this mesh's caps made a face that reverses another, whose split made

@@ -9,7 +9,8 @@ The options are the command line tool's (`ricci-flow --help`), by name with `_` 
 the same defaults: geometry, scheme, angle, target, center, axis, tolerance, max_iterations,
 solver, flips, no_flips, keep_input_triangulation, strict; `eps` (mixed scheme) and a `target`
 of per-vertex values or `cones` as arrays. Dirty meshes are repaired as the tool does (several
-components, duplicate, degenerate and misoriented faces, non-manifold edges and vertices).
+components, a vertex per face corner, duplicate, degenerate and misoriented faces, non-manifold
+edges and vertices).
 """
 import json
 import os

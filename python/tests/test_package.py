@@ -180,6 +180,23 @@ def test_a_coarse_part_is_unfolded_where_its_cones_would_shear_its_faces():
     assert np.all(signed_areas(r.texcoord) > 0)
 
 
+def test_a_triangle_soup_is_one_surface():
+    # The genus-2 surface written with a vertex per face corner, as some exporters write OBJ and
+    # PLY: the corners at one position are joined, and the soup is the surface, not 1,000 parts.
+    V, F = mesh("eight.off")
+    soup_V = V[F].reshape(-1, 3)
+    soup_F = np.arange(3 * len(F)).reshape(-1, 3)
+    r = ricci_flow.uniformize(soup_V, soup_F, target="atlas")
+    assert r.converged and r.layout_kinds == ["atlas"]
+    assert any(e["what"] == "vertices at one position joined" for e in r.report["repairs"])
+    chi = len(V) - len(F) // 2  # -2: the cones carry the curvature of a genus-2 surface
+    assert abs(np.sum(2 * math.pi - r.cone_angles) - 2 * math.pi * chi) < 1e-8
+    assert r.atlas["overlapping_faces"] == 0 and r.atlas["distortion"] <= 0.2
+    assert np.all(signed_areas(r.texcoord) > 0)
+    with pytest.raises(ValueError):
+        ricci_flow.uniformize(soup_V, soup_F, target="atlas", strict=True)
+
+
 def test_atlas_through_the_users_cones():
     # The cones the placement finds, given back as the user's: kept with their angles.
     V, F = mesh("eight.off")

@@ -195,8 +195,31 @@ RepairedMesh repair_mesh(const std::vector<Eigen::Vector3d>& positions,
   }
   Reporter reporter;
   std::vector<int> welded;
-  std::vector<Face> kept = drop_degenerate(positions, faces, welded, reporter);
-  orient(kept, reporter);
+  std::vector<Face> kept;
+  // Vertices at one position are joined, unless that makes a component non-orientable (two
+  // sheets glued with a half twist): then the mesh is repaired again with them apart.
+  for (const bool join : {true, false}) {
+    Reporter attempt;
+    kept = drop_degenerate(positions, faces, welded, attempt, join);
+    std::optional<RepairReport::Entry> joined;
+    for (const RepairReport::Entry& e : attempt.report.entries) {
+      if (e.what == detail::kJoinedVertices) joined = e;
+    }
+    try {
+      orient(kept, attempt);
+    } catch (const InvalidMeshError&) {
+      if (!joined) throw;
+      Reporter apart;
+      apart.report.entries.push_back(
+          {"vertices at one position kept apart (joined, a component "
+           "would not be orientable)",
+           "vertex", joined->count, joined->first});
+      reporter.merge(apart);
+      continue;
+    }
+    reporter.merge(attempt);
+    break;
+  }
   remove_caps(positions, kept, reporter);
   if (kept.empty()) {
     throw InvalidMeshError("mesh: no face is left once degenerate faces are dropped");
@@ -210,6 +233,19 @@ RepairedMesh repair_mesh(const std::vector<Eigen::Vector3d>& positions,
   for (size_t v = 0; v < out.positions.size(); ++v) {
     const int r = v < welded.size() ? welded[v] : static_cast<int>(v);
     if (referenced[r]) out.represented_by[v] = r;
+  }
+  // A joined vertex whose faces ended in another fan than its survivor's (two sheets that touch
+  // at that point only, split again) takes the results of the copy that holds its faces.
+  for (const MeshComponent& c : out.components) {
+    for (size_t f = 0; f < c.face.size(); ++f) {
+      for (int w : faces[c.face[f]]) {
+        if (welded[w] == w) continue;
+        for (int k = 0; k < 3; ++k) {
+          const int x = c.vertex[c.mesh.face_vertex(static_cast<int>(f), k)];
+          if (out.original[x] == welded[w]) out.represented_by[w] = x;
+        }
+      }
+    }
   }
   for (int v = 0; v < n; ++v) {
     if (out.represented_by[v] < 0) {

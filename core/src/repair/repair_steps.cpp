@@ -87,7 +87,7 @@ std::vector<std::pair<EdgeUse, EdgeUse>> glued_pairs(const EdgeUses& uses) {
 
 std::vector<Face> drop_degenerate(const std::vector<Eigen::Vector3d>& p,
                                   const std::vector<std::array<int, 3>>& input,
-                                  std::vector<int>& represented_by, Reporter& reporter) {
+                                  std::vector<int>& represented_by, Reporter& reporter, bool join) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
   for (const auto& t : input) {
     for (int v : t) lo = lo.cwiseMin(p[v]), hi = hi.cwiseMax(p[v]);
@@ -101,6 +101,38 @@ std::vector<Face> drop_degenerate(const std::vector<Eigen::Vector3d>& p,
       if (a != b && (p[a] - p[b]).norm() <= needle && weld.find(a) != weld.find(b)) {
         reporter.add("zero-length edges collapsed", "edge", std::min(a, b));
         weld.unite(a, b);
+      }
+    }
+  }
+  if (join) {
+    // Two edges of faces whose ends are at the same two positions (+0 for -0, as the STL reader
+    // keys its corners) are one edge: their ends are joined. Vertices that meet at a point only
+    // stay apart (joined, they would be split again into a copy per fan).
+    using Key = std::array<double, 3>;
+    const auto key = [&](int v) { return Key{p[v].x() + 0.0, p[v].y() + 0.0, p[v].z() + 0.0}; };
+    std::vector<std::array<int, 2>> edges;  // (a, b), a's position before b's
+    for (const auto& t : input) {
+      for (int c = 0; c < 3; ++c) {
+        int a = t[c], b = t[(c + 1) % 3];
+        if (key(b) < key(a)) std::swap(a, b);
+        if (key(a) < key(b)) edges.push_back({a, b});
+      }
+    }
+    const auto position_less = [&](const std::array<int, 2>& x, const std::array<int, 2>& y) {
+      const Key xa = key(x[0]), ya = key(y[0]);
+      if (xa != ya) return xa < ya;
+      const Key xb = key(x[1]), yb = key(y[1]);
+      return xb != yb ? xb < yb : x < y;
+    };
+    std::sort(edges.begin(), edges.end(), position_less);
+    for (size_t i = 1; i < edges.size(); ++i) {
+      const std::array<int, 2>&x = edges[i - 1], &y = edges[i];
+      if (key(x[0]) != key(y[0]) || key(x[1]) != key(y[1])) continue;
+      for (int k = 0; k < 2; ++k) {
+        if (weld.find(x[k]) != weld.find(y[k])) {
+          reporter.add(kJoinedVertices, "vertex", std::max(x[k], y[k]));
+          weld.unite(x[k], y[k]);
+        }
       }
     }
   }

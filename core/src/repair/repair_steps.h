@@ -75,11 +75,16 @@ class EdgeMap {
 //! cut off.
 std::vector<std::pair<EdgeUse, EdgeUse>> glued_pairs(const EdgeUses& uses);
 
-//! Collapses edges of zero length (relative to the mesh's size), drops the faces that then repeat
-//! a vertex, and exact duplicates. `represented_by` receives each vertex's surviving vertex.
+//! The report's entry for vertices joined at one position (drop_degenerate's `join`).
+inline constexpr const char* kJoinedVertices = "vertices at one position joined";
+
+//! Collapses edges of zero length (relative to the mesh's size) and, with `join`, joins the ends
+//! of edges at exactly the same two positions (as an STL file's corners are read: a triangle soup
+//! is one surface), then drops the faces that repeat a vertex, and exact duplicates.
+//! `represented_by` receives each vertex's surviving vertex (the smallest of those joined).
 std::vector<Face> drop_degenerate(const std::vector<Eigen::Vector3d>& p,
                                   const std::vector<std::array<int, 3>>& input,
-                                  std::vector<int>& represented_by, Reporter& reporter);
+                                  std::vector<int>& represented_by, Reporter& reporter, bool join);
 
 //! Makes the orientation agree across every glued edge, keeping each component's majority.
 //! \throws InvalidMeshError for a component that is not orientable.
