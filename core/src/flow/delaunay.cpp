@@ -35,7 +35,17 @@ double twice_cosine(double a, double b, double c) {
   return a / b + b / a - (c / a) * (c / b);
 }
 
+// Angle between sides x and y of the triangle with third side z.
+double angle_between_sides(double x, double y, double z) {
+  return std::acos(std::clamp((x * x + y * y - z * z) / (2 * x * y), -1.0, 1.0));
+}
+
 }  // namespace
+
+double isometric_flip_diagonal(const std::array<double, 5>& l) {
+  const double at_a = angle_between_sides(l[0], l[4], l[3]) + angle_between_sides(l[1], l[4], l[2]);
+  return third_side(Geometry::Euclidean, l[0], l[1], at_a);
+}
 
 bool all_ptolemy(const ConformalStructure& structure) {
   return structure.geometry != Geometry::Spherical && is_yamabe(structure);
@@ -159,10 +169,6 @@ FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure&
                 {mesh.face_edge(f, (c + 2) % 3), mesh.face_edge(g, (d + 1) % 3),
                  mesh.face_edge(g, (d + 2) % 3), mesh.face_edge(f, (c + 1) % 3)}};
   };
-  // Angle between sides x and y of the triangle with third side z.
-  const auto angle = [](double x, double y, double z) {
-    return std::acos(std::clamp((x * x + y * y - z * z) / (2 * x * y), -1.0, 1.0));
-  };
   std::vector<int> stack;
   std::vector<char> queued(mesh.num_edges(), 0);
   for (int e = 0; e < mesh.num_edges(); ++e) {
@@ -177,9 +183,11 @@ FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure&
     const double ka = length(q.sides[0]), al = length(q.sides[1]), lb = length(q.sides[2]),
                  bk = length(q.sides[3]), ab = length(e);
     // Delaunay: the angles at k and l opposite a-b sum to at most pi.
-    if (angle(ka, bk, ab) + angle(al, lb, ab) <= kPi + 1e-12 || q.k == q.l) continue;
-    const double at_a = angle(ka, ab, bk) + angle(al, ab, lb);
-    const double kl = third_side(Geometry::Euclidean, ka, al, at_a);
+    if (angle_between_sides(ka, bk, ab) + angle_between_sides(al, lb, ab) <= kPi + 1e-12 ||
+        q.k == q.l) {
+      continue;
+    }
+    const double kl = isometric_flip_diagonal({ka, al, lb, bk, ab});
     // S2's lambda is sin(l / 2) at u = 0: a new diagonal of 1 or more has no spherical length.
     if (structure.geometry == Geometry::Spherical && !(kl < 1)) {
       ++report.blocked;

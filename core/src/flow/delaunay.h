@@ -15,6 +15,7 @@
 // index, halfedge or face corner, never by vertex pair.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -55,6 +56,11 @@ struct FlipReport {
   int blocked = 0;  //!< non-Delaunay edges that could not be flipped (non-convex quadrilateral,
                     //!< both opposite vertices one, eta <= 0 or an invalid triangle after)
 };
+
+//! The new diagonal k-l of an isometric flip, from the quadrilateral's sides k-a, a-l, l-b, b-k
+//! and its diagonal a-b (EdgeFlip::lambda's order): the quadrilateral unfolded at a. The flips of
+//! make_input_delaunay and the common subdivision's charts of its faces both take it from here.
+double isometric_flip_diagonal(const std::array<double, 5>& sides);
 
 //! Yamabe at u0 = 0 (lambda = sqrt(2 eta): in E2 the input's length, in S2 half the chord of the
 //! scaled input length read as an arc): flips the Euclidean metric of the lambda-lengths to its

@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "flow/delaunay.h"
 #include "mesh/plane.h"
 #include "ricci/mesh/errors.h"
 #include "ricci/mesh/geometry.h"
@@ -156,12 +157,11 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
   for (int e = 0; e < mesh.num_edges(); ++e) length[e] = std::sqrt(2 * initial.eta[e]);
   for (size_t i = 0; i < split; ++i) {
     const EdgeFlip& f = flips[i];
-    // The unfolded quadrilateral of the chords: a = (0, 0), b = (ab, 0), k above, l below.
-    const auto& c = f.chord;
-    const auto [xk, yk] = triangle_apex(c[4], c[0], c[3]);
-    const auto [xl, yl] = triangle_apex(c[4], c[1], c[2]);  // below: at -yl
-    // sqrt, not std::hypot: glibc 2.35's hypot symbol would keep the wheel from manylinux_2_34.
-    length[f.edge] = std::sqrt((xk - xl) * (xk - xl) + (yk + yl) * (yk + yl));
+    // The flow's own length of the new diagonal: unfolded here apex by apex, a needle's diagonal
+    // differed from it in its 11th digit, enough to make a face of three vertices on one line
+    // flat in the charts and its pieces no surface (a robot forearm's chain of vertices 1e-7
+    // apart between faces 0.03 long).
+    length[f.edge] = isometric_flip_diagonal(f.lambda);
     in_delaunay.flip(f);
   }
   const Triangulation& Tb = in_delaunay.triangulation();
