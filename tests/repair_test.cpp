@@ -191,18 +191,15 @@ TEST(Repair, SheetsThatTouchAtOnePointOnlyKeepTheirVertices) {
   EXPECT_EQ(r.represented_by[3], 3);
 }
 
-// Three triangles, each with its own copies of one edge's two points: joined, the edge has three
-// faces; two stay glued and the third is cut off again, on copies of the joined vertices. Every
-// input vertex takes the results of a vertex in its own face's component.
-TEST(Repair, AVertexJoinedAndCutOffAgainTakesItsOwnFacesResults) {
-  const Points p = {{0, 0, 0},    {1, 0, 0}, {0.5, 1, 0}, {1, 0, 0},  {0, 0, 0},
-                    {0.5, -1, 0}, {0, 0, 0}, {1, 0, 0},   {0.5, 0, 1}};
-  const RepairedMesh r = repair_mesh(p, {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}});
+// Every input vertex of `faces` takes the results of a vertex in its own face's component.
+void expect_each_vertex_in_its_own_component(const Points& p, const Faces& faces) {
+  const RepairedMesh r = repair_mesh(p, faces);
   ASSERT_NE(entry(r, "vertices at one position joined"), nullptr);
   ASSERT_NE(entry(r, "non-manifold edges cut open"), nullptr);
   ASSERT_EQ(r.components.size(), 2u);
   for (int w = 0; w < 9; ++w) {
-    const int face = w / 3;
+    int face = 0;
+    while (std::find(faces[face].begin(), faces[face].end(), w) == faces[face].end()) ++face;
     const int delivered = r.represented_by[w];
     ASSERT_GE(delivered, 0);
     EXPECT_EQ(r.positions[delivered], p[w]) << "vertex " << w;
@@ -213,6 +210,19 @@ TEST(Repair, AVertexJoinedAndCutOffAgainTakesItsOwnFacesResults) {
     }
     EXPECT_TRUE(found) << "input vertex " << w << " takes vertex " << delivered
                        << ", which is not in its own face's component";
+  }
+}
+
+// Three triangles, each with its own copies of one edge's two points: joined, the edge has three
+// faces; two stay glued and the third is cut off again, on copies of the joined vertices. Every
+// input vertex takes the results of a vertex in its own face's component.
+TEST(Repair, AVertexJoinedAndCutOffAgainTakesItsOwnFacesResults) {
+  const Points p = {{0, 0, 0},    {1, 0, 0}, {0.5, 1, 0}, {1, 0, 0},  {0, 0, 0},
+                    {0.5, -1, 0}, {0, 0, 0}, {1, 0, 0},   {0.5, 0, 1}};
+  // In either face order: the vertices kept of the joined ones (0 and 1) can end on the copies.
+  for (const Faces& faces :
+       {Faces{{0, 1, 2}, {3, 4, 5}, {6, 7, 8}}, Faces{{3, 4, 5}, {6, 7, 8}, {0, 1, 2}}}) {
+    expect_each_vertex_in_its_own_component(p, faces);
   }
 }
 

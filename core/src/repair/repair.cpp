@@ -197,7 +197,7 @@ RepairedMesh repair_mesh(const std::vector<Eigen::Vector3d>& positions,
   std::vector<int> welded;
   std::vector<Face> kept;
   // Vertices at one position are joined, unless that makes a component non-orientable (two
-  // sheets glued with a half twist): then the mesh is repaired again with them apart.
+  // sheets glued with a half twist): then the mesh is repaired again with none of them joined.
   for (const bool join : {true, false}) {
     Reporter attempt;
     kept = drop_degenerate(positions, faces, welded, attempt, join);
@@ -211,8 +211,8 @@ RepairedMesh repair_mesh(const std::vector<Eigen::Vector3d>& positions,
       if (!joined) throw;
       Reporter apart;
       apart.report.entries.push_back(
-          {"vertices at one position kept apart (joined, a component "
-           "would not be orientable)",
+          {"vertices at one position all kept apart (joined, a component would not be "
+           "orientable)",
            "vertex", joined->count, joined->first});
       reporter.merge(apart);
       continue;
@@ -234,15 +234,21 @@ RepairedMesh repair_mesh(const std::vector<Eigen::Vector3d>& positions,
     const int r = v < welded.size() ? welded[v] : static_cast<int>(v);
     if (referenced[r]) out.represented_by[v] = r;
   }
-  // A joined vertex whose faces ended in another fan than its survivor's (two sheets that touch
-  // at that point only, split again) takes the results of the copy that holds its faces.
+  // A vertex of a joined group (the one kept too) whose faces ended on another vertex of the
+  // group's (a non-manifold edge cut open again onto copies) takes the results of the vertex that
+  // holds its faces, itself where one of its faces is on it.
+  std::vector<int> members(welded.size(), 0);
+  for (int r : welded) ++members[r];
+  std::vector<char> on_itself(welded.size(), 0);
   for (const MeshComponent& c : out.components) {
     for (size_t f = 0; f < c.face.size(); ++f) {
       for (int w : faces[c.face[f]]) {
-        if (welded[w] == w) continue;
+        if (members[welded[w]] < 2 || on_itself[w]) continue;
         for (int k = 0; k < 3; ++k) {
           const int x = c.vertex[c.mesh.face_vertex(static_cast<int>(f), k)];
-          if (out.original[x] == welded[w]) out.represented_by[w] = x;
+          if (out.original[x] != welded[w]) continue;
+          out.represented_by[w] = x;
+          on_itself[w] = x == w;
         }
       }
     }

@@ -105,33 +105,53 @@ std::vector<Face> drop_degenerate(const std::vector<Eigen::Vector3d>& p,
     }
   }
   if (join) {
-    // Two edges of faces whose ends are at the same two positions (+0 for -0, as the STL reader
-    // keys its corners) are one edge: their ends are joined. Vertices that meet at a point only
-    // stay apart (joined, they would be split again into a copy per fan).
-    using Key = std::array<double, 3>;
-    const auto key = [&](int v) { return Key{p[v].x() + 0.0, p[v].y() + 0.0, p[v].z() + 0.0}; };
-    std::vector<std::array<int, 2>> edges;  // (a, b), a's position before b's
+    // Two edges of faces whose ends are at the same two positions (compared as numbers: -0 and +0
+    // alike, as the STL reader keys its corners) are one edge: their ends are joined. Vertices
+    // that meet at a point only stay apart (joined, they would be split again into a copy per
+    // fan). The faces' vertices get one id per position (a sort of the vertices); only where two
+    // share one are the edges ordered by their ids' pair (linear, order_by_vertex_pair).
+    std::vector<int> used;
+    std::vector<char> seen(n, 0);
     for (const auto& t : input) {
-      for (int c = 0; c < 3; ++c) {
-        int a = t[c], b = t[(c + 1) % 3];
-        if (key(b) < key(a)) std::swap(a, b);
-        if (key(a) < key(b)) edges.push_back({a, b});
+      for (int v : t) {
+        if (!seen[v]) seen[v] = 1, used.push_back(v);
       }
     }
-    const auto position_less = [&](const std::array<int, 2>& x, const std::array<int, 2>& y) {
-      const Key xa = key(x[0]), ya = key(y[0]);
-      if (xa != ya) return xa < ya;
-      const Key xb = key(x[1]), yb = key(y[1]);
-      return xb != yb ? xb < yb : x < y;
+    const auto less = [&](int a, int b) {
+      const Eigen::Vector3d &x = p[a], &y = p[b];
+      if (x.x() != y.x()) return x.x() < y.x();
+      if (x.y() != y.y()) return x.y() < y.y();
+      return x.z() < y.z();
     };
-    std::sort(edges.begin(), edges.end(), position_less);
-    for (size_t i = 1; i < edges.size(); ++i) {
-      const std::array<int, 2>&x = edges[i - 1], &y = edges[i];
-      if (key(x[0]) != key(y[0]) || key(x[1]) != key(y[1])) continue;
-      for (int k = 0; k < 2; ++k) {
-        if (weld.find(x[k]) != weld.find(y[k])) {
-          reporter.add(kJoinedVertices, "vertex", std::max(x[k], y[k]));
-          weld.unite(x[k], y[k]);
+    std::sort(used.begin(), used.end(), less);
+    std::vector<int> position(n, -1);
+    int positions = 0;
+    for (size_t i = 0; i < used.size(); ++i) {
+      if (i > 0 && less(used[i - 1], used[i])) ++positions;
+      position[used[i]] = positions;
+    }
+    if (!used.empty() && positions + 1 < static_cast<int>(used.size())) {
+      const int uses = 3 * static_cast<int>(input.size());
+      const auto ends = [&](int use) {
+        const auto& t = input[use / 3];
+        return std::array<int, 2>{position[t[use % 3]], position[t[(use % 3 + 1) % 3]]};
+      };
+      const std::vector<int> order = order_by_vertex_pair(positions + 1, uses, ends);
+      // The vertex of `use`'s edge at the lower position id, then the other.
+      const auto ordered = [&](int use) {
+        const auto& t = input[use / 3];
+        const int a = t[use % 3], b = t[(use % 3 + 1) % 3];
+        return position[a] <= position[b] ? std::array<int, 2>{a, b} : std::array<int, 2>{b, a};
+      };
+      for (size_t i = 1; i < order.size(); ++i) {
+        const auto x = ends(order[i - 1]), y = ends(order[i]);
+        if (x[0] == x[1] || std::minmax(x[0], x[1]) != std::minmax(y[0], y[1])) continue;
+        const auto xa = ordered(order[i - 1]), ya = ordered(order[i]);
+        for (int k = 0; k < 2; ++k) {
+          if (weld.find(xa[k]) != weld.find(ya[k])) {
+            reporter.add(kJoinedVertices, "vertex", std::max(xa[k], ya[k]));
+            weld.unite(xa[k], ya[k]);
+          }
         }
       }
     }
