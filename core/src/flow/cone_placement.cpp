@@ -44,6 +44,9 @@ constexpr size_t kIncrementalFrom = 16;
 constexpr double kDrawableCorner = 0.9 * kPi;
 constexpr double kWideMoveSlack = 0.05;
 constexpr int kWideMoveRings = 2;
+// A vertex whose own angle sum (in 3D) is below the floor may have a cone down to this share of
+// that sum: its wedge is then its own faces, their corners at least this share of their own.
+constexpr double kOwnAngleShare = 0.5;
 
 // The placement's search: a cone set, its solution and D.
 class Search {
@@ -76,6 +79,10 @@ class Search {
         widest_corner_[t[k]] = std::max(widest_corner_[t[k]], corner);
         angle_sum_[t[k]] += corner;
       }
+    }
+    floor_.resize(mesh.num_vertices());
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      floor_[v] = std::min(o.min_cone_angle, kOwnAngleShare * angle_sum_[v]);
     }
     max_spare_ = static_cast<size_t>(std::clamp(
         kSpareColumnBytes / (8.0 * std::max(1, mesh.num_vertices())), 1.0, 1.0 * kMaxSpareColumns));
@@ -115,7 +122,10 @@ class Search {
     s.solution = std::move(solution);
     if (!s.solution.ok) return s;
     s.d = s.solution.d;
-    s.angles_ok = (s.solution.k.array() <= 2 * kPi - o_.min_cone_angle).all();
+    s.angles_ok = true;
+    for (size_t i = 0; i < s.cones.size() && s.angles_ok; ++i) {
+      s.angles_ok = s.solution.k[static_cast<long>(i)] <= 2 * kPi - floor_[s.cones[i]];
+    }
     return s;
   }
   // The set s with v added last, with its i-th cone moved to v (moved = i), or without its i-th
@@ -208,10 +218,24 @@ class Search {
     unmark(s.cones);
     return found;
   }
-  // Near the sharpest cone (two rings), the vertex whose cone leaves the sharpest angle widest.
+  // The least margin of s's cone angles over their floors (negative where one is sharper), and
+  // the cone that has it.
+  double angle_margin(const State& s, int* at = nullptr) const {
+    double least = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < s.cones.size(); ++i) {
+      const double margin = 2 * kPi - s.solution.k[static_cast<long>(i)] - floor_[s.cones[i]];
+      if (margin < least) {
+        least = margin;
+        if (at) *at = static_cast<int>(i);
+      }
+    }
+    return least;
+  }
+  // Near the cone farthest below its floor (two rings), the vertex whose cone leaves the least
+  // margin over the floors widest.
   int widen_sharpest(const State& s) {
     int sharpest = 0;
-    s.solution.k.maxCoeff(&sharpest);
+    angle_margin(s, &sharpest);
     mark(s.cones);
     std::vector<int> tried_there;
     for (int v : rings(s.cones[sharpest], 2)) {
@@ -223,8 +247,8 @@ class Search {
     for (int v : tried_there) {
       const State t = step(s, v);
       if (!t.solution.ok) continue;
-      const double angle = 2 * kPi - t.solution.k.maxCoeff();
-      if (angle > widest) widest = angle, best = v;
+      const double margin = angle_margin(t);
+      if (margin > widest) widest = margin, best = v;
     }
     unmark(s.cones);
     return best;
@@ -263,6 +287,7 @@ class Search {
   size_t max_spare_ = 1;
   std::vector<int> boundary_, first_neighbour_, neighbour_;  // the neighbours of v: CSR
   std::vector<double> widest_corner_, angle_sum_;
+  std::vector<double> floor_;  // per vertex, the sharpest cone it may have
   Eigen::VectorXd score_;
 };
 
@@ -457,16 +482,19 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   }
 
   result.bound_reached = search.done(state);
+  result.sharp_cone = state.solution.ok && !state.angles_ok;
   if (!result.bound_reached) {
+    // The greedy stops at the budget, or where no vertex is left for a cone (a small part).
+    const std::string stopped = static_cast<int>(state.cones.size()) < budget
+                                    ? "with no vertex left for another cone"
+                                    : "at the budget of " + std::to_string(budget) + " cones";
     if (!state.solution.ok) {
       result.why_not =
           "no cone set of at most " + std::to_string(budget) + " cones gives a flat metric";
-    } else if (!state.angles_ok) {
-      result.why_not = "a cone sharper than the floor remains at the budget of " +
-                       std::to_string(budget) + " cones";
+    } else if (result.sharp_cone) {
+      result.why_not = "a cone sharper than the floor remains " + stopped;
     } else {
-      result.why_not = "the budget of " + std::to_string(budget) + " cones leaves D at " +
-                       std::to_string(state.d);
+      result.why_not = "D is " + std::to_string(state.d) + " " + stopped;
     }
   }
   Eigen::VectorXd k = state.solution.k;

@@ -68,6 +68,8 @@ std::string to_string(AtlasResult::Unfolded u) {
       return "no-atlas";
     case AtlasResult::Unfolded::MoreConformal:
       return "more-conformal";
+    case AtlasResult::Unfolded::WithinBound:
+      return "within-bound";
   }
   return "?";
 }

@@ -302,6 +302,11 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
           "The surface is unfolded, its own metric cut through every vertex of curvature, for a "
           "map nearer conformal: ",
           a.bound_instead);
+    } else if (a.unfolded == AtlasResult::Unfolded::WithinBound) {
+      line(
+          "The surface is unfolded, its own metric cut through every vertex of curvature, for D "
+          "within the bound: ",
+          a.bound_instead);
     } else if (!a.bound_instead.empty()) {
       line("The cones were placed again, for D <= ", a.bound, ": ", a.bound_instead);
     }

@@ -46,7 +46,9 @@ struct ConePlacementOptions {
   int max_cones = 0;
   //! The sharpest cone allowed (radians): a cone of angle theta = 2 pi - k needs theta at least
   //! this. pi / 4 keeps a cone's wedge laid out with corner angles the mesh's own triangles can
-  //! have, and the exact flow's cone (which moves from the linear model's) still positive.
+  //! have, and the exact flow's cone (which moves from the linear model's) still positive. At a
+  //! vertex whose own angle sum (in 3D) is below twice this (a spike's tip), half that sum: no
+  //! cone nearby widens a tip's own cone, since it is drawn from the tip's own faces.
   double min_cone_angle = kPi / 4;
   //! Gauss-Seidel relocation sweeps over the cones (0: the greedy's places, but for cones that
   //! would open a corner past a half turn).
@@ -78,7 +80,8 @@ struct ConePlacement {
   double distortion_without_cones = 0;
   double max_deviation = 0;  //!< max |u - mean u|
   bool bound_reached = false;
-  std::string why_not;  //!< when !bound_reached: the budget, or cone angles below the floor
+  bool sharp_cone = false;  //!< a cone sharper than its floor remains (then !bound_reached)
+  std::string why_not;      //!< when !bound_reached: the budget, or cone angles below the floor
   int factorizations = 0;
   //! Right-hand sides solved: the columns (in blocks), g's, and from many cones u's and the
   //! columns' sums (LinearConeModel).

@@ -101,6 +101,7 @@ struct AtlasResult {
     No,
     NoAtlas,        //!< no placed cones gave an atlas (the flow stalled, or the layout failed)
     MoreConformal,  //!< a coarse part whose placed cones left its faces far from conformal
+    WithinBound,    //!< a part whose placed cones left its faces' D above the bound asked
   } unfolded = Unfolded::No;
   //! The distortion bound the cones were placed for (less the placement's 2 % margin): the one
   //! asked, or a tighter one where with the cones of the one asked the flow or the layout
