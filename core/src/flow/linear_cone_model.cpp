@@ -181,25 +181,42 @@ double LinearConeModel::distortion(const std::vector<int>& cones, const Eigen::V
     with_g += k[static_cast<long>(i)] * with_g_[slot[i]];
     sum += k[static_cast<long>(i)] * sum_[slot[i]];
   }
-  // A column paired with many of the set for the first time: its sums with every column at once,
-  // R(A col) read at their vertices (sum A col_a col_b = e_b^T R(A col_a), H symmetric).
-  // Each column is looked at once, when a set first holds it.
-  for (size_t i = 0; i < m; ++i) {
-    if (row_seen_[slot[i]]) continue;
-    row_seen_[slot[i]] = 1;
-    size_t missing = 0;
-    for (size_t j = 0; j < m; ++j) missing += std::isnan(gram_(slot[i], slot[j]));
-    if (missing >= by_solve_from_) gram_row(slot[i]);
-  }
+  for (size_t i = 0; i < m; ++i) pair(slot[i], slot);
   double quadratic = 0;
   for (size_t j = 0; j < m; ++j) {
     double dot = 0;
     for (size_t i = 0; i < m; ++i) dot += k[static_cast<long>(i)] * gram(slot[i], slot[j]);
     quadratic += k[static_cast<long>(j)] * dot;
   }
+  return distortion(quadratic, with_g, sum);
+}
+
+double LinearConeModel::distortion(double quadratic, double with_g, double sum) const {
   const double d2 =
       g_square_ - g_sum_ * g_sum_ + 2 * (with_g - sum * g_sum_) + quadratic - sum * sum;
   return std::sqrt(std::max(0.0, d2));
+}
+
+void LinearConeModel::pair(int a, const std::vector<int>& slots) const {
+  // A column paired with many of the set for the first time: its sums with every column at once,
+  // R(A col) read at their vertices (sum A col_a col_b = e_b^T R(A col_a), H symmetric).
+  // Each column is looked at once, when a set first holds it.
+  if (row_seen_[a]) return;
+  row_seen_[a] = 1;
+  size_t missing = 0;
+  for (int b : slots) missing += std::isnan(gram_(a, b));
+  if (missing >= by_solve_from_) gram_row(a);
+}
+
+Eigen::VectorXd LinearConeModel::gram_with(int v, const std::vector<int>& cones) const {
+  std::vector<int> slots(cones.size());
+  for (size_t j = 0; j < cones.size(); ++j) slots[j] = slot_of_[cones[j]];
+  const int a = slot_of_[v];
+  pair(a, slots);
+  Eigen::VectorXd row(static_cast<long>(cones.size()) + 1);
+  for (size_t j = 0; j < slots.size(); ++j) row[static_cast<long>(j)] = gram(a, slots[j]);
+  row[static_cast<long>(slots.size())] = gram(a, a);
+  return row;
 }
 
 LinearConeModel::Solution LinearConeModel::held(const std::vector<int>& cones) {
@@ -319,6 +336,20 @@ std::vector<int> all_but(int size, int i) {
   return keep;
 }
 
+// x without its entry i.
+Eigen::VectorXd without_entry(const Eigen::VectorXd& x, int i) {
+  Eigen::VectorXd out(x.size() - 1);
+  out << x.head(i), x.tail(x.size() - 1 - i);
+  return out;
+}
+
+// x with a 0 inserted before its entry i.
+Eigen::VectorXd zero_inserted(const Eigen::VectorXd& x, int i) {
+  Eigen::VectorXd out(x.size() + 1);
+  out << x.head(i), 0, x.tail(x.size() - i);
+  return out;
+}
+
 // A pivot s of a Schur step whose other terms are d and d - s vanishes, relative to them, where
 // the larger system is singular.
 bool pivot_ok(double s, double d) {
@@ -338,12 +369,49 @@ bool HeldSystem::reset(const std::vector<int>& cones) {
   inverse_ = lu.inverse();
   x_ = lu.solve(rhs);
   valid_ = x_.allFinite();
+  if (valid_) reset_sums();
   return valid_;
+}
+
+void HeldSystem::reset_sums() {
+  const long m = static_cast<long>(cones_.size());
+  gram_.resize(m, m);
+  sum_.resize(m);
+  with_g_.resize(m);
+  for (long j = 0; j < m; ++j) {
+    const int c = cones_[static_cast<size_t>(j)];
+    gram_.col(j) = model_.gram_with(c, cones_).head(m);
+    sum_[j] = model_.column_sum(c);
+    with_g_[j] = model_.column_with_g(c);
+  }
 }
 
 LinearConeModel::Solution HeldSystem::solution() const {
   if (!valid_) return {};
   return model_.solution(cones_, x_);
+}
+
+LinearConeModel::Solution HeldSystem::step_solution(std::vector<int> cones,
+                                                    const Eigen::VectorXd& x,
+                                                    const Eigen::VectorXd& k_held, int v,
+                                                    double k_v) const {
+  LinearConeModel::Solution s;
+  if (!x.allFinite()) return s;
+  const long m = static_cast<long>(cones.size());
+  s.k = x.head(m);
+  s.c = model_.closed() ? x[m] : 0;
+  double quadratic = k_held.dot(gram_ * k_held);
+  double with_g = k_held.dot(with_g_), sum = k_held.dot(sum_);
+  if (v >= 0) {
+    const Eigen::VectorXd row = model_.gram_with(v, cones_);
+    const long held = static_cast<long>(cones_.size());
+    quadratic += k_v * (2 * row.head(held).dot(k_held) + k_v * row[held]);
+    with_g += k_v * model_.column_with_g(v);
+    sum += k_v * model_.column_sum(v);
+  }
+  s.d = model_.distortion(quadratic, with_g, sum);
+  s.ok = true;
+  return s;
 }
 
 bool HeldSystem::droppable(int i) const {
@@ -369,24 +437,33 @@ LinearConeModel::Solution HeldSystem::without(int i) const {
   if (!droppable(i)) return {};
   const std::vector<int> keep = all_but(static_cast<int>(x_.size()), i);
   const Eigen::VectorXd x = x_(keep) - inverse_(keep, i) * (x_[i] / inverse_(i, i));
-  return model_.solution(cone_set_step(cones_, -1, i), x);
+  // k at the set's indices, 0 at the cone left out.
+  const long m = static_cast<long>(cones_.size());
+  return step_solution(cone_set_step(cones_, -1, i), x, zero_inserted(x.head(m - 1), i), -1, 0);
 }
 
-HeldSystem::Grown HeldSystem::grow(const Eigen::MatrixXd& inverse, const Eigen::VectorXd& x,
-                                   const std::vector<int>& base, int v, int at) {
-  // The system A (inverse B, solution x) bordered by v's row r, column a and corner d, its
-  // right-hand side b_v: the solution is (x - B a y, y), y = (b_v - r.x) / s, s = d - r.B a.
+HeldSystem::Border HeldSystem::border(const std::vector<int>& base, int v) {
   model_.solve_columns({v});
   const int mb = static_cast<int>(base.size());
+  const int rb = mb + (model_.closed() ? 1 : 0);
+  Border b;
+  b.a = Eigen::VectorXd::Ones(rb);  // the constant's entries stay 1
+  b.r = Eigen::RowVectorXd::Ones(rb);
+  for (int j = 0; j < mb; ++j) b.a[j] = model_.entry(base[j], v), b.r[j] = model_.entry(v, base[j]);
+  b.d = model_.entry(v, v);
+  return b;
+}
+
+HeldSystem::Grown HeldSystem::grow(const Eigen::VectorXd& x, const Eigen::VectorXd& ba,
+                                   const Border& b, const std::vector<int>& base, int v, int at) {
+  // The system A (inverse B, solution x) bordered by v's row r, column a and corner d, its
+  // right-hand side b_v: the solution is (x - B a y, y), y = (b_v - r.x) / s, s = d - r.B a.
   const int rb = static_cast<int>(x.size());
-  Eigen::VectorXd a = Eigen::VectorXd::Ones(rb);  // the constant's entries stay 1
   Grown g;
-  g.r = Eigen::RowVectorXd::Ones(rb);
-  for (int j = 0; j < mb; ++j) a[j] = model_.entry(base[j], v), g.r[j] = model_.entry(v, base[j]);
-  const double d = model_.entry(v, v);
-  g.ba = inverse * a;
-  g.s = d - g.r.dot(g.ba);
-  if (!pivot_ok(g.s, d)) return g;
+  g.r = b.r;
+  g.ba = ba;
+  g.s = b.d - g.r.dot(g.ba);
+  if (!pivot_ok(g.s, b.d)) return g;
   const double y = (-model_.g()[v] - g.r.dot(x)) / g.s;
   if (!std::isfinite(y)) return g;
   // The grown solution, v's entry moved to index `at` among the cones (the constant last).
@@ -404,15 +481,31 @@ HeldSystem::Grown HeldSystem::grow(const Eigen::MatrixXd& inverse, const Eigen::
 
 LinearConeModel::Solution HeldSystem::with(int v, int moved) {
   if (!valid_ || (moved >= 0 && !droppable(moved))) return {};
-  Eigen::MatrixXd inverse = inverse_;
-  Eigen::VectorXd x = x_;
-  std::vector<int> base = cones_;
-  if (moved >= 0) {
-    drop_index(moved, inverse, x);
-    base.erase(base.begin() + moved);
+  const long m = static_cast<long>(cones_.size());
+  if (moved < 0) {
+    const Border b = border(cones_, v);
+    const Grown g = grow(x_, inverse_ * b.a, b, cones_, v, static_cast<int>(m));
+    if (!g.ok) return {};
+    return step_solution(g.cones, g.x, g.x.head(m), v, g.x[m]);
   }
-  const Grown g = grow(inverse, x, base, v, moved >= 0 ? moved : static_cast<int>(base.size()));
-  return g.ok ? model_.solution(g.cones, g.x) : LinearConeModel::Solution{};
+  // Moved: the set without cone i (its inverse B = P's block without i less P(., i) P(i, .) /
+  // P(i, i), not formed) bordered by v. B a is P a' (a with 0 at i) without i, less P(., i)
+  // (P a')_i / P(i, i).
+  const int i = moved;
+  const std::vector<int> base = cone_set_step(cones_, -1, i);
+  const Border b = border(base, v);
+  const Eigen::VectorXd pa = inverse_ * zero_inserted(b.a, i);
+  const double pivot = inverse_(i, i);
+  const Eigen::VectorXd column = without_entry(inverse_.col(i), i);
+  const Eigen::VectorXd ba = without_entry(pa, i) - column * (pa[i] / pivot);
+  const Eigen::VectorXd x = without_entry(x_, i) - column * (x_[i] / pivot);
+  const Grown g = grow(x, ba, b, base, v, i);
+  if (!g.ok) return {};
+  // v took cone i's index: k at the set's indices, 0 at i, and v's.
+  Eigen::VectorXd k_held = g.x.head(m);
+  const double k_v = k_held[i];
+  k_held[i] = 0;
+  return step_solution(g.cones, g.x, k_held, v, k_v);
 }
 
 void HeldSystem::remove(int i) {
@@ -422,6 +515,10 @@ void HeldSystem::remove(int i) {
   }
   drop_index(i, inverse_, x_);
   cones_.erase(cones_.begin() + i);
+  const std::vector<int> keep = all_but(static_cast<int>(cones_.size()) + 1, i);
+  gram_ = Eigen::MatrixXd(gram_(keep, keep));
+  sum_ = Eigen::VectorXd(sum_(keep));
+  with_g_ = Eigen::VectorXd(with_g_(keep));
 }
 
 void HeldSystem::add(int v, int moved) {
@@ -435,7 +532,9 @@ void HeldSystem::add(int v, int moved) {
     drop_index(moved, inverse_, x_);
     base.erase(base.begin() + moved);
   }
-  const Grown g = grow(inverse_, x_, base, v, moved >= 0 ? moved : static_cast<int>(base.size()));
+  const Border b = border(base, v);
+  const Grown g =
+      grow(x_, inverse_ * b.a, b, base, v, moved >= 0 ? moved : static_cast<int>(base.size()));
   if (!g.ok) {
     reset(after);
     return;
@@ -450,7 +549,21 @@ void HeldSystem::add(int v, int moved) {
   bordered(rb, rb) = 1 / g.s;
   inverse_ = bordered(g.order, g.order);
   x_ = g.x;
+  // v's sums in its place: the row of cone i replaced, or one more row.
+  const Eigen::VectorXd row = model_.gram_with(v, cones_);
+  const long m = static_cast<long>(cones_.size());
+  const long at = moved >= 0 ? moved : m;
+  if (moved < 0) {
+    gram_.conservativeResize(m + 1, m + 1);
+    sum_.conservativeResize(m + 1);
+    with_g_.conservativeResize(m + 1);
+  }
   cones_ = g.cones;
+  gram_.row(at).head(m) = row.head(m).transpose();
+  gram_.col(at).head(m) = row.head(m);
+  gram_(at, at) = row[m];
+  sum_[at] = model_.column_sum(v);
+  with_g_[at] = model_.column_with_g(v);
 }
 
 }  // namespace ricci

@@ -64,6 +64,15 @@ class LinearConeModel {
 
   //! D of u = g + G k (+ c) for a cone set's curvatures k, from the area-weighted sums: O(|C|^2).
   double distortion(const std::vector<int>& cones, const Eigen::VectorXd& k) const;
+  //! D from the sums a set's k makes: sum_ij k_i k_j (A col_i . col_j), sum_i k_i (A col_i . g)
+  //! and sum_i k_i (A . col_i).
+  double distortion(double quadratic, double with_g, double sum) const;
+  //! v's column's area-weighted sums with each of these cones' columns (all solved), and with
+  //! itself last: a row of the quadratic form.
+  Eigen::VectorXd gram_with(int v, const std::vector<int>& cones) const;
+  //! v's column's area-weighted sum, and its sum with g (v's column solved).
+  double column_sum(int v) const { return sum_[slot_of_[v]]; }
+  double column_with_g(int v) const { return with_g_[slot_of_[v]]; }
   //! The held system of a cone set (its columns solved): the matrix of R(e_j)[c_i], bordered on
   //! a closed surface by the constant c (sum k = 2 pi chi), and its right-hand side -g at the
   //! cones; the solution (k, c) of a solve of it, with its D.
@@ -101,6 +110,9 @@ class LinearConeModel {
   double gram(int a, int b) const;
   // Column a's sums with every column kept, from one back-solve.
   void gram_row(int a) const;
+  // Column a's sums with the columns of these slots: by one back-solve (gram_row) where a set
+  // first pairs it with many (once per column), else each when first asked for.
+  void pair(int a, const std::vector<int>& slots) const;
   // From this many cones (or columns to pair) a back-solve, which reads the factor, costs less
   // than as many vertex-long passes over the columns: u = g + G k, and a column's sums with the
   // others, are then solved for. A back-solve costs about kSolveOverPass passes per factor entry
@@ -151,8 +163,16 @@ class HeldSystem {
   void remove(int i);
 
  private:
-  // The set with v bordered onto the system of `base` (inverse, solution x), v's entry moved to
-  // index `at` among the cones: its cones, solution, and what the inverse's bordering needs.
+  // v's row r, column a and corner d bordering the system of the cones `base` (v's column solved).
+  struct Border {
+    Eigen::VectorXd a;
+    Eigen::RowVectorXd r;
+    double d = 0;
+  };
+  Border border(const std::vector<int>& base, int v);
+  // The set `base` (solution x, B a: its inverse times the border's column) bordered by v, v's
+  // entry moved to index `at` among the cones: its cones, solution, and what the inverse's
+  // bordering needs.
   struct Grown {
     bool ok = false;
     std::vector<int> cones;
@@ -161,17 +181,27 @@ class HeldSystem {
     double s = 0;
     std::vector<int> order;  // grown index -> bordered system's (base, then v)
   };
-  Grown grow(const Eigen::MatrixXd& inverse, const Eigen::VectorXd& x, const std::vector<int>& base,
-             int v, int at);
+  Grown grow(const Eigen::VectorXd& x, const Eigen::VectorXd& ba, const Border& b,
+             const std::vector<int>& base, int v, int at);
   // Whether the set stays regular without its i-th cone.
   bool droppable(int i) const;
   // The inverse without its index i (Schur complement), and x without it.
   void drop_index(int i, Eigen::MatrixXd& inverse, Eigen::VectorXd& x) const;
+  // The solution x of a step (its cones `cones`), with D from the held quadratic form: k's
+  // entries of the set's cones at their indices (0 where one is left out) and v's, if added.
+  LinearConeModel::Solution step_solution(std::vector<int> cones, const Eigen::VectorXd& x,
+                                          const Eigen::VectorXd& k_held, int v, double k_v) const;
+  // The quadratic form's rows, sums and sums with g of the set's cones, in their order.
+  void reset_sums();
 
   LinearConeModel& model_;
   std::vector<int> cones_;
   Eigen::MatrixXd inverse_;  // of the bordered system (cones, then c on a closed surface)
   Eigen::VectorXd x_;        // its solution
+  // The cones' area-weighted sums: gram_(i, j) = A col_i . col_j, sum_(i) = A . col_i,
+  // with_g_(i) = A col_i . g: dense, so that a step's D is one matrix-vector product.
+  Eigen::MatrixXd gram_;
+  Eigen::VectorXd sum_, with_g_;
   bool valid_ = false;
   int updates_ = 0;  // since the last factorization
 };
