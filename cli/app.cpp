@@ -188,12 +188,12 @@ RepairedMesh read_and_repair(const Options& o, VertexOrder& order) {
                              kNestedDissectionRows, [] { malloc_trim(0); });
   // Faces of fewer than three corners (OBJ's "f 1 2", OFF's "2 0 1") are no surface: dropped,
   // and said so, as the repairs are (--strict: refused).
-  if (file.skipped_faces > 0 && o.strict) {
+  if (file.skipped_faces > 0 && o.repair.strict) {
     throw InvalidMeshError(o.input + ": " + std::to_string(file.skipped_faces) +
                            " faces with fewer than three corners (--strict)");
   }
   try {
-    RepairedMesh repaired = repair_mesh(file.positions, file.triangles, {o.strict});
+    RepairedMesh repaired = repair_mesh(file.positions, file.triangles, o.repair);
     if (file.skipped_faces > 0) {
       repaired.report.entries.insert(
           repaired.report.entries.begin(),

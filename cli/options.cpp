@@ -239,7 +239,14 @@ const std::vector<Flag>& flags() {
        "non-manifold edges and vertices are repaired in ways that keep the surface, and reported; "
        "each connected component is mapped on its own)",
        nullptr,
-       [](O& o, const std::string&, const std::string&) { o.strict = true; }},
+       [](O& o, const std::string&, const std::string&) { o.repair.strict = true; }},
+      {{"--keep-cuts"},
+       "",
+       "keep vertices at one position apart: a mesh cut open (its vertices copied along the cut) "
+       "stays cut (by default the ends of edges at the same two positions are joined, so that a "
+       "triangle soup is one surface); the other repairs still apply",
+       nullptr,
+       [](O& o, const std::string&, const std::string&) { o.repair.join_coincident = false; }},
       {{"--report"},
        "FILE.json",
        "convergence history, timings and errors of the result",

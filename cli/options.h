@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ricci/pipeline/uniformize.h"
+#include "ricci/repair/repair.h"
 
 namespace ricci::cli {
 
@@ -21,7 +22,7 @@ struct Options {
   std::string eps_file;    //!< mixed scheme: +1/0/-1 per vertex
   std::string report;      //!< JSON report path
   std::string picture;     //!< PNG of the layout
-  bool strict = false;     //!< refuse a mesh that needs repairs instead of repairing it
+  RepairOptions repair;    //!< --strict, --keep-cuts
   bool ascii = false;
   bool quiet = false;
   bool help = false;

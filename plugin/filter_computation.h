@@ -71,12 +71,12 @@ struct WrittenComponents {
 WrittenComponents written_components(const FilterSettings& settings, const FilterComputation& c);
 
 //! Reads positions, faces, selection and, if has_quality, the quality of the live vertices, and
-//! repairs the mesh (repair.h; with strict, refuses one that needs repairs instead).
+//! repairs the mesh (repair.h; with repair.strict, refuses one that needs repairs instead).
 //! (MeshLab's meshes always carry a quality field; whether it holds data is in the MeshModel's
 //! data mask, which the caller passes as has_quality.)
 //! \throws InvalidMeshError when the mesh cannot be used.
 template <class MeshT>
-MeshInput read_mesh_input(const MeshT& m, bool has_quality, bool strict = false) {
+MeshInput read_mesh_input(const MeshT& m, bool has_quality, const RepairOptions& repair = {}) {
   MeshInput in;
   std::vector<Eigen::Vector3d> positions;
   mesh_arrays_from_vcg(m, positions, in.faces, &in.compact_index);
@@ -89,7 +89,7 @@ MeshInput read_mesh_input(const MeshT& m, bool has_quality, bool strict = false)
     in.selected[v] = m.vert[i].IsS();
     if (has_quality) in.quality[v] = static_cast<double>(m.vert[i].cQ());
   }
-  in.repaired = repair_mesh(positions, in.faces, {strict});
+  in.repaired = repair_mesh(positions, in.faces, repair);
   return in;
 }
 

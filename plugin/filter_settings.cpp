@@ -167,7 +167,7 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "Store the conformal factor u as vertex quality and color the mesh by it."},
       {"strictMesh",
        Kind::Bool,
-       d.strict ? 1.0 : 0.0,
+       d.repair.strict ? 1.0 : 0.0,
        {},
        "Refuse meshes that need repairs",
        "Off (default): copies of a vertex along an edge (a triangle soup), duplicate, "
@@ -175,6 +175,15 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "that keep the surface (the log says what was done; the "
        "mesh's faces are rebuilt then), and every connected component is mapped by its own "
        "topology. On: such a mesh is refused and left as it was."},
+      {"keepCuts",
+       Kind::Bool,
+       d.repair.join_coincident ? 0.0 : 1.0,
+       {},
+       "Keep cuts (vertices at one position apart)",
+       "Off (default): where edges of faces end at the same two positions, their vertices are "
+       "joined, so that a triangle soup, or a mesh split along its hard edges, is one surface. "
+       "On: the mesh's own connectivity is kept, and a mesh cut open (its vertices copied along "
+       "the cut) stays cut; the other repairs still apply."},
       {"keepInputTriangulation",
        Kind::Bool,
        d.keep_input_triangulation ? 1.0 : 0.0,
@@ -268,7 +277,8 @@ FilterSettings settings_from_values(const ParameterValues& values) {
   s.write_texture_coordinates = number(values, "writeUV") != 0;
   s.write_quality = number(values, "writeQuality") != 0;
   s.add_layout_layer = number(values, "layoutLayer") != 0;
-  s.strict = number(values, "strictMesh") != 0;
+  s.repair.strict = number(values, "strictMesh") != 0;
+  s.repair.join_coincident = number(values, "keepCuts") == 0;
   s.keep_input_triangulation = number(values, "keepInputTriangulation") != 0;
   s.atlas_distortion = number(values, "atlasDistortion");
   const double cones = number(values, "atlasMaxCones"), size = number(values, "atlasTextureSize"),

@@ -11,6 +11,7 @@
 #include "ricci/linear/linear_solver.h"
 #include "ricci/mesh/geometry.h"
 #include "ricci/pipeline/uniformize.h"
+#include "ricci/repair/repair.h"
 
 namespace ricci::plugin {
 
@@ -38,7 +39,7 @@ struct FilterSettings {
   bool write_texture_coordinates = true;
   bool write_quality = true;
   bool add_layout_layer = false;
-  bool strict = false;  //!< refuse a mesh that needs repairs instead of repairing it
+  RepairOptions repair;  //!< refuse a mesh that needs repairs (strict); keep its cuts
   //! lay out the mesh's own faces even where flips turn them over (no common subdivision)
   bool keep_input_triangulation = UniformizationOptions{}.keep_input_triangulation;
   //! The atlas target's cone placement and packing (cone_placement.h, packing.h).

@@ -101,7 +101,7 @@ FilterComputation run_filter(Document& md, const ParameterValues& values, CallBa
   using Mesh = std::remove_reference_t<decltype(m.cm)>;
   const FilterSettings settings = settings_from_values(values);
   const MeshInput input =
-      read_mesh_input(m.cm, m.hasDataMask(Model::MM_VERTQUALITY), settings.strict);
+      read_mesh_input(m.cm, m.hasDataMask(Model::MM_VERTQUALITY), settings.repair);
   double first = -1;
   FilterComputation c = compute(input, settings, [&](const FlowProgress& p) {
     if (first < 0) first = p.residual;

@@ -119,7 +119,7 @@ nb::dict uniformize_arrays(const Points& v, const Triangles& f, std::vector<std:
   std::string report, failure;
   {
     nb::gil_scoped_release released;
-    RepairedMesh repaired = repair_mesh(positions, faces, {o.strict});
+    RepairedMesh repaired = repair_mesh(positions, faces, o.repair);
     const UniformizationOptions request = cli::request_for(o, repaired.num_input_vertices);
     run = uniformize_mesh(std::move(repaired), request);
     report = json_report(run, RunContext{"<arrays>", o.target, 0});

@@ -149,6 +149,41 @@ TEST(Cli, DirtyMeshesAreRepairedAndReported) {
   }
 }
 
+TEST(Cli, AMeshCutOpenIsSewnUnlessItsCutsAreKept) {
+  // A cylinder cut along a line, its vertices there copied: the copies are joined by default (an
+  // annulus, two boundary loops); with --keep-cuts the mesh is the disk it was cut to.
+  const int around = 16, along = 6;
+  std::ostringstream off;
+  off << "OFF\n" << (around + 1) * (along + 1) << " " << 2 * around * along << " 0\n";
+  for (int j = 0; j <= along; ++j) {
+    for (int i = 0; i <= around; ++i) {
+      const double a = 2 * kPi * (i % around) / around;  // column `around` lies on column 0
+      off << std::cos(a) << " " << std::sin(a) << " " << 0.3 * j << "\n";
+    }
+  }
+  const auto at = [&](int i, int j) { return j * (around + 1) + i; };
+  for (int j = 0; j < along; ++j) {
+    for (int i = 0; i < around; ++i) {
+      off << "3 " << at(i, j) << " " << at(i + 1, j) << " " << at(i + 1, j + 1) << "\n";
+      off << "3 " << at(i, j) << " " << at(i + 1, j + 1) << " " << at(i, j + 1) << "\n";
+    }
+  }
+  write_file(temp("cut-cylinder.off"), off.str());
+  const CliRun sewn = ricci_flow(temp("cut-cylinder.off") + " -o " + temp("sewn.ply"));
+  ASSERT_EQ(sewn.exit_code, 0) << sewn.err;
+  EXPECT_NE(sewn.out.find("Repaired: 7 vertices at one position joined"), std::string::npos)
+      << sewn.out;
+  EXPECT_NE(sewn.out.find("genus-0 surface with 2 boundary loops"), std::string::npos) << sewn.out;
+  const CliRun cut = ricci_flow(temp("cut-cylinder.off") + " --keep-cuts -o " + temp("cut.ply"));
+  ASSERT_EQ(cut.exit_code, 0) << cut.err;
+  EXPECT_EQ(cut.out.find("Repaired:"), std::string::npos) << cut.out;
+  EXPECT_NE(cut.out.find(": disk, " + std::to_string((around + 1) * (along + 1)) + " vertices"),
+            std::string::npos)
+      << cut.out;
+  const ricci::test::PlyData ply = read_ply(temp("cut.ply"));
+  EXPECT_EQ(ply.vertex.at("x").size(), static_cast<size_t>((around + 1) * (along + 1)));
+}
+
 TEST(Cli, RealDirtyMeshesAsTheyCome) {
   // From meshes/real-meshes.tsv (origins and licences there): an ASCII STL in capitals, an OBJ
   // with negative indices and quads, one with 16-gons, one with a non-manifold edge, one with

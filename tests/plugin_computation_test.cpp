@@ -52,7 +52,7 @@ TEST(PluginComputation, RepairedMeshIsRebuiltWithItsResults) {
   ASSERT_EQ(vcg::tri::io::Importer<CMeshO>::Open(m, path.c_str(), mask), 0);
   ASSERT_EQ(m.fn, 3);
   const FilterSettings settings = settings_from_values({});
-  const MeshInput input = read_mesh_input(m, false, settings.strict);
+  const MeshInput input = read_mesh_input(m, false, settings.repair);
   const FilterComputation c = compute(input, settings);
   EXPECT_TRUE(c.rebuilds(input));
   enable_outputs(m);
@@ -256,7 +256,7 @@ TEST(PluginComputation, FailureLeavesTheMeshUntouched) {
     }
     try {
       const FilterSettings settings = settings_from_values(c.values);
-      const MeshInput input = read_mesh_input(m, false, settings.strict);
+      const MeshInput input = read_mesh_input(m, false, settings.repair);
       compute(input, settings);
       ADD_FAILURE() << c.mesh << ": expected an error";
     } catch (const ricci::Error& e) {

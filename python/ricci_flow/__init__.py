@@ -7,10 +7,11 @@
 
 The options are the command line tool's (`ricci-flow --help`), by name with `_` for `-`, with
 the same defaults: geometry, scheme, angle, target, center, axis, tolerance, max_iterations,
-solver, flips, no_flips, keep_input_triangulation, strict; `eps` (mixed scheme) and a `target`
-of per-vertex values or `cones` as arrays. Dirty meshes are repaired as the tool does (several
-components, a vertex per face corner, duplicate, degenerate and misoriented faces, non-manifold
-edges and vertices).
+solver, flips, no_flips, keep_input_triangulation, strict, keep_cuts; `eps` (mixed scheme) and a
+`target` of per-vertex values or `cones` as arrays. Dirty meshes are repaired as the tool does
+(several components, a vertex per face corner, duplicate, degenerate and misoriented faces,
+non-manifold edges and vertices); `keep_cuts=True` keeps vertices at one position apart, so that
+a mesh cut open stays cut.
 """
 import json
 import os
@@ -25,7 +26,7 @@ from ._ricci_flow import RicciFlowError
 __all__ = ["uniformize", "read_mesh", "Result", "Solver", "RicciFlowError"]
 __version__ = "0.1.0"
 
-_SWITCHES = ("no_flips", "keep_input_triangulation", "strict")
+_SWITCHES = ("no_flips", "keep_input_triangulation", "strict", "keep_cuts")
 _VALUES = ("geometry", "scheme", "angle", "target", "center", "axis", "tolerance",
            "max_iterations", "solver", "flips")
 _PLANAR = ("plane", "plane-cut", "poincare-disk", "atlas")

@@ -197,6 +197,17 @@ def test_a_triangle_soup_is_one_surface():
         ricci_flow.uniformize(soup_V, soup_F, target="atlas", strict=True)
 
 
+def test_kept_cuts_keep_vertices_at_one_position_apart():
+    # Two triangles of a square written with a vertex per corner: one part, their shared edge's
+    # ends joined; with keep_cuts=True the input's connectivity: two parts.
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    F = np.array([[0, 1, 2], [3, 4, 5]])
+    assert len(ricci_flow.uniformize(V, F).layout_kinds) == 1
+    kept = ricci_flow.uniformize(V, F, keep_cuts=True)
+    assert kept.converged and len(kept.layout_kinds) == 2
+    assert not any(e["what"] == "vertices at one position joined" for e in kept.report["repairs"])
+
+
 def test_atlas_through_the_users_cones():
     # The cones the placement finds, given back as the user's: kept with their angles.
     V, F = mesh("eight.off")

@@ -196,9 +196,10 @@ RepairedMesh repair_mesh(const std::vector<Eigen::Vector3d>& positions,
   Reporter reporter;
   std::vector<int> welded;
   std::vector<Face> kept;
-  // Vertices at one position are joined, unless that makes a component non-orientable (two
-  // sheets glued with a half twist): then the mesh is repaired again with none of them joined.
-  for (const bool join : {true, false}) {
+  // Vertices at one position are joined (unless the options keep the cuts), unless that makes a
+  // component non-orientable (two sheets glued with a half twist): then the mesh is repaired again
+  // with none of them joined.
+  for (const bool join : {options.join_coincident, false}) {
     Reporter attempt;
     kept = drop_degenerate(positions, faces, welded, attempt, join);
     std::optional<RepairReport::Entry> joined;

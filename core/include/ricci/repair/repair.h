@@ -1,5 +1,7 @@
 // Repairs that change nothing of the surface, so that real files can be used as they come, and the
 // split into connected components, each a checked CompactMesh:
+//   - vertices at one position joined where edges of faces have the same two end positions (a
+//     triangle soup is one surface; RepairOptions::join_coincident);
 //   - edges of zero length ("needles") collapsed, and the faces that then repeat a vertex dropped;
 //   - faces that repeat a vertex, and exact duplicate faces (the same three vertices), dropped;
 //   - the orientation of each component made consistent (the majority's kept);
@@ -48,6 +50,10 @@ struct RepairedMesh {
 struct RepairOptions {
   //! Refuse instead of repairing: the mesh must be one clean component (CompactMesh's checks).
   bool strict = false;
+  //! Join vertices at one position where edges of faces have the same two end positions (a
+  //! triangle soup becomes one surface); false: the input's connectivity is kept, a mesh cut
+  //! open (its vertices copied along the cut) stays cut.
+  bool join_coincident = true;
 };
 
 //! Repairs the faces as read and splits them into components.
