@@ -44,8 +44,8 @@ constexpr size_t kIncrementalFrom = 16;
 constexpr double kDrawableCorner = 0.9 * kPi;
 constexpr double kWideMoveSlack = 0.05;
 constexpr int kWideMoveRings = 2;
-// A vertex whose own angle sum (in 3D) is below the floor may have a cone down to this share of
-// that sum: its wedge is then its own faces, their corners at least this share of their own.
+// A vertex whose own angle sum (in 3D) is below twice the floor may have a cone down to this share
+// of that sum: its wedge is then its own faces, their corners at least this share of their own.
 constexpr double kOwnAngleShare = 0.5;
 
 // The placement's search: a cone set, its solution and D.

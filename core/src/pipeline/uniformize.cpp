@@ -376,7 +376,8 @@ std::string attempt(const Uniformization& run) {
 
 // The budget can stop a tighter placement short of its bound, within the one asked: reached then.
 void within_bound_asked(const UniformizationOptions& request, ConePlacement& p) {
-  if (!p.bound_reached && !p.sharp_cone &&
+  // (No cones where the placement found no flat metric: its D, of u = 0, is no atlas's.)
+  if (!p.bound_reached && !p.sharp_cone && !p.cones.empty() &&
       p.distortion <= request.cone_placement.distortion_bound) {
     p.bound_reached = true;
     p.why_not.clear();
@@ -656,11 +657,12 @@ Uniformization nearer_conformal_cones(const CompactMesh& mesh, const Uniformizat
 
 Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOptions& request) {
   Uniformization best = uniformize_as_requested(mesh, request);
-  // Where the delivered faces' D breaks the bound asked (a warning), the unfolding meets it (D 0)
-  // with as many cones as the budget allows: a CAD part of 100 holes, 258 interior vertices all
-  // curved, whose cones for 0.2 left 0.218 on its faces (QC p95 23) and those of tighter bounds
-  // stalled.
-  const bool above_bound = best.atlas.distortion > request.cone_placement.distortion_bound;
+  // Where the delivered faces' D breaks the bound that the cones' linear model met (the summary's
+  // warning), the unfolding meets it (D 0) with as many cones as the budget allows, whatever its
+  // seams: a CAD part of 100 holes, 258 interior vertices all curved, whose cones for 0.2 left
+  // 0.218 on its faces (QC p95 23) and those of tighter bounds stalled.
+  const bool above_bound = best.atlas.placement.bound_reached &&
+                           best.atlas.distortion > request.cone_placement.distortion_bound;
   if (best.preset != TargetPreset::Atlas || !best.valid() || best.atlas.user_cones ||
       best.atlas.unfolded != AtlasResult::Unfolded::No ||
       !(best.quality.quasi_conformal_p95 > kUnfoldQc || above_bound)) {
@@ -678,8 +680,8 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
       (above_bound || u->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95);
   if (!better) {
     if (u) add_cost(best.totals, best.atlas.placement, *u);
-    // Not where the user's budget fixed the count of cones (BFF's 8, say), nor from more than
-    // kUnfoldedCones.
+    // Cones for tighter bounds only where QC p95 is above kUnfoldQc; not where the user's budget
+    // fixed the count of cones (BFF's 8, say), nor from more than kUnfoldedCones.
     if (!(best.quality.quasi_conformal_p95 > kUnfoldQc) || request.cone_placement.max_cones != 0 ||
         static_cast<int>(best.atlas.placement.cones.size()) > kUnfoldedCones) {
       return best;

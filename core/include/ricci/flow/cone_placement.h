@@ -81,7 +81,9 @@ struct ConePlacement {
   double max_deviation = 0;  //!< max |u - mean u|
   bool bound_reached = false;
   bool sharp_cone = false;  //!< a cone sharper than its floor remains (then !bound_reached)
-  std::string why_not;      //!< when !bound_reached: the budget, or cone angles below the floor
+  //! When !bound_reached: no flat metric, a cone below its floor, or D above the bound, at the
+  //! budget or with no vertex left; or quarter turns that leave D above the bound.
+  std::string why_not;
   int factorizations = 0;
   //! Right-hand sides solved: the columns (in blocks), g's, and from many cones u's and the
   //! columns' sums (LinearConeModel).

@@ -157,7 +157,7 @@ struct AtlasResult {
   } seconds;
 };
 
-//! "no", "no-atlas", "more-conformal".
+//! "no", "no-atlas", "more-conformal", "within-bound".
 std::string to_string(AtlasResult::Unfolded u);
 
 struct Uniformization {

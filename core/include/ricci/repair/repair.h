@@ -51,8 +51,8 @@ struct RepairOptions {
   //! Refuse instead of repairing: the mesh must be one clean component (CompactMesh's checks).
   bool strict = false;
   //! Join vertices at one position where edges of faces have the same two end positions (a
-  //! triangle soup becomes one surface); false: the input's connectivity is kept, a mesh cut
-  //! open (its vertices copied along the cut) stays cut.
+  //! triangle soup becomes one surface); false: vertices at one position stay apart but for the
+  //! ends of zero-length edges, and a mesh cut open (its vertices copied along the cut) stays cut.
   bool join_coincident = true;
 };
 
