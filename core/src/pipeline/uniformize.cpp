@@ -484,13 +484,19 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
   return run;
 }
 
-// What a delivered run's D on its faces was, as the explanations say it.
-std::string d_was(const Uniformization& run) {
+// What a delivered run's figure was, as the explanations say it: "with the cones for D <= 0.2
+// (7 cones) QC p95 on the faces was 3.1".
+std::string cones_gave(const Uniformization& run, const std::string& figure, double value) {
   std::ostringstream why;
   why.precision(3);
-  why << "with the cones for " << cones_for(run) << " the delivered faces' D was "
-      << run.atlas.distortion;
+  why << "with the cones for " << cones_for(run) << " " << figure << " was " << value;
   return why.str();
+}
+std::string d_was(const Uniformization& run) {
+  return cones_gave(run, "the delivered faces' D", run.atlas.distortion);
+}
+std::string qc_was(const Uniformization& run) {
+  return cones_gave(run, "QC p95 on the faces", run.quality.quasi_conformal_p95);
 }
 
 // The delivered faces' D can exceed the bound the cones' linear model met: the exact flat metric
@@ -586,15 +592,6 @@ constexpr double kQcGain = 0.75;
 // cones costs seconds to minutes (PrusaSlicer's aq bed, a part of 12.8k faces at 273 cones: placed
 // again at 964, 225 s against 2.9 s, for QC p95 6.8 to 2.8; cura-zav-maxpro.stl's genus-97 plate
 // at 255 cones, on 1.55M pieces: 86 s to 297 s for 10.1 to 6.5).
-
-// What a delivered run's QC p95 was, as the explanations say it.
-std::string qc_was(const Uniformization& run) {
-  std::ostringstream why;
-  why.precision(3);
-  why << "with the cones for " << cones_for(run) << " QC p95 on the faces was "
-      << run.quality.quasi_conformal_p95;
-  return why.str();
-}
 
 // `best`'s cones placed again for tighter bounds (kQcTighter, kQcRetries, kQcCones), each valid
 // attempt within the bound that lowers QC p95 enough (kQcGain) delivered instead, at the cost of
