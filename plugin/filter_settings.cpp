@@ -321,10 +321,12 @@ std::string filter_info() {
          "atlas</i>: cones placed until the area distortion is within the bound, seams through "
          "them on the mesh's edges, charts without overlap packed into [0,1]^2 as wedge texture "
          "coordinates; the cones become the vertex selection.<br><br>"
-         "The log reports the layout's quality. The mesh must "
-         "be one connected, "
-         "manifold, orientable triangle mesh without degenerate faces; otherwise it is left "
-         "unchanged and the log says why.";
+         "<b>Meshes as they come:</b> triangle soups, duplicate, degenerate and misoriented "
+         "faces, non-manifold edges and vertices are repaired in ways that keep the surface, and "
+         "each connected component is mapped by its own topology (see <i>Refuse meshes that need "
+         "repairs</i> and <i>Keep cuts</i>). The log reports the repairs and the layout's "
+         "quality. A mesh that cannot be used (not orientable, no convergence, a layout with "
+         "faces turned over) is left unchanged and the log says why.";
 }
 
 std::string python_filter_name() {
