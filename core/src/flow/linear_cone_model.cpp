@@ -391,13 +391,12 @@ LinearConeModel::Solution HeldSystem::solution() const {
   return model_.solution(cones_, x_);
 }
 
-LinearConeModel::Solution HeldSystem::step_solution(std::vector<int> cones,
-                                                    const Eigen::VectorXd& x,
+LinearConeModel::Solution HeldSystem::step_solution(long cones, const Eigen::VectorXd& x,
                                                     const Eigen::VectorXd& k_held, int v,
                                                     double k_v) const {
   LinearConeModel::Solution s;
   if (!x.allFinite()) return s;
-  const long m = static_cast<long>(cones.size());
+  const long m = cones;
   s.k = x.head(m);
   s.c = model_.closed() ? x[m] : 0;
   double quadratic = k_held.dot(gram_ * k_held);
@@ -420,26 +419,27 @@ bool HeldSystem::droppable(int i) const {
   return valid_ && p != 0 && pivot_ok(1 / p, model_.entry(cones_[i], cones_[i]));
 }
 
-void HeldSystem::drop_index(int i, Eigen::MatrixXd& inverse, Eigen::VectorXd& x) const {
-  // Of the inverse P of a system, the inverse of the system without index i is P's block without
-  // i less P(., i) P(i, .) / P(i, i), and its solution x less P(., i) x_i / P(i, i).
-  const std::vector<int> keep = all_but(static_cast<int>(x.size()), i);
-  const double pivot = inverse(i, i);
-  const Eigen::VectorXd column = inverse(keep, i);
-  const Eigen::RowVectorXd row = inverse(i, keep);
-  const Eigen::MatrixXd rest = inverse(keep, keep) - column * row / pivot;
-  const Eigen::VectorXd rest_x = x(keep) - column * (x[i] / pivot);
-  inverse = rest;
-  x = rest_x;
+// Of the inverse P of a system, the inverse of the system without index i is P's block without i
+// less P(., i) P(i, .) / P(i, i), and its solution x less P(., i) x_i / P(i, i).
+Eigen::VectorXd HeldSystem::x_without(int i) const {
+  return without_entry(x_, i) - without_entry(inverse_.col(i), i) * (x_[i] / inverse_(i, i));
+}
+
+void HeldSystem::drop_index(int i) {
+  const std::vector<int> keep = all_but(static_cast<int>(x_.size()), i);
+  const Eigen::VectorXd column = inverse_(keep, i);
+  const Eigen::RowVectorXd row = inverse_(i, keep);
+  const Eigen::MatrixXd rest = inverse_(keep, keep) - column * row / inverse_(i, i);
+  x_ = x_without(i);
+  inverse_ = rest;
 }
 
 LinearConeModel::Solution HeldSystem::without(int i) const {
   if (!droppable(i)) return {};
-  const std::vector<int> keep = all_but(static_cast<int>(x_.size()), i);
-  const Eigen::VectorXd x = x_(keep) - inverse_(keep, i) * (x_[i] / inverse_(i, i));
+  const Eigen::VectorXd x = x_without(i);
   // k at the set's indices, 0 at the cone left out.
   const long m = static_cast<long>(cones_.size());
-  return step_solution(cone_set_step(cones_, -1, i), x, zero_inserted(x.head(m - 1), i), -1, 0);
+  return step_solution(m - 1, x, zero_inserted(x.head(m - 1), i), -1, 0);
 }
 
 HeldSystem::Border HeldSystem::border(const std::vector<int>& base, int v) {
@@ -486,7 +486,7 @@ LinearConeModel::Solution HeldSystem::with(int v, int moved) {
     const Border b = border(cones_, v);
     const Grown g = grow(x_, inverse_ * b.a, b, cones_, v, static_cast<int>(m));
     if (!g.ok) return {};
-    return step_solution(g.cones, g.x, g.x.head(m), v, g.x[m]);
+    return step_solution(m + 1, g.x, g.x.head(m), v, g.x[m]);
   }
   // Moved: the set without cone i (its inverse B = P's block without i less P(., i) P(i, .) /
   // P(i, i), not formed) bordered by v. B a is P a' (a with 0 at i) without i, less P(., i)
@@ -498,14 +498,13 @@ LinearConeModel::Solution HeldSystem::with(int v, int moved) {
   const double pivot = inverse_(i, i);
   const Eigen::VectorXd column = without_entry(inverse_.col(i), i);
   const Eigen::VectorXd ba = without_entry(pa, i) - column * (pa[i] / pivot);
-  const Eigen::VectorXd x = without_entry(x_, i) - column * (x_[i] / pivot);
-  const Grown g = grow(x, ba, b, base, v, i);
+  const Grown g = grow(x_without(i), ba, b, base, v, i);
   if (!g.ok) return {};
   // v took cone i's index: k at the set's indices, 0 at i, and v's.
   Eigen::VectorXd k_held = g.x.head(m);
   const double k_v = k_held[i];
   k_held[i] = 0;
-  return step_solution(g.cones, g.x, k_held, v, k_v);
+  return step_solution(m, g.x, k_held, v, k_v);
 }
 
 void HeldSystem::remove(int i) {
@@ -513,7 +512,7 @@ void HeldSystem::remove(int i) {
     reset(cone_set_step(cones_, -1, i));
     return;
   }
-  drop_index(i, inverse_, x_);
+  drop_index(i);
   cones_.erase(cones_.begin() + i);
   const std::vector<int> keep = all_but(static_cast<int>(cones_.size()) + 1, i);
   gram_ = Eigen::MatrixXd(gram_(keep, keep));
@@ -529,7 +528,7 @@ void HeldSystem::add(int v, int moved) {
   }
   std::vector<int> base = cones_;
   if (moved >= 0) {
-    drop_index(moved, inverse_, x_);
+    drop_index(moved);
     base.erase(base.begin() + moved);
   }
   const Border b = border(base, v);

@@ -185,11 +185,12 @@ class HeldSystem {
              const std::vector<int>& base, int v, int at);
   // Whether the set stays regular without its i-th cone.
   bool droppable(int i) const;
-  // The inverse without its index i (Schur complement), and x without it.
-  void drop_index(int i, Eigen::MatrixXd& inverse, Eigen::VectorXd& x) const;
-  // The solution x of a step (its cones `cones`), with D from the held quadratic form: k's
+  // The solution without index i, and the held inverse and solution made so (Schur complement).
+  Eigen::VectorXd x_without(int i) const;
+  void drop_index(int i);
+  // The solution x of a step (of `cones` cones), with D from the held quadratic form: k's
   // entries of the set's cones at their indices (0 where one is left out) and v's, if added.
-  LinearConeModel::Solution step_solution(std::vector<int> cones, const Eigen::VectorXd& x,
+  LinearConeModel::Solution step_solution(long cones, const Eigen::VectorXd& x,
                                           const Eigen::VectorXd& k_held, int v, double k_v) const;
   // The quadratic form's rows, sums and sums with g of the set's cones, in their order.
   void reset_sums();
