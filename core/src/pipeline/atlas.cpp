@@ -334,7 +334,10 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
     const UniformizationOptions o =
         component_options(options, out.mesh, where, static_cast<int>(k));
     try {
-      out.components.push_back(uniformize(out.mesh.components[k].mesh, o));
+      // Several components' charts are packed together (gather_texture), not each alone.
+      const CompactMesh& m = out.mesh.components[k].mesh;
+      out.components.push_back(out.mesh.components.size() == 1 ? uniformize(m, o)
+                                                               : detail::uniformize_unpacked(m, o));
     } catch (const InvalidTargetError& e) {
       if (out.mesh.components.size() == 1) throw;
       throw InvalidTargetError("component " + std::to_string(k) + ": " + e.what());

@@ -31,6 +31,9 @@ constexpr double kDeepOverlap = 0.01;
 // Charts longer than this times their width are halved, at most this many rounds.
 constexpr double kLongAspect = 2;
 constexpr int kMaxHalvings = 4;
+// A halving is judged by packings on this many raster cells over the charts' area (the delivered
+// atlas's packing has PackingOptions::cells): enough to tell a tenth's gain.
+constexpr int kJudgingCells = 2500;
 
 // Every face of the flowed triangulation drawn alone by its side lengths: all the common
 // subdivision needs of a layout is each face's corners.
@@ -325,12 +328,12 @@ std::optional<std::pair<PartlyCutCharts, Drawn>> partly_cut_drawn(
   return std::nullopt;
 }
 
-// Fills run's layout and atlas from the delivered mesh's charts, seams and packing.
+// Fills run's layout and atlas from the delivered mesh's charts and seams (not yet packed).
 void deliver(const Triangulation& delivered, const std::vector<Eigen::Vector3d>& positions,
              const std::vector<std::array<int, 3>>& faces, const std::vector<char>& seam,
-             const std::vector<double>& length3d, const Charts& charts, const Packing& packing,
+             const std::vector<double>& length3d, const Charts& charts,
              const std::vector<std::pair<int, int>>& overlaps, double input_area,
-             const UniformizationOptions& o, Uniformization& run) {
+             Uniformization& run) {
   AtlasResult& atlas = run.atlas;
   std::vector<char> overlapping(delivered.num_faces(), 0);
   for (const auto& [f, g] : overlaps) overlapping[f] = overlapping[g] = 1;
@@ -348,18 +351,8 @@ void deliver(const Triangulation& delivered, const std::vector<Eigen::Vector3d>&
   }
   run.face_chart = charts.chart;
   atlas.distortion = face_distortion(positions, faces, charts.corners);
-  atlas.utilization = packing.utilization;
-  atlas.padding = packing.padding;
-  atlas.padding_asked = o.packing.padding;
-  atlas.texture.resize(delivered.num_faces());
-  for (int f = 0; f < delivered.num_faces(); ++f) {
-    const int k = charts.chart[f];
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::Vector2d uv =
-          packing.scale * packing.rotation[k] * charts.corners[f][c] + packing.offset[k];
-      atlas.texture[f][c] = uv.cwiseMax(0.0).cwiseMin(1.0);  // rounding past the square's sides
-    }
-  }
+  atlas.texture.clear();
+  atlas.utilization = atlas.padding = atlas.padding_asked = std::nan("");
   run.layout = Layout();
   run.layout.geometry = Geometry::Euclidean;
   run.layout.corners = run.corners;
@@ -633,10 +626,10 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   }
   // Long charts (a tube's strip) fill a square poorly: each is halved across its long axis (as
   // two sheets from its two ends), where that packs the square fuller by a tenth and leaves no
-  // overlap.
+  // overlap. Only those packings are made here: the delivered attempt's charts are packed once
+  // it is chosen (pack_atlas).
   atlas.seconds.charts += lap(clock);
-  Packing packing = pack_charts(triangles_by_chart(charts), o.packing);
-  atlas.seconds.packing += lap(clock);
+  std::optional<Packing> packing;
   for (int round = 0; round < kMaxHalvings && overlaps.empty(); ++round) {
     std::vector<char> halved = seam;
     std::vector<int> part = charts.chart;
@@ -657,9 +650,12 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
              .empty();
     atlas.seconds.charts += lap(clock);
     if (overlap) break;
-    Packing fuller = pack_charts(triangles_by_chart(shorter), o.packing);
+    PackingOptions judging = o.packing;
+    judging.cells = std::min(judging.cells, kJudgingCells);
+    if (!packing) packing = pack_charts(triangles_by_chart(charts), judging);
+    Packing fuller = pack_charts(triangles_by_chart(shorter), judging);
     atlas.seconds.packing += lap(clock);
-    if (!(fuller.utilization > 1.1 * packing.utilization)) break;
+    if (!(fuller.utilization > 1.1 * packing->utilization)) break;
     seam = std::move(halved);
     charts = std::move(shorter);
     packing = std::move(fuller);
@@ -685,14 +681,11 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
            : std::nullopt;
     if (user) {
       atlas.seconds.harmonic += lap(clock);
-      // The user's faces drawn as the pieces were: packed much as they were.
-      packing = pack_charts(triangles_by_chart(user->charts), o.packing, packing.utilization);
-      atlas.seconds.packing += lap(clock);
       atlas.harmonic_charts = user->redrawn;
       atlas.untangled = user->untangled;
       atlas.on_input_faces = true;
       deliver(mesh, mesh.positions(), mesh.faces(), in->seam, lengths_in_3d(mesh, mesh.positions()),
-              user->charts, packing, {}, mesh.input_area(), o, run);
+              user->charts, {}, mesh.input_area(), run);
       return;
     }
     if (auto partly = in ? partly_cut_drawn(mesh, *sub, delivered, under, seam, charts, *in,
@@ -700,14 +693,12 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
                          : std::nullopt) {
       auto& [cut, drawn] = *partly;
       atlas.seconds.harmonic += lap(clock);
-      packing = pack_charts(triangles_by_chart(drawn.charts), o.packing, packing.utilization);
-      atlas.seconds.packing += lap(clock);
       atlas.harmonic_charts = drawn.redrawn;
       atlas.untangled = drawn.untangled;
       atlas.input_faces_cut = cut.input_faces_cut;
       deliver(cut.delivered, cut.sub.positions, cut.sub.faces, cut.seam,
-              lengths_in_3d(cut.delivered, cut.sub.positions), drawn.charts, packing, {},
-              mesh.input_area(), o, run);
+              lengths_in_3d(cut.delivered, cut.sub.positions), drawn.charts, {}, mesh.input_area(),
+              run);
       run.subdivision = std::move(cut.sub);
       return;
     }
@@ -717,8 +708,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     // A piece still turned (a sliver of two corners at one point, drawn a rounding past it, on a
     // CAD plate of needles, PrusaSlicer's CR-8 bed: its chart keeps its developed drawing, whose
     // pieces of no 3D area the harmonic one cannot draw) is untangled as the user's faces are; an
-    // overlap that makes is found again, and the charts packed again (a vertex on a seam moves
-    // its border).
+    // overlap that makes is found again.
     if (std::any_of(charts.corners.begin(), charts.corners.end(),
                     [](const auto& q) { return !(signed_area(q) > 0); })) {
       atlas.untangled =
@@ -726,14 +716,37 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       if (atlas.untangled > 0) overlaps = overlapping_faces(delivered, seam, charts);
     }
     atlas.seconds.harmonic += lap(clock);
-    if (atlas.harmonic_charts > 0 || atlas.untangled > 0) {
-      packing = pack_charts(triangles_by_chart(charts), o.packing, packing.utilization);
-    }
-    atlas.seconds.packing += lap(clock);
   }
-  deliver(delivered, positions, faces, seam, length3d, charts, packing, overlaps, mesh.input_area(),
-          o, run);
+  deliver(delivered, positions, faces, seam, length3d, charts, overlaps, mesh.input_area(), run);
   if (sub) run.subdivision = std::move(sub);
+}
+
+void pack_atlas(const PackingOptions& o, Uniformization& run) {
+  if (run.layout_kind != LayoutKind::Atlas || run.corners.empty() || !run.atlas.texture.empty()) {
+    return;
+  }
+  AtlasResult& atlas = run.atlas;
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> by_chart(atlas.num_charts);
+  for (size_t f = 0; f < run.corners.size(); ++f) {
+    const auto& q = run.corners[f];
+    by_chart[run.face_chart[f]].push_back({q[0].head<2>(), q[1].head<2>(), q[2].head<2>()});
+  }
+  const Packing packing = pack_charts(by_chart, o);
+  atlas.utilization = packing.utilization;
+  atlas.padding = packing.padding;
+  atlas.padding_asked = o.padding;
+  atlas.texture.resize(run.corners.size());
+  for (size_t f = 0; f < run.corners.size(); ++f) {
+    const int k = run.face_chart[f];
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector2d uv =
+          packing.scale * packing.rotation[k] * run.corners[f][c].head<2>() + packing.offset[k];
+      atlas.texture[f][c] = uv.cwiseMax(0.0).cwiseMin(1.0);  // rounding past the square's sides
+    }
+  }
+  atlas.seconds.packing +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::string atlas_failure(const Uniformization& run) {

@@ -18,6 +18,8 @@
 //                    lower and D within the bound: the user's mesh comes back with texture
 //                    coordinates only; where some turn or overlap, those and the faces around
 //                    them cut into their pieces (partly_cut_charts), the others the user's
+//   packing          pack_atlas, once the attempt to deliver is chosen (packing.h); a component of
+//                    a mesh of several is packed with the others instead (uniformize_mesh)
 // Not installed API.
 #pragma once
 
@@ -103,8 +105,17 @@ std::vector<double> lengths_in_3d(const Triangulation& delivered,
 //! The atlas layout of a converged flow: run.corners (z = 0), run.face_chart, run.subdivision
 //! where the flow flipped edges and the charts stay on it or some of the user's faces are cut into
 //! their pieces (run.atlas.input_faces_cut; not where run.atlas.on_input_faces), run.atlas;
-//! run.layout holds the delivered corners.
+//! run.layout holds the delivered corners. Not packed: run.atlas.texture is empty and its
+//! utilization and padding NaN until pack_atlas.
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
+
+//! An atlas run's charts packed into [0, 1]^2 (pack_charts): run.atlas.texture, utilization,
+//! padding. Nothing where the run has no atlas layout or is packed already.
+void pack_atlas(const PackingOptions& o, Uniformization& run);
+
+//! uniformize (ricci/pipeline/uniformize.h) but for pack_atlas: for a component whose charts are
+//! packed with those of the mesh's other components.
+Uniformization uniformize_unpacked(const CompactMesh& mesh, const UniformizationOptions& options);
 
 //! The area distortion D of laid-out faces, as an independent check of an atlas measures it: with
 //! A the 3D and a the layout's area of each face, both scaled to sum 1 over the faces where both

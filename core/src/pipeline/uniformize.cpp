@@ -734,7 +734,8 @@ Uniformization uniformize_by_target(const CompactMesh& mesh, const Uniformizatio
 
 }  // namespace
 
-Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+Uniformization detail::uniformize_unpacked(const CompactMesh& mesh,
+                                           const UniformizationOptions& request) {
   std::string free_failure;
   Uniformization run = uniformize_by_target(mesh, request, free_failure);
   // The automatic target with the Yamabe scheme, where it gives no map (for a circle domain:
@@ -766,6 +767,12 @@ Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& 
   instead = delivered_instead(run, std::move(instead));
   instead.scheme_instead = why;
   return instead;
+}
+
+Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+  Uniformization run = detail::uniformize_unpacked(mesh, request);
+  detail::pack_atlas(request.packing, run);
+  return run;
 }
 
 }  // namespace ricci

@@ -280,9 +280,16 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
                  << " of the common subdivision moved off turned faces";
       }
     }
+    std::ostringstream packed;
+    packed.precision(3);
+    if (context.packed_together) {
+      packed << "packed with the other components";
+    } else {
+      packed << "packed: utilization " << a.utilization;
+    }
     line("Atlas: ", cones.str(), "; ", a.num_charts, " charts (", a.splits,
          " splits of overlapping ones", harmonic.str(), "), seams ", a.seam_length, " sqrt(area), ",
-         a.overlapping_faces, " overlapping faces; packed: utilization ", a.utilization);
+         a.overlapping_faces, " overlapping faces; ", packed.str());
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
     const std::string padding = padding_warning(a.padding, a.padding_asked);
     if (!padding.empty() && !context.packed_together) line(padding);
