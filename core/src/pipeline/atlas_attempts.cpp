@@ -1,0 +1,374 @@
+// The atlas's attempts after its first (pipeline/attempts.h).
+#include "pipeline/attempts.h"
+
+#include <algorithm>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "pipeline/texture_atlas.h"
+
+namespace ricci::detail {
+
+namespace {
+
+// Tighter distortion bounds place more cones, closer together, whose flat metric is nearer the
+// input's. Where the flow with the cones for the bound asked is not reached (on CAD parts of high
+// genus the Delaunay triangulation of their metric can need an edge from a vertex to itself,
+// which the flips refuse, and the flow stalls: cura-felixpro2.obj, openscad-tardis.stl) or their
+// layout fails, the cones for half the bound, at most this many times. Not where the placement
+// stopped short of its bound (at the cone budget): a tighter one places no other cones.
+constexpr int kTighterBounds = 2;
+// Where those stall too and the placement used more cones than this under the default budget,
+// the cones are placed once more within this budget, each relocated among several peaks (the
+// sweeps' way at a budget): cura-zav-maxpro.stl (genus 97) stalls with the 262 cones for 0.2,
+// the 461 for 0.1 and the 739 for 0.05, and flows with the 255 that a budget of 256 leaves for
+// 0.2 (D 0.158 on its faces).
+constexpr int kFewerCones = 256;
+
+// The cones of an attempt, as the explanations name them: "D <= 0.2 (34 cones)".
+std::string cones_for(const Uniformization& run) {
+  std::ostringstream s;
+  s.precision(3);
+  s << "D <= " << run.atlas.bound << " (" << run.atlas.placement.cones.size() << " cones)";
+  return s.str();
+}
+
+// One attempt, as the explanations list it: "D <= 0.2 (34 cones): the atlas was not reached: ...".
+std::string attempt(const Uniformization& run) {
+  return cones_for(run) + ": the atlas " + why_not_valid(run);
+}
+
+// The budget can stop a tighter placement short of its bound, within the one asked: reached then.
+void within_bound_asked(const UniformizationOptions& request, ConePlacement& p) {
+  // (No cones where the placement found no flat metric: its D, of u = 0, is no atlas's.)
+  if (!p.bound_reached && !p.sharp_cone && !p.cones.empty() &&
+      p.distortion <= request.cone_placement.distortion_bound) {
+    p.bound_reached = true;
+    p.why_not.clear();
+  }
+}
+
+// The surface unfolded (unfolding_cones): its own metric, reached with no flow step, so it cannot
+// stall. Not where it would break the request: more cones than `most` or the budget, or quarter
+// turns asked for; else why not. Its cones may be sharper than the placement's floor
+// (min_cone_angle, which keeps a placed cone's wedge drawable): an unfolded cone's wedge is the
+// input's own faces.
+std::variant<Uniformization, std::string> unfolded_run(const CompactMesh& mesh,
+                                                       const UniformizationOptions& request,
+                                                       int most) {
+  if (request.cone_placement.quarter_angles) {
+    return std::string("unfolding it would keep its own angles, not quarter turns");
+  }
+  const ConePlacement unfolding = detail::unfolding_cones(mesh, request.flow.tolerance / 2);
+  const int budget = cone_budget(request.cone_placement);
+  if (static_cast<int>(unfolding.cones.size()) > std::min(most, budget)) {
+    return "unfolding it would take " + std::to_string(unfolding.cones.size()) + " cones, above " +
+           (most < budget ? "the " + std::to_string(most) + " it may take"
+                          : "the budget of " + std::to_string(budget));
+  }
+  UniformizationOptions own_metric = request;
+  own_metric.flow.edge_flips = EdgeFlips::Never;  // u = 0: the input's triangulation is drawn
+  return uniformize_once(mesh, own_metric, &unfolding);
+}
+
+// The run for the preset resolved from the request; the atlas's placed cones again for tighter
+// bounds while the run gives no atlas, and where none does, the surface unfolded (unfolded_run)
+// if `may_unfold`.
+Uniformization atlas_within_bounds(const CompactMesh& mesh, const UniformizationOptions& request,
+                                   bool may_unfold = true) {
+  Uniformization run = uniformize_once(mesh, request);
+  if (run.preset != TargetPreset::Atlas || run.atlas.user_cones) return run;
+  std::vector<Uniformization> failed;  // the attempts after the first that gave no atlas
+  std::optional<Uniformization> last;
+  for (int k = 0; k < kTighterBounds; ++k) {
+    const Uniformization& tried = last ? *last : run;
+    if (tried.valid() || tried.result.stop == FlowStop::Cancelled ||
+        !tried.atlas.placement.bound_reached) {
+      break;
+    }
+    UniformizationOptions tighter = request;
+    tighter.cone_placement.distortion_bound = tried.atlas.bound / 2;
+    if (last) failed.push_back(std::move(*last));
+    last = uniformize_once(mesh, tighter);
+  }
+  if (last && !last->valid() && last->result.stop != FlowStop::Cancelled &&
+      request.cone_placement.max_cones == 0 &&
+      static_cast<int>(run.atlas.placement.cones.size()) > kFewerCones) {
+    UniformizationOptions fewer = request;
+    fewer.cone_placement.max_cones = kFewerCones;
+    failed.push_back(std::move(*last));
+    last = uniformize_once(mesh, fewer);
+  }
+  if (!last && (run.valid() || run.result.stop == FlowStop::Cancelled)) return run;
+  if (last && last->result.stop == FlowStop::Cancelled) return std::move(*last);
+  const auto add_cost_to = [](Uniformization& to, const Uniformization& attempt) {
+    add_cost(to.totals, to.atlas.placement, attempt);
+  };
+  // `delivered` in place of the first run and the attempts that failed, at their cost too.
+  const auto instead_of_failed = [&](Uniformization& delivered) {
+    const FlowTotals own = delivered.totals;
+    delivered.totals = FlowTotals();
+    add_cost_to(delivered, run);
+    for (const Uniformization& f : failed) add_cost_to(delivered, f);
+    delivered.totals.add(own);
+    std::string why = "with the cones for " + attempt(run);
+    for (const Uniformization& f : failed) why += "; with those for " + attempt(f);
+    delivered.atlas.bound_instead = why;
+  };
+  if (last && last->valid()) {
+    instead_of_failed(*last);
+    within_bound_asked(request, last->atlas.placement);
+    return std::move(*last);
+  }
+  if (last) failed.push_back(std::move(*last));
+  // None gave an atlas: the surface unfolded, where that keeps to the request.
+  std::string unfolded_failure;
+  auto unfolding = may_unfold ? unfolded_run(mesh, request, std::numeric_limits<int>::max())
+                              : std::variant<Uniformization, std::string>(std::string());
+  if (auto* u = std::get_if<Uniformization>(&unfolding)) {
+    if (u->valid() || u->result.stop == FlowStop::Cancelled) {
+      instead_of_failed(*u);
+      return std::move(*u);
+    }
+    unfolded_failure = "; unfolded (" + std::to_string(u->atlas.placement.cones.size()) +
+                       " cones): the atlas " + why_not_valid(*u);
+    failed.push_back(std::move(*u));
+  } else if (!std::get<std::string>(unfolding).empty()) {
+    unfolded_failure = "; " + std::get<std::string>(unfolding);
+  }
+  // The first run's failure, and every attempt after it.
+  std::string tried;
+  for (const Uniformization& f : failed) {
+    add_cost_to(run, f);
+    if (f.atlas.unfolded == AtlasResult::Unfolded::No) {
+      tried += "; with the cones placed again for " + attempt(f);
+    }
+  }
+  (run.converged() ? run.layout_failure : run.result.failure) += tried + unfolded_failure;
+  return run;
+}
+
+// What a delivered run's figure was, as the explanations say it: "with the cones for D <= 0.2
+// (7 cones) QC p95 on the faces was 3.1".
+std::string cones_gave(const Uniformization& run, const std::string& figure, double value) {
+  std::ostringstream why;
+  why.precision(3);
+  why << "with the cones for " << cones_for(run) << " " << figure << " was " << value;
+  return why.str();
+}
+std::string d_was(const Uniformization& run) {
+  return cones_gave(run, "the delivered faces' D", run.atlas.distortion);
+}
+std::string qc_was(const Uniformization& run) {
+  return cones_gave(run, "QC p95 on the faces", run.quality.quasi_conformal_p95);
+}
+
+// The delivered faces' D can exceed the bound the cones' linear model met: the exact flat metric
+// is not the linear model's, and the faces of a coarse part lag its vertices (sumo-tram.obj's small
+// parts: up to 0.3 at 0.2). Then the cones are placed again for the bound their linear model met
+// scaled down by that excess (and this margin), at most this many times, each from the last
+// attempt's (more cones can raise D on a coarse part: oblong-shuffled.off 0.206 with 8, 0.267
+// with 8 others, 0.157 with 12), and the atlas with the lowest D among the valid ones is
+// delivered.
+constexpr double kRetryMargin = 0.95;
+constexpr int kDistortionRetries = 2;
+
+}  // namespace
+
+Uniformization uniformize_as_requested(const CompactMesh& mesh,
+                                       const UniformizationOptions& request) {
+  Uniformization best = atlas_within_bounds(mesh, request);
+  const double asked = request.cone_placement.distortion_bound;
+  best.atlas.bound_asked = asked;
+  const auto above = [&](const Uniformization& run) {
+    return run.preset == TargetPreset::Atlas && !run.atlas.user_cones && run.valid() &&
+           run.atlas.placement.bound_reached && run.atlas.distortion > asked;
+  };
+  // What the attempts not delivered cost, in the order they were spent, and what each gave.
+  FlowTotals spent;
+  ConePlacement placed;
+  std::vector<std::string> gave;  // per attempt, the first run's first
+  size_t chosen = 0;              // the attempt delivered
+  const auto describe = [](const Uniformization& run) {
+    return run.valid() ? d_was(run) : "with the cones for " + attempt(run);
+  };
+  gave.push_back(describe(best));
+  // Each attempt's bound from the last attempt's, which need not be the best one.
+  double bound = best.atlas.bound, linear = best.atlas.placement.distortion;
+  double distortion = best.atlas.distortion;
+  for (int k = 0; k < kDistortionRetries && above(best) && distortion > asked; ++k) {
+    UniformizationOptions tighter = request;
+    tighter.cone_placement.distortion_bound =
+        kRetryMargin * std::min(bound, linear) * asked / distortion;
+    // Not unfolded here: an atlas of placed cones was given, its D above the bound.
+    Uniformization again = atlas_within_bounds(mesh, tighter, false);
+    again.atlas.bound_asked = asked;
+    if (again.result.stop == FlowStop::Cancelled) return again;
+    gave.push_back(describe(again));
+    const bool usable = again.valid() && again.atlas.placement.bound_reached;
+    if (usable) {
+      bound = again.atlas.bound, linear = again.atlas.placement.distortion;
+      distortion = again.atlas.distortion;
+    }
+    if (usable && again.atlas.distortion < best.atlas.distortion) {
+      add_cost(spent, placed, best);
+      best = std::move(again);
+      chosen = gave.size() - 1;
+    } else {
+      add_cost(spent, placed, again);
+      if (!usable) break;
+    }
+  }
+  if (gave.size() == 1) return best;
+  const FlowTotals own = best.totals;
+  best.totals = spent;
+  best.totals.add(own);
+  add_placement_cost(best.atlas.placement, placed);
+  if (chosen > 0) {
+    std::string why;
+    for (size_t a = 0; a < gave.size(); ++a) {
+      if (a != chosen) why += (why.empty() ? "" : "; ") + gave[a];
+    }
+    if (!best.atlas.bound_instead.empty()) why += "; " + best.atlas.bound_instead;
+    best.atlas.bound_instead = why;
+    within_bound_asked(request, best.atlas.placement);
+  }
+  return best;
+}
+
+namespace {
+
+// A coarse part's placed cones can leave its faces far from conformal (a 28-face oven window of
+// gymnasium-robotics at 4 cones: QC p95 42 on its faces, BFF's 3.96 at 4 cones; a printer's bed
+// plate of 396 faces at 4 cones, D 0.012: QC p95 5.78, BFF's 2.46 at 8). Where the delivered QC
+// p95 is above this and the part unfolds with at most this many cones, the unfolding (QC 1 and D 0
+// on its faces) is delivered instead, its seams through more cones. Where it does not, the cones
+// are placed again for a bound this many times below the last bound or D delivered, at most this
+// many times, with at most this many times the first set's cones, and an attempt that lowers QC
+// p95 enough (kQcGain) is delivered instead (the bed plate: 22 cones, QC p95 3.08, seams as
+// long).
+constexpr double kUnfoldQc = 2;
+constexpr int kUnfoldedCones = 64;
+constexpr double kQcTighter = 4;
+constexpr int kQcRetries = 2;
+constexpr int kQcCones = 4;
+// An attempt is delivered instead where it leaves at most this share of the QC p95's excess over
+// 1: more cones cost seams (PrusaSlicer's printbed-v2-300: seams 2.81 to 12.0 sqrt(area) for QC
+// p95 7.89 to 7.81).
+constexpr double kQcGain = 0.75;
+// Not made where the first set has more than kUnfoldedCones cones: a placement of hundreds of
+// cones costs seconds to minutes (PrusaSlicer's aq bed, a part of 12.8k faces at 273 cones: placed
+// again at 964, 225 s against 2.9 s, for QC p95 6.8 to 2.8; cura-zav-maxpro.stl's genus-97 plate
+// at 255 cones, on 1.55M pieces: 86 s to 297 s for 10.1 to 6.5).
+
+// `best`'s cones placed again for tighter bounds (kQcTighter, kQcRetries, kQcCones), each valid
+// attempt within the bound that lowers QC p95 enough (kQcGain) delivered instead, at the cost of
+// all.
+Uniformization nearer_conformal_cones(const CompactMesh& mesh, const UniformizationOptions& request,
+                                      Uniformization best) {
+  FlowTotals spent;
+  ConePlacement placed;
+  std::string why;
+  // No atlas whose D is above both the bound asked and the first one's.
+  const double allowed = std::max(request.cone_placement.distortion_bound, best.atlas.distortion);
+  // Each attempt's bound below the last one's and the best atlas's D; its cones at most
+  // kQcCones times the first's (or as many as an unfolding may take).
+  double bound = std::min(best.atlas.bound, best.atlas.distortion);
+  const int most = std::min(
+      cone_budget(request.cone_placement),
+      std::max(kUnfoldedCones, kQcCones * static_cast<int>(best.atlas.placement.cones.size())));
+  for (int k = 0; k < kQcRetries && best.quality.quasi_conformal_p95 > kUnfoldQc; ++k) {
+    UniformizationOptions tighter = request;
+    tighter.cone_placement.distortion_bound = bound / kQcTighter;
+    tighter.cone_placement.max_cones = most;
+    Uniformization again = atlas_within_bounds(mesh, tighter, false);
+    if (again.result.stop == FlowStop::Cancelled) {
+      // Cancelled: every attempt's cost counts, before the cancelled one's own.
+      add_cost(spent, placed, best);
+      const FlowTotals own = again.totals;
+      again.totals = spent;
+      again.totals.add(own);
+      add_placement_cost(again.atlas.placement, placed);
+      return again;
+    }
+    // Its cones stopped at `most` count as reached where the bound asked is met, as at a budget;
+    // a set that still has a cone sharper than the floor is not delivered.
+    within_bound_asked(request, again.atlas.placement);
+    const bool usable =
+        again.valid() && again.atlas.placement.bound_reached && again.atlas.distortion <= allowed;
+    if (usable &&
+        again.quality.quasi_conformal_p95 - 1 <= kQcGain * (best.quality.quasi_conformal_p95 - 1)) {
+      why += (why.empty() ? "" : "; ") + qc_was(best);
+      if (!best.atlas.bound_instead.empty()) why += "; " + best.atlas.bound_instead;
+      add_cost(spent, placed, best);
+      best = std::move(again);
+    } else {
+      add_cost(spent, placed, again);
+      if (!usable) break;
+    }
+    bound = std::min(tighter.cone_placement.distortion_bound, best.atlas.distortion);
+  }
+  const FlowTotals own = best.totals;
+  best.totals = spent;
+  best.totals.add(own);
+  add_placement_cost(best.atlas.placement, placed);
+  if (!why.empty()) {
+    if (!best.atlas.bound_instead.empty()) why += "; " + best.atlas.bound_instead;
+    best.atlas.bound_instead = why;
+    best.atlas.bound_asked = request.cone_placement.distortion_bound;
+  }
+  return best;
+}
+
+}  // namespace
+
+Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOptions& request) {
+  Uniformization best = uniformize_as_requested(mesh, request);
+  // Where the delivered faces' D breaks the bound that the cones' linear model met (the summary's
+  // warning), the unfolding meets it (D 0) with as many cones as the budget allows, whatever its
+  // seams: a CAD part of 100 holes, 258 interior vertices all curved, whose cones for 0.2 left
+  // 0.218 on its faces (QC p95 23) and those of tighter bounds stalled.
+  const bool above_bound = best.atlas.placement.bound_reached &&
+                           best.atlas.distortion > request.cone_placement.distortion_bound;
+  if (best.preset != TargetPreset::Atlas || !best.valid() || best.atlas.user_cones ||
+      best.atlas.unfolded != AtlasResult::Unfolded::No ||
+      !(best.quality.quasi_conformal_p95 > kUnfoldQc || above_bound)) {
+    return best;
+  }
+  auto unfolding =
+      unfolded_run(mesh, request, above_bound ? std::numeric_limits<int>::max() : kUnfoldedCones);
+  auto* u = std::get_if<Uniformization>(&unfolding);
+  if (u && u->result.stop == FlowStop::Cancelled) {
+    *u = delivered_instead(best, std::move(*u));
+    return std::move(*u);
+  }
+  const bool better =
+      u && u->valid() &&
+      (above_bound || u->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95);
+  if (!better) {
+    if (u) add_cost(best.totals, best.atlas.placement, *u);
+    // Cones for tighter bounds only where QC p95 is above kUnfoldQc; not where the user's budget
+    // fixed the count of cones (BFF's 8, say), nor from more than kUnfoldedCones.
+    if (!(best.quality.quasi_conformal_p95 > kUnfoldQc) || request.cone_placement.max_cones != 0 ||
+        static_cast<int>(best.atlas.placement.cones.size()) > kUnfoldedCones) {
+      return best;
+    }
+    return nearer_conformal_cones(mesh, request, std::move(best));
+  }
+  std::string why = above_bound ? d_was(best) : qc_was(best);
+  if (!best.atlas.bound_instead.empty()) why += "; " + best.atlas.bound_instead;
+  *u = delivered_instead(best, std::move(*u));
+  add_placement_cost(u->atlas.placement, best.atlas.placement);
+  u->atlas.unfolded =
+      above_bound ? AtlasResult::Unfolded::WithinBound : AtlasResult::Unfolded::MoreConformal;
+  u->atlas.bound_instead = why;
+  u->atlas.bound_asked = request.cone_placement.distortion_bound;
+  return std::move(*u);
+}
+
+}  // namespace ricci::detail
