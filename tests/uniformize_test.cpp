@@ -15,6 +15,7 @@
 #include "ricci/io/mesh_io.h"
 #include "ricci/mesh/errors.h"
 #include "ricci/pipeline/atlas.h"
+#include "ricci/repair/repair.h"
 #include "test_meshes.h"
 
 namespace ricci {
@@ -325,6 +326,34 @@ TEST(Uniformize, RequestsThatCannotBeMetAreRefused) {
   } catch (const InvalidArgumentError& e) {
     EXPECT_NE(std::string(e.what()).find("lies on the boundary"), std::string::npos) << e.what();
   }
+}
+
+// A thin torus's flat metric is a long strip: alone, its atlas halves it (its own square packs
+// fuller). Beside a sphere of over 31 times its area it is packed among the sphere's charts, whole;
+// beside a smaller one it is halved as alone.
+TEST(UniformizeMesh, ASmallPartsLongChartsStayWholeAmongTheOthers) {
+  const CompactMesh ring = test::torus(64, 8, 3, 0.3);  // area about 35.5
+  UniformizationOptions o;
+  o.preset = TargetPreset::Atlas;
+  EXPECT_GT(uniformize(ring, o).atlas.halvings, 0);
+  const auto ring_beside_sphere = [&](double radius) {
+    std::vector<Eigen::Vector3d> p = ring.positions();
+    std::vector<std::array<int, 3>> f = ring.faces();
+    const CompactMesh sphere = test::ellipsoid(3, radius, radius, radius);
+    const int base = static_cast<int>(p.size());
+    for (const auto& q : sphere.positions())
+      p.push_back(q + Eigen::Vector3d(10 + 2 * radius, 0, 0));
+    for (const auto& t : sphere.faces()) f.push_back({t[0] + base, t[1] + base, t[2] + base});
+    const MeshUniformization both = uniformize_mesh(repair_mesh(p, f), o);
+    EXPECT_TRUE(both.valid());
+    for (size_t k = 0; k < both.components.size(); ++k) {
+      if (both.mesh.components[k].mesh.genus() == 1) return both.components[k].atlas.halvings;
+    }
+    ADD_FAILURE() << "no torus among the components";
+    return -1;
+  };
+  EXPECT_EQ(ring_beside_sphere(12), 0);  // the ring about 2 % of the area
+  EXPECT_GT(ring_beside_sphere(2), 0);   // about 41 %
 }
 
 }  // namespace

@@ -363,10 +363,10 @@ Placed pack_rasters(const std::vector<std::array<Raster, kTurns>>& rasters,
 
 Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& o,
                     double expected_utilization) {
-  if (o.texture_size < 16 || o.padding < 0 || o.cells < 1) {
+  if (o.texture_size < 16 || o.padding < 0) {
     throw InvalidArgumentError(
-        "packing: the texture size must be at least 16 texels, the padding non-negative and the "
-        "raster cells at least 1");
+        "packing: the texture size must be at least 16 texels and the "
+        "padding non-negative");
   }
   Packing packing;
   const size_t n = charts.size();
@@ -406,9 +406,9 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     packing.offset[k] =
         Eigen::Vector2d::Constant(0.5 * o.padding * extent / o.texture_size) - lo[k];
   }
-  // About `cells` cells of chart area. Half the padding is the rasters' margin, in the charts'
-  // units from the extent it gives (3 % wider, so that an extent a little larger than the guess
-  // needs no second packing), again where the extent came out larger still: the margin then grows
+  // About 20k cells of chart area. Half the padding is the rasters' margin, in the charts' units
+  // from the extent it gives (3 % wider, so that an extent a little larger than the guess needs
+  // no second packing), again where the extent came out larger still: the margin then grows
   // towards the padding's, unless the charts are too many for the texture at that padding, and
   // the packing stops once an attempt brings it no nearer.
   // Each packing tried is kept where its padding is the widest yet (the last, where it meets the
@@ -419,15 +419,15 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   double packed_extent = extent;
   for (int attempt = 0; attempt < kMaxPackings && !alone; ++attempt) {
     const double margin = 1.03 * 0.5 * o.padding * extent / o.texture_size;
-    // At most about four times `cells` over the rasters (the charts' upright boxes with their
-    // margins): where those are over four times the charts' area (many small charts in a small
-    // texture, or charts that fill little of their boxes), larger cells.
+    // At most about 80k cells over the rasters (the charts' upright boxes with their margins):
+    // where those are over four times the charts' area (many small charts in a small texture,
+    // or charts that fill little of their boxes), larger cells.
     double rastered = 0;
     for (size_t k = 0; k < n; ++k) {
       const Eigen::Vector2d side = hi[k] - lo[k] + Eigen::Vector2d::Constant(2 * margin);
       if (!charts[k].empty()) rastered += side.x() * side.y();
     }
-    const double cell = std::max(std::sqrt(total / o.cells), std::sqrt(rastered / (4.0 * o.cells)));
+    const double cell = std::max(std::sqrt(total / 20000), std::sqrt(rastered / 80000));
     std::vector<std::array<Raster, kTurns>> rasters(n);
     for (size_t k = 0; k < n; ++k) {
       if (charts[k].empty()) continue;

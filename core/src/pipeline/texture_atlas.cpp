@@ -31,9 +31,6 @@ constexpr double kDeepOverlap = 0.01;
 // Charts longer than this times their width are halved, at most this many rounds.
 constexpr double kLongAspect = 2;
 constexpr int kMaxHalvings = 4;
-// A halving is judged by packings on this many raster cells over the charts' area (the delivered
-// atlas's packing has PackingOptions::cells): enough to tell a tenth's gain.
-constexpr int kJudgingCells = 2500;
 
 // Every face of the flowed triangulation drawn alone by its side lengths: all the common
 // subdivision needs of a layout is each face's corners.
@@ -630,7 +627,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   // it is chosen (pack_atlas).
   atlas.seconds.charts += lap(clock);
   std::optional<Packing> packing;
-  for (int round = 0; round < kMaxHalvings && overlaps.empty(); ++round) {
+  for (int round = 0; round < kMaxHalvings && o.halve_long_charts && overlaps.empty(); ++round) {
     std::vector<char> halved = seam;
     std::vector<int> part = charts.chart;
     int count = 0;
@@ -650,10 +647,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
              .empty();
     atlas.seconds.charts += lap(clock);
     if (overlap) break;
-    PackingOptions judging = o.packing;
-    judging.cells = std::min(judging.cells, kJudgingCells);
-    if (!packing) packing = pack_charts(triangles_by_chart(charts), judging);
-    Packing fuller = pack_charts(triangles_by_chart(shorter), judging);
+    if (!packing) packing = pack_charts(triangles_by_chart(charts), o.packing);
+    Packing fuller = pack_charts(triangles_by_chart(shorter), o.packing);
     atlas.seconds.packing += lap(clock);
     if (!(fuller.utilization > 1.1 * packing->utilization)) break;
     seam = std::move(halved);

@@ -14,9 +14,6 @@ namespace ricci {
 struct PackingOptions {
   int texture_size = 1024;  //!< texels per side of the texture the atlas is for
   int padding = 4;          //!< texels between two charts
-  //! Raster cells over the charts' area (and at most four times as many over their rasters):
-  //! finer packs tighter and takes longer.
-  int cells = 20000;
 };
 
 //! Where chart k goes: uv = scale * rotation[k] * p + offset[k].

@@ -63,6 +63,10 @@ struct UniformizationOptions {
   //! The atlas preset: how its cones are placed, and its charts packed.
   ConePlacementOptions cone_placement;
   PackingOptions packing;
+  //! The atlas halves a long chart (a tube's strip) across its long axis where its component's
+  //! charts packed alone fill the square fuller by a tenth. uniformize_mesh leaves it off for a
+  //! component of less than 1/32 of the mesh's area, whose charts are small among the others'.
+  bool halve_long_charts = true;
   //! A fill-reducing order of the vertices, found ahead (vertex_order.h; for uniformize_mesh, of
   //! the input's vertices, as read); empty or for another number of vertices: the flow starts its
   //! own (RicciFlowSolver).
