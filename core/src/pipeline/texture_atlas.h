@@ -18,6 +18,7 @@
 //                    lower and D within the bound: the user's mesh comes back with texture
 //                    coordinates only; where some turn or overlap, those and the faces around
 //                    them cut into their pieces (partly_cut_charts), the others the user's
+//                    (drawn_where_deliverable, partly_cut_drawn: atlas_on_input.cpp)
 //   packing          pack_atlas, once the attempt to deliver is chosen (packing.h); a component of
 //                    a mesh of several is packed with the others instead (uniformize_mesh)
 // Not installed API.
@@ -26,6 +27,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -97,6 +99,38 @@ PartlyCutCharts partly_cut_charts(const CompactMesh& mesh, const CommonSubdivisi
 //! edge `under` it), until none is. Per input face.
 std::vector<char> pieces_closure(const CompactMesh& mesh, const std::vector<int>& under,
                                  const std::vector<int>& faces);
+
+//! D and the 95th percentile of QC of faces as drawn.
+struct AsDrawn {
+  double distortion, qc_p95;
+};
+//! The 95th percentile of the quasi-conformal ratio of `faces` drawn with `corners`.
+double qc_p95(const std::vector<Eigen::Vector3d>& positions,
+              const std::vector<std::array<int, 3>>& faces,
+              const std::vector<std::array<Eigen::Vector2d, 3>>& corners);
+
+//! Charts drawn on faces other than the pieces', with how many of them were drawn harmonic inside
+//! and how many wedges moved off turned faces.
+struct Drawn {
+  Charts charts;
+  int redrawn = 0, untangled = 0;
+};
+//! Charts as developed on the pieces, moved onto other faces `t` (the user's, or the user's with
+//! some cut into their pieces), drawn where no face turns over or overlaps another of its chart
+//! and D is within `bound` or about the pieces' (see atlas_on_input.cpp for when their insides are
+//! drawn harmonic). Where not given, `stuck` gets the faces that stay turned or overlap another.
+std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
+                                             const std::vector<Eigen::Vector3d>& positions,
+                                             const std::vector<char>& seam, Charts charts,
+                                             double bound, const AsDrawn& pieces,
+                                             std::vector<int>& stuck);
+//! The atlas delivered on the user's faces, with those around the `stuck` ones (that turned or
+//! overlapped there) cut into their pieces (partly_cut_charts), in rounds that cut more while that
+//! does not deliver; none where its QC p95 is far above the pieces' or too many faces are cut.
+std::optional<std::pair<PartlyCutCharts, Drawn>> partly_cut_drawn(
+    const CompactMesh& mesh, const CommonSubdivision& sub, const Triangulation& delivered,
+    const std::vector<int>& under, const std::vector<char>& seam, const Charts& developed,
+    const InputCharts& in, double bound, const AsDrawn& pieces, std::vector<int> stuck);
 
 //! Per edge of `delivered`, its length in 3D between `positions` (seams are shortest there).
 std::vector<double> lengths_in_3d(const Triangulation& delivered,
