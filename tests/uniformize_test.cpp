@@ -328,6 +328,21 @@ TEST(Uniformize, RequestsThatCannotBeMetAreRefused) {
   }
 }
 
+// The atlas's charts are packed after its flows and layouts: packing options that cannot pack are
+// refused before them.
+TEST(Uniformize, AnAtlasWhosePackingOptionsCannotPackIsRefusedFirst) {
+  UniformizationOptions o;
+  o.preset = TargetPreset::Atlas;
+  o.packing.texture_size = 8;
+  EXPECT_THROW(uniformize(test::ellipsoid(2), o), InvalidArgumentError);
+  o.packing = PackingOptions();
+  o.packing.padding = -1;
+  EXPECT_THROW(uniformize(test::ellipsoid(2), o), InvalidArgumentError);
+  // Not an atlas: nothing is packed, the options are not asked about.
+  o.preset = TargetPreset::Automatic;
+  EXPECT_TRUE(uniformize(test::ellipsoid(2), o).valid());
+}
+
 // A thin torus's flat metric is a long strip: alone, its atlas halves it (its own square packs
 // fuller). Beside a sphere of over 31 times its area it is packed among the sphere's charts, whole;
 // beside a smaller one it is halved as alone.

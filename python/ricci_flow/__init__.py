@@ -105,7 +105,8 @@ class Result:
     cones, cone_angles: target="atlas": the cones' vertices (int) and angles (radians, in the
         exact flat metric); empty otherwise.
     atlas: target="atlas": the report's atlas entry (cones, distortion D, charts, seams,
-        utilization, ...), a list with one entry per component when there are several; else
+        utilization, ...), a list with one entry per component when there are several (each
+        with utilization and padding None: packed only with the others, see texture); else
         None.
     texcoord: the texture atlas in [0, 1]^2, per vertex (n, 2) or per corner (m, 3, 2).
     texture: with several components whose layouts were packed into texcoord: that texture as a

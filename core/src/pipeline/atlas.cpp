@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 
+#include "pipeline/attempts.h"
 #include "pipeline/texture_atlas.h"
 #include "ricci/mesh/errors.h"
 

@@ -32,6 +32,10 @@ Uniformization delivered_instead(const Uniformization& attempt, Uniformization i
 //! Why a run is not valid: "gave no map: ..." or "was not reached: ...".
 std::string why_not_valid(const Uniformization& run);
 
+//! uniformize (ricci/pipeline/uniformize.h) but for pack_atlas: for a component whose charts are
+//! packed with those of the mesh's other components (uniformize_mesh).
+Uniformization uniformize_unpacked(const CompactMesh& mesh, const UniformizationOptions& options);
+
 //! uniformize_once, and for the atlas with placed cones: the cones of tighter bounds where it
 //! gives no atlas, the surface unfolded where none does, and the cones placed again (at most
 //! twice) where the delivered faces' D exceeds the bound, the lowest D delivered.

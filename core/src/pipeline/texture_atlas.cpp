@@ -147,8 +147,6 @@ void deliver(const Triangulation& delivered, const std::vector<Eigen::Vector3d>&
   }
   run.face_chart = charts.chart;
   atlas.distortion = face_distortion(positions, faces, charts.corners);
-  atlas.texture.clear();
-  atlas.utilization = atlas.padding = atlas.padding_asked = std::nan("");
   run.layout = Layout();
   run.layout.geometry = Geometry::Euclidean;
   run.layout.corners = run.corners;
@@ -279,6 +277,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   run.corners.clear();
   const std::vector<double>& lengths = run.result.edge_lengths;
   AtlasResult& atlas = run.atlas;
+  atlas.texture.clear();  // packed by pack_atlas, if at all
+  atlas.utilization = atlas.padding = atlas.padding_asked = kNaN;
   atlas.on_input_faces = false;
   atlas.untangled = 0;
   atlas.input_faces_cut = 0;

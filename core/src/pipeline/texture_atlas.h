@@ -147,10 +147,6 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
 //! padding. Nothing where the run has no atlas layout or is packed already.
 void pack_atlas(const PackingOptions& o, Uniformization& run);
 
-//! uniformize (ricci/pipeline/uniformize.h) but for pack_atlas: for a component whose charts are
-//! packed with those of the mesh's other components.
-Uniformization uniformize_unpacked(const CompactMesh& mesh, const UniformizationOptions& options);
-
 //! The area distortion D of laid-out faces, as an independent check of an atlas measures it: with
 //! A the 3D and a the layout's area of each face, both scaled to sum 1 over the faces where both
 //! are positive (the others have no weight), s = log(a / A) / 2 and D = sqrt(sum A (s - mean

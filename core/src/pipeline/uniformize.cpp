@@ -16,6 +16,7 @@
 #include "pipeline/doubled_surface.h"
 #include "pipeline/texture_atlas.h"
 #include "ricci/flow/ricci_flow.h"
+#include "ricci/layout/packing.h"
 #include "ricci/mesh/errors.h"
 
 namespace ricci {
@@ -45,6 +46,8 @@ void check_request(const CompactMesh& mesh, TargetPreset preset, Geometry geomet
         "the atlas target is a flat cone metric of the Yamabe flow; choose euclidean (or auto) "
         "geometry and the yamabe scheme");
   }
+  // Its charts are packed after every flow and layout: options that cannot pack, refused first.
+  if (preset == TargetPreset::Atlas) check_packing_options(o.packing);
   if (preset == TargetPreset::FreeBoundary && mesh.is_closed()) {
     throw InvalidTargetError("the free-boundary target needs a boundary, but the mesh is a " +
                              topology + "; use the zero or auto target");

@@ -282,7 +282,9 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     }
     std::ostringstream packed;
     packed.precision(3);
-    if (context.packed_together) {
+    if (run.corners.empty()) {
+      packed << "nothing to pack";
+    } else if (context.packed_together) {
       packed << "packed with the other components";
     } else {
       packed << "packed: utilization " << a.utilization;

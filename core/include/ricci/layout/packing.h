@@ -27,6 +27,9 @@ struct Packing {
   double padding = 0;
 };
 
+//! \throws InvalidArgumentError for a texture size below 16 or a negative padding.
+void check_packing_options(const PackingOptions& options);
+
 //! Packs the charts (each a list of triangles, all in one length unit) into [0, 1]^2, keeping
 //! their relative sizes. `expected_utilization` sizes the first packing's margin (the padding in
 //! the charts' units): near what the packing gives (that of a packing of much the same charts),

@@ -148,8 +148,9 @@ struct AtlasResult {
   //! both. 0 where on_input_faces or all are pieces.
   int input_faces_cut = 0;
   //! Per delivered face corner, the charts packed into [0, 1]^2, and their share of its area.
-  //! A component of several is not packed alone: this is empty and the utilization and padding
-  //! NaN; the texture is MeshUniformization's, its figures MeshUniformization::packed.
+  //! A component of several is not packed alone, nor is an atlas with no layout: this is empty
+  //! and the utilization, padding and padding_asked NaN (a component's texture is then
+  //! MeshUniformization's, its figures MeshUniformization::packed).
   std::vector<std::array<Eigen::Vector2d, 3>> texture;
   double utilization = 0;
   //! Texels between two charts at least, and the padding asked: less only where the charts are
@@ -157,7 +158,8 @@ struct AtlasResult {
   double padding = 0, padding_asked = 0;
   //! Wall time of the stages after the flow: seams and charts with their overlap splits, the
   //! harmonic redrawing of the charts' insides, the packing (the halvings' packings and the
-  //! delivered one).
+  //! delivered one; a component of several has only the former: the joint packing is
+  //! MeshUniformization's).
   struct Seconds {
     double charts = 0, harmonic = 0, packing = 0;
   } seconds;

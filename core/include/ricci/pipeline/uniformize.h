@@ -37,6 +37,9 @@ std::pair<TargetPreset, Geometry> resolve_request(const CompactMesh& mesh,
 //! boundary (target_instead); where the Yamabe scheme gives none for the topology's target (for a
 //! circle domain, with neither), the tangential scheme (scheme_instead; not with EdgeFlips::Never
 //! or keep_input_triangulation); each only where it is valid, else the failure says it was tried.
+//! An atlas's charts are packed into [0, 1]^2 (options.packing) for the attempt delivered:
+//! AtlasResult::texture, utilization, padding (uniformize_mesh packs the charts of a mesh of
+//! several components together instead).
 //! \throws InvalidTargetError, InvalidArgumentError for requests that admit no solution (named).
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& options);
 

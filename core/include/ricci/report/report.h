@@ -18,7 +18,8 @@ struct RunContext {
   std::string input;        //!< the mesh's file, or its layer's name
   std::string target;       //!< the target as the user gave it
   double read_seconds = 0;  //!< reading the input
-  //! A component of several whose charts were packed together (its own packing not delivered).
+  //! A component of several, whose charts are packed only with the others' (not alone: its
+  //! utilization and padding are NaN).
   bool packed_together = false;
 };
 
