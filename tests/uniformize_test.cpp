@@ -8,6 +8,7 @@
 #include <cmath>
 #include <complex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -369,6 +370,73 @@ TEST(UniformizeMesh, ASmallPartsLongChartsStayWholeAmongTheOthers) {
   };
   EXPECT_EQ(ring_beside_sphere(12), 0);  // the ring about 2 % of the area
   EXPECT_GT(ring_beside_sphere(2), 0);   // about 41 %
+}
+
+// Meshes side by side in one vertex and face list, each 4 units further along x.
+RepairedMesh side_by_side(const std::vector<CompactMesh>& parts) {
+  std::vector<Eigen::Vector3d> p;
+  std::vector<std::array<int, 3>> f;
+  for (size_t k = 0; k < parts.size(); ++k) {
+    const int base = static_cast<int>(p.size());
+    for (const auto& q : parts[k].positions())
+      p.push_back(q + Eigen::Vector3d(4.0 * static_cast<double>(k), 0, 0));
+    for (const auto& t : parts[k].faces()) f.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  return repair_mesh(p, f);
+}
+
+// The components are uniformized two at a time (on two threads where the machine has two cores):
+// each as when alone, bit for bit.
+TEST(UniformizeMesh, ComponentsRunTogetherAsEachAlone) {
+  const std::vector<CompactMesh> parts = {test::ellipsoid(3, 1, 1.2, 0.8), test::square_grid(12),
+                                          test::torus(24, 10), test::ellipsoid(2, 1, 0.5, 1)};
+  for (const TargetPreset preset : {TargetPreset::Automatic, TargetPreset::Atlas}) {
+    UniformizationOptions o;
+    o.preset = preset;
+    o.halve_long_charts = false;  // as for a small part among others
+    const MeshUniformization all = uniformize_mesh(side_by_side(parts), o);
+    ASSERT_EQ(all.components.size(), parts.size());
+    EXPECT_TRUE(all.valid());
+    for (size_t k = 0; k < parts.size(); ++k) {
+      const Eigen::VectorXd& u = all.components[k].result.u;
+      const Eigen::VectorXd alone = uniformize(all.mesh.components[k].mesh, o).result.u;
+      ASSERT_EQ(u.size(), alone.size()) << "component " << k;
+      EXPECT_EQ((u - alone).cwiseAbs().maxCoeff(), 0) << "component " << k;
+    }
+  }
+}
+
+// Of several components that cannot be given the request, the first one's error is thrown, as
+// when they ran one after the other.
+TEST(UniformizeMesh, TheFirstFailingComponentIsNamed) {
+  UniformizationOptions o;
+  o.preset = TargetPreset::UnitDisk;  // no disk of a closed surface
+  const RepairedMesh mesh = side_by_side(
+      {test::square_grid(16), test::ellipsoid(2), test::square_grid(4), test::ellipsoid(1)});
+  try {
+    uniformize_mesh(mesh, o);
+    ADD_FAILURE() << "closed components were given the unit disk";
+  } catch (const InvalidTargetError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("component 1: ", 0), 0u) << e.what();
+  }
+}
+
+// The caller's progress callback (a GUI's) is called on the caller's thread only, and cancelling
+// there stops the flows.
+TEST(UniformizeMesh, ProgressIsReportedOnTheCallersThread) {
+  UniformizationOptions o;
+  int calls = 0;
+  bool elsewhere = false;
+  const std::thread::id caller = std::this_thread::get_id();
+  o.flow.progress = [&](const FlowProgress&) {
+    elsewhere = elsewhere || std::this_thread::get_id() != caller;
+    return ++calls < 2;
+  };
+  const MeshUniformization all = uniformize_mesh(
+      side_by_side({test::ellipsoid(3), test::torus(24, 10), test::ellipsoid(3, 1, 2, 1)}), o);
+  EXPECT_GE(calls, 2);
+  EXPECT_FALSE(elsewhere);
+  EXPECT_FALSE(all.converged());
 }
 
 }  // namespace

@@ -1,9 +1,14 @@
 #include "ricci/pipeline/atlas.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <functional>
 #include <limits>
 #include <numeric>
+#include <optional>
+#include <thread>
 
 #include "pipeline/attempts.h"
 #include "pipeline/texture_atlas.h"
@@ -335,10 +340,12 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
   MeshUniformization out;
   out.mesh = std::move(mesh);
   const std::vector<std::pair<int, int>> where = locate_inputs(out.mesh);
+  const size_t n = out.mesh.components.size();
   double area = 0;
   for (const auto& component : out.mesh.components) area += component.mesh.input_area();
-  for (size_t k = 0; k < out.mesh.components.size(); ++k) {
+  const auto run = [&](size_t k, const std::function<bool(const FlowProgress&)>& progress) {
     UniformizationOptions o = component_options(options, out.mesh, where, static_cast<int>(k));
+    o.flow.progress = progress;
     // Gymnasium's Adroit forearm plate assembly, 218 parts of about 0.5 % each: their halvings
     // judged alone took 14 s of 38 s, and the texture of all, packed together, fills 0.385 of the
     // square with them, 0.413 without. Larger parts' strips matter (ALSTOM's test part of 6: 0.624
@@ -349,15 +356,53 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
     try {
       // Several components' charts are packed together (gather_texture), not each alone.
       const CompactMesh& m = out.mesh.components[k].mesh;
-      out.components.push_back(out.mesh.components.size() == 1 ? uniformize(m, o)
-                                                               : detail::uniformize_unpacked(m, o));
+      return n == 1 ? uniformize(m, o) : detail::uniformize_unpacked(m, o);
     } catch (const InvalidTargetError& e) {
-      if (out.mesh.components.size() == 1) throw;
+      if (n == 1) throw;
       throw InvalidTargetError("component " + std::to_string(k) + ": " + e.what());
     } catch (const InvalidArgumentError& e) {
-      if (out.mesh.components.size() == 1) throw;
+      if (n == 1) throw;
       throw InvalidArgumentError("component " + std::to_string(k) + ": " + e.what());
     }
+  };
+  // The components two at a time, taken in order by whichever thread is free, each result in its
+  // own slot: the outcome does not depend on the threads' timing. Only this thread calls the
+  // caller's progress (a GUI's); the other's flows stop when it cancels. Every component before
+  // the first that fails is run and none after it is begun, and that one's error is thrown, as
+  // with one thread.
+  std::vector<std::optional<Uniformization>> runs(n);
+  std::vector<std::exception_ptr> errors(n);
+  std::atomic<size_t> next{0}, first_failure{n};
+  std::atomic<bool> cancelled{false};
+  const auto work = [&](const std::function<bool(const FlowProgress&)>& progress) {
+    for (size_t k = next++; k < first_failure; k = next++) {
+      try {
+        runs[k] = run(k, progress);
+      } catch (...) {
+        errors[k] = std::current_exception();
+        size_t first = first_failure;
+        while (k < first && !first_failure.compare_exchange_weak(first, k)) {
+        }
+      }
+    }
+  };
+  std::function<bool(const FlowProgress&)> progress;
+  if (options.flow.progress) {
+    progress = [&](const FlowProgress& p) {
+      if (!options.flow.progress(p)) cancelled = true;
+      return !cancelled;
+    };
+  }
+  if (n >= 2 && std::thread::hardware_concurrency() >= 2) {
+    std::thread other(work, [&](const FlowProgress&) { return !cancelled; });
+    work(progress);
+    other.join();
+  } else {
+    work(progress);
+  }
+  for (size_t k = 0; k < n; ++k) {
+    if (errors[k]) std::rethrow_exception(errors[k]);
+    out.components.push_back(std::move(*runs[k]));
   }
   gather_vertices(out);
   gather_face_layouts(out);
