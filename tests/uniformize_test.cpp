@@ -421,6 +421,21 @@ TEST(UniformizeMesh, TheFirstFailingComponentIsNamed) {
   }
 }
 
+// The run's wall time covers every stage it reports: the placements', flows', layouts' and
+// packing's seconds sum to no more.
+TEST(Uniformize, TheRunsSecondsCoverItsStages) {
+  UniformizationOptions o;
+  o.preset = TargetPreset::Atlas;
+  const Uniformization run = uniformize(test::torus(48, 12), o);
+  ASSERT_TRUE(run.valid());
+  const AtlasResult::Seconds& s = run.atlas.seconds;
+  const double stages = run.totals.times.total + run.atlas.placement.seconds +
+                        (run.subdivision ? run.subdivision->seconds : 0) + s.charts + s.harmonic +
+                        s.packing;
+  EXPECT_GT(stages, 0);
+  EXPECT_GE(run.seconds, stages);
+}
+
 // The caller's progress callback (a GUI's) is called on the caller's thread only, and cancelling
 // there stops the flows.
 TEST(UniformizeMesh, ProgressIsReportedOnTheCallersThread) {

@@ -1,5 +1,6 @@
 #include "ricci/pipeline/uniformize.h"
 
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <optional>
@@ -389,10 +390,8 @@ Uniformization uniformize_by_target(const CompactMesh& mesh, const Uniformizatio
   return instead;
 }
 
-}  // namespace
-
-Uniformization detail::uniformize_unpacked(const CompactMesh& mesh,
-                                           const UniformizationOptions& request) {
+// The request's run, and the tangential scheme's where the Yamabe flow gives no map.
+Uniformization unpacked(const CompactMesh& mesh, const UniformizationOptions& request) {
   std::string free_failure;
   Uniformization run = uniformize_by_target(mesh, request, free_failure);
   // The automatic target with the Yamabe scheme, where it gives no map (for a circle domain:
@@ -426,9 +425,25 @@ Uniformization detail::uniformize_unpacked(const CompactMesh& mesh,
   return instead;
 }
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+Uniformization detail::uniformize_unpacked(const CompactMesh& mesh,
+                                           const UniformizationOptions& request) {
+  const auto start = std::chrono::steady_clock::now();
+  Uniformization run = unpacked(mesh, request);
+  run.seconds = seconds_since(start);
+  return run;
+}
+
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
+  const auto start = std::chrono::steady_clock::now();
   Uniformization run = detail::uniformize_unpacked(mesh, request);
   detail::pack_atlas(request.packing, run);
+  run.seconds = seconds_since(start);
   return run;
 }
 

@@ -233,7 +233,8 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
     << ", \"analysis\": " << number(t.analysis)
     << ", \"factorization\": " << number(t.factorization) << ", \"solve\": " << number(t.solve)
     << ", \"line_search\": " << number(t.line_search) << ", \"flips\": " << number(t.flips)
-    << ", \"flows\": " << number(t.total) << "},\n";
+    << ", \"flows\": " << number(t.total) << ", \"uniformization\": " << number(run.seconds)
+    << "},\n";
   j << "  \"errors\": {\"max_abs_curvature_error\": " << number(q.max_curvature_error)
     << ", \"mean_abs_curvature_error\": " << number(q.mean_curvature_error)
     << ", \"gauss_bonnet_error\": " << number(gauss_bonnet_error(mesh, run.geometry, result))

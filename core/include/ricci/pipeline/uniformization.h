@@ -176,6 +176,9 @@ struct Uniformization {
   ConformalStructure structure;  //!< the initial structure
   FlowResult result;             //!< the last flow
   FlowTotals totals;
+  //! Wall time of the whole run (uniformize): every attempt's cone placement, flows, layouts and
+  //! packings, the delivered attempt's stages (AtlasResult::seconds) among them.
+  double seconds = 0;
   double boundary_change = 0;  //!< disk preset: last change of the boundary curvature
   double circle_error = 0;     //!< disk preset: max | |z - c| - r | / r over boundary loops
 
