@@ -30,6 +30,9 @@ constexpr int kMaxSpareColumns = 64;
 // column costs little less (bench_atlas: 1.8 ms at 32, 2.4 at 8, 5.9 alone on a bunny), while the
 // block's dense right-hand sides grow with it.
 constexpr size_t kMaxBlock = 32;
+// A sweep's u without each cone solved ahead, this many cones at first and after a move, twice as
+// many (up to kMaxBlock) after a block read to its end.
+constexpr size_t kMinAhead = 4;
 // From this many cones a set that differs from the current one by a cone is solved from the
 // current one's inverse (HeldSystem, O(|C|^2)) instead of factored (O(|C|^3)): at a few hundred
 // cones the factorizations were most of the placement (CGAL's cheese, genus 133).
@@ -157,10 +160,13 @@ class Search {
   double bound() const { return o_.distortion_bound; }
 
   // The interior vertices, not cones, where |u| (|u - mean| without cones) peaks over their
-  // neighbours, largest first, at most `count`; the first is the farthest vertex.
-  std::vector<int> peaks(const State& s, int count) {
+  // neighbours, largest first, at most `count`; the first is the farthest vertex. u is s's, given
+  // or computed here.
+  std::vector<int> peaks(const State& s, int count, const Eigen::VectorXd* given = nullptr) {
     if (!s.solution.ok) return {};
-    const Eigen::VectorXd u = model_.u(s.cones, s.solution);
+    Eigen::VectorXd own;
+    if (!given) own = model_.u(s.cones, s.solution);
+    const Eigen::VectorXd& u = given ? *given : own;
     const double mean = s.cones.empty() ? model_.area().dot(u) : 0;
     // |u - mean| where a cone may go, -1 where none may (a cone, the boundary): a vertex is a
     // peak over the neighbours that could be cones themselves.
@@ -184,6 +190,44 @@ class Search {
     for (size_t i = 0; i < kept; ++i) vertices.push_back(found[i].second);
     return vertices;
   }
+  // u of s without its i-th cone, where a set of that size has its u solved for (else null, and
+  // peaks sums it from the columns): solved together with those without each of the next cones,
+  // which stay valid while s does (forget_ahead when it changes). A sweep that moves no cone then
+  // reads the factor once per block instead of once per cone.
+  const Eigen::VectorXd* u_without(const State& s, size_t i) {
+    const size_t m = s.cones.size();
+    if (m < 2 || !s.solution.ok || !model_.u_by_solve(m - 1)) return nullptr;
+    if (i >= ahead_from_ && i < ahead_from_ + ahead_.size()) {
+      const Eigen::VectorXd& u = ahead_[i - ahead_from_];
+      return u.size() > 0 ? &u : nullptr;
+    }
+    if (i == ahead_from_ + ahead_.size() && !ahead_.empty()) {  // the last block all read
+      ahead_block_ = std::min(kMaxBlock, 2 * ahead_block_);
+    }
+    const size_t count = std::min({ahead_block_, m - i, max_spare_});
+    std::vector<State> rests;
+    std::vector<std::vector<int>> sets;
+    std::vector<const LinearConeModel::Solution*> solutions;
+    for (size_t j = i; j < i + count; ++j) rests.push_back(step(s, -1, static_cast<int>(j)));
+    for (const State& r : rests) {
+      if (r.solution.ok) sets.push_back(r.cones), solutions.push_back(&r.solution);
+    }
+    std::vector<Eigen::VectorXd> us;
+    if (!sets.empty()) us = model_.u(sets, solutions);
+    ahead_.assign(count, Eigen::VectorXd());
+    for (size_t j = 0, k = 0; j < count; ++j) {
+      if (rests[j].solution.ok) ahead_[j] = std::move(us[k++]);
+    }
+    ahead_from_ = i;
+    return ahead_[0].size() > 0 ? &ahead_[0] : nullptr;
+  }
+  // The set changed (a cone moved): the u solved ahead are no longer its; the next block smaller.
+  void forget_ahead() {
+    if (!ahead_.empty()) ahead_block_ = std::max(kMinAhead, ahead_block_ / 2);
+    ahead_.clear();
+    ahead_from_ = 0;
+  }
+
   // The widest corner of v's faces with a cone of angle theta at v, as the flat metric opens it:
   // near the cone every corner by about theta over v's angle sum.
   double opened_corner(int v, double theta) const {
@@ -289,6 +333,10 @@ class Search {
   std::vector<double> widest_corner_, angle_sum_;
   std::vector<double> floor_;  // per vertex, the sharpest cone it may have
   Eigen::VectorXd score_;
+  // u without each of the cones from ahead_from_ on (empty: that set singular), as u_without
+  // solved them; ahead_block_ of them solved at a time.
+  std::vector<Eigen::VectorXd> ahead_;
+  size_t ahead_from_ = 0, ahead_block_ = kMinAhead;
 };
 
 // Curvatures rounded to multiples of pi / 2, their sum kept on a closed surface (4 chi quarters),
@@ -395,7 +443,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
       if (!rest.solution.ok) continue;
       Search::State best = state;
       int best_v = -1;
-      const std::vector<int> moves = search.peaks(rest, candidates);
+      const std::vector<int> moves = search.peaks(rest, candidates, search.u_without(state, i));
       search.solve_columns(moves);
       for (int v : moves) {
         if (v == state.cones[i]) continue;
@@ -405,6 +453,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
         if (better) best = trial, best_v = v;
       }
       if (best_v >= 0) {
+        search.forget_ahead();
         search.follow(state, best, best_v, at);
         state = std::move(best);
         ++moved;

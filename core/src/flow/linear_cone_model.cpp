@@ -302,6 +302,27 @@ Eigen::VectorXd LinearConeModel::u(const std::vector<int>& cones, const Solution
   return u;
 }
 
+std::vector<Eigen::VectorXd> LinearConeModel::u(const std::vector<std::vector<int>>& sets,
+                                                const std::vector<const Solution*>& solutions) {
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(rows_, static_cast<long>(sets.size()));
+  for (size_t j = 0; j < sets.size(); ++j) {
+    for (size_t i = 0; i < sets[j].size(); ++i) {
+      const int r = free_index_[sets[j][i]];
+      if (r >= 0) b(r, static_cast<long>(j)) += solutions[j]->k[static_cast<long>(i)];
+    }
+  }
+  const Eigen::MatrixXd x = solver_.solve(b);
+  back_solves_ += static_cast<int>(sets.size());
+  std::vector<Eigen::VectorXd> us;
+  for (size_t j = 0; j < sets.size(); ++j) {
+    Eigen::VectorXd u = g_ + scatter(x.col(static_cast<long>(j)));
+    u.array() += solutions[j]->c;
+    for (int c : sets[j]) u[c] = 0;
+    us.push_back(std::move(u));
+  }
+  return us;
+}
+
 Eigen::VectorXd LinearConeModel::prescribed(const std::vector<int>& cones,
                                             const Eigen::VectorXd& k) {
   Eigen::VectorXd u = combination(cones, k);

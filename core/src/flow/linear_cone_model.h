@@ -58,6 +58,12 @@ class LinearConeModel {
   Solution held(const std::vector<int>& cones);
   //! u per vertex of a held solution (exactly 0 at the cones).
   Eigen::VectorXd u(const std::vector<int>& cones, const Solution& s);
+  //! Whether u of a set of this many cones is solved for (one back-solve) rather than summed from
+  //! their columns.
+  bool u_by_solve(size_t cones) const { return cones >= by_solve_from_; }
+  //! u of several held solutions (each of a set with u_by_solve), in one multi-column solve.
+  std::vector<Eigen::VectorXd> u(const std::vector<std::vector<int>>& sets,
+                                 const std::vector<const Solution*>& solutions);
   //! u per vertex with the cones' curvatures given, u free at them (the mean 0 on a closed
   //! surface).
   Eigen::VectorXd prescribed(const std::vector<int>& cones, const Eigen::VectorXd& k);
