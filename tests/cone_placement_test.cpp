@@ -61,6 +61,30 @@ TEST(ConePlacement, ManyConesPlacedByHeldSystemStepsAreThoseAFreshFactorizationG
   EXPECT_LE(p.distortion, 0.08);
 }
 
+// With u solved for from a few cones on (as on a large mesh) the sweeps solve the u without each
+// cone for several cones at once, dropped when a cone moves: the placement is the one that sums
+// u from the columns, move for move.
+TEST(ConePlacement, USolvedAheadInTheSweepsPlacesTheSameCones) {
+  const CompactMesh mesh = cgal_mesh("eight.off");
+  ConePlacementOptions o;
+  o.distortion_bound = 0.08;
+  const ConePlacement summed = place_cones(mesh, o);
+  o.u_solved_from = 4;
+  const ConePlacement solved = place_cones(mesh, o);
+  ASSERT_TRUE(summed.bound_reached && solved.bound_reached);
+  EXPECT_GT(summed.relocations, 0);  // the sweeps moved cones: blocks were dropped
+  EXPECT_EQ(solved.relocations, summed.relocations);
+  EXPECT_GT(solved.back_solves, summed.back_solves);  // u solved for
+  ASSERT_EQ(solved.cones.size(), summed.cones.size());
+  for (size_t j = 0; j < summed.cones.size(); ++j) {
+    EXPECT_EQ(solved.cones[j].vertex, summed.cones[j].vertex) << j;
+    EXPECT_NEAR(solved.cones[j].angle, summed.cones[j].angle, 1e-9) << j;
+  }
+  EXPECT_NEAR(solved.distortion, summed.distortion, 1e-9);
+  o.u_solved_from = -1;
+  EXPECT_THROW(place_cones(mesh, o), InvalidArgumentError);
+}
+
 // The bumpy disk with its bump scaled by `height`, as a mesh.
 CompactMesh bump(double height) {
   const CompactMesh disk = bumpy_disk(20);

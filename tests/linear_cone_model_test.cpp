@@ -90,6 +90,35 @@ TEST(LinearConeModel, ManyConesAreSolvedForAsFewAreSummed) {
   }
 }
 
+// u of several sets solved in one block (the sweeps' sets without each cone) is each set's u.
+TEST(LinearConeModel, SetsSolvedTogetherGiveEachSetsU) {
+  const CompactMesh mesh = cgal_mesh("eight.off");
+  LinearConeModel model(mesh, LinearSolverKind::Cholmod, 16);
+  std::vector<int> cones;
+  for (int v = 5; v < mesh.num_vertices(); v += 7) cones.push_back(v);
+  ASSERT_GT(cones.size(), 20u);
+  ASSERT_TRUE(model.u_by_solve(cones.size() - 1));
+  std::vector<std::vector<int>> sets;
+  std::vector<LinearConeModel::Solution> solutions;
+  for (size_t i = 0; i < 5; ++i) {
+    sets.push_back(cones);
+    sets.back().erase(sets.back().begin() + static_cast<long>(i));
+    solutions.push_back(model.held(sets.back()));
+    ASSERT_TRUE(solutions.back().ok);
+  }
+  std::vector<const LinearConeModel::Solution*> pointers;
+  for (const auto& s : solutions) pointers.push_back(&s);
+  const int before = model.back_solves();
+  const std::vector<Eigen::VectorXd> together = model.u(sets, pointers);
+  EXPECT_EQ(model.back_solves(), before + 5);
+  ASSERT_EQ(together.size(), 5u);
+  for (size_t i = 0; i < 5; ++i) {
+    const Eigen::VectorXd alone = model.u(sets[i], solutions[i]);
+    EXPECT_LT((together[i] - alone).cwiseAbs().maxCoeff(), 1e-12) << "set " << i;
+    for (int c : sets[i]) EXPECT_EQ(together[i][c], 0);
+  }
+}
+
 TEST(LinearConeModel, AColumnBlockIsTheColumnsSolvedOneByOne) {
   const CompactMesh mesh = cgal_mesh("eight.off");
   LinearConeModel block(mesh, LinearSolverKind::Cholmod), single(mesh, LinearSolverKind::Cholmod);

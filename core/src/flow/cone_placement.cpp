@@ -55,7 +55,10 @@ constexpr double kOwnAngleShare = 0.5;
 class Search {
  public:
   Search(const CompactMesh& mesh, const ConePlacementOptions& o)
-      : mesh_(mesh), o_(o), model_(mesh, o.linear_solver), system_(model_) {
+      : mesh_(mesh),
+        o_(o),
+        model_(mesh, o.linear_solver, static_cast<size_t>(o.u_solved_from)),
+        system_(model_) {
     is_cone_.assign(mesh.num_vertices(), 0);
     first_neighbour_.assign(mesh.num_vertices() + 1, 0);
     for (int e = 0; e < mesh.num_edges(); ++e) {
@@ -382,10 +385,10 @@ double area_distortion(const CompactMesh& mesh, const Eigen::VectorXd& u) {
 
 ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o) {
   if (!(o.distortion_bound > 0) || o.max_cones < 0 || !(o.min_cone_angle > 0) ||
-      !(o.min_cone_angle < 2 * kPi) || o.relocation_sweeps < 0) {
+      !(o.min_cone_angle < 2 * kPi) || o.relocation_sweeps < 0 || o.u_solved_from < 0) {
     throw InvalidArgumentError(
         "cone placement: the distortion bound and the cone floor must be positive (the floor "
-        "below 2 pi), the budget and the sweeps non-negative");
+        "below 2 pi), the budget, the sweeps and u_solved_from non-negative");
   }
   const auto started = std::chrono::steady_clock::now();
   const int budget = cone_budget(o);

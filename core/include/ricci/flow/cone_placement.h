@@ -57,6 +57,9 @@ struct ConePlacementOptions {
   //! charts meet by quarter turns; cones rounded to 0 are dropped.
   bool quarter_angles = false;
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;
+  //! From this many cones u over the vertices is solved for rather than summed from the cones'
+  //! columns (LinearConeModel); 0: where that costs less, by the factor's size.
+  int u_solved_from = 0;
 };
 
 //! The default cone budget: above what a bound of 0.2 takes on real meshes (CGAL's cheese, genus
