@@ -60,6 +60,13 @@ TEST(LinearConeModel, TheQuadraticFormsDistortionIsTheDistortionOfU) {
   EXPECT_EQ(model.back_solves(), 12);
 }
 
+// The vertices first, first + k, first + 2k, ...
+std::vector<int> every_kth_vertex(const CompactMesh& mesh, int first, int k) {
+  std::vector<int> vertices;
+  for (int v = first; v < mesh.num_vertices(); v += k) vertices.push_back(v);
+  return vertices;
+}
+
 // With many cones u = g + G k is one back-solve, and a column's sums with the others are read
 // off another: the same D, u and curvatures as the columns give (the set above), at the same
 // precision. (On a mesh this small the columns are summed up to thousands of cones: here the
@@ -67,8 +74,7 @@ TEST(LinearConeModel, TheQuadraticFormsDistortionIsTheDistortionOfU) {
 TEST(LinearConeModel, ManyConesAreSolvedForAsFewAreSummed) {
   const CompactMesh mesh = cgal_mesh("eight.off");
   LinearConeModel model(mesh, LinearSolverKind::Cholmod, 32);
-  std::vector<int> cones;
-  for (int v = 5; v < mesh.num_vertices(); v += 3) cones.push_back(v);
+  const std::vector<int> cones = every_kth_vertex(mesh, 5, 3);
   ASSERT_GT(cones.size(), 100u);
   const LinearConeModel::Solution s = model.held(cones);
   ASSERT_TRUE(s.ok);
@@ -94,8 +100,7 @@ TEST(LinearConeModel, ManyConesAreSolvedForAsFewAreSummed) {
 TEST(LinearConeModel, SetsSolvedTogetherGiveEachSetsU) {
   const CompactMesh mesh = cgal_mesh("eight.off");
   LinearConeModel model(mesh, LinearSolverKind::Cholmod, 16);
-  std::vector<int> cones;
-  for (int v = 5; v < mesh.num_vertices(); v += 7) cones.push_back(v);
+  const std::vector<int> cones = every_kth_vertex(mesh, 5, 7);
   ASSERT_GT(cones.size(), 20u);
   ASSERT_TRUE(model.u_by_solve(cones.size() - 1));
   std::vector<std::vector<int>> sets;
