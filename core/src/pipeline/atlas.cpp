@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 #include <optional>
+#include <system_error>
 #include <thread>
 
 #include "pipeline/attempts.h"
@@ -393,13 +394,15 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
       return !cancelled;
     };
   }
+  std::optional<std::thread> other;
   if (n >= 2 && std::thread::hardware_concurrency() >= 2) {
-    std::thread other(work, [&](const FlowProgress&) { return !cancelled; });
-    work(progress);
-    other.join();
-  } else {
-    work(progress);
+    try {
+      other.emplace(work, [&](const FlowProgress&) { return !cancelled.load(); });
+    } catch (const std::system_error&) {  // no second thread here: this one runs them all
+    }
   }
+  work(progress);
+  if (other) other->join();
   for (size_t k = 0; k < n; ++k) {
     if (errors[k]) std::rethrow_exception(errors[k]);
     out.components.push_back(std::move(*runs[k]));
