@@ -1,7 +1,6 @@
 #include "ricci/flow/cone_placement.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -9,6 +8,7 @@
 #include <utility>
 
 #include "flow/linear_cone_model.h"
+#include "mesh/clock.h"
 #include "ricci/mesh/errors.h"
 
 namespace ricci {
@@ -390,7 +390,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
         "cone placement: the distortion bound and the cone floor must be positive (the floor "
         "below 2 pi), the budget, the sweeps and u_solved_from non-negative");
   }
-  const auto started = std::chrono::steady_clock::now();
+  const auto started = detail::Clock::now();
   const int budget = cone_budget(o);
   Search search(mesh, o);
   LinearConeModel& model = search.model();
@@ -577,8 +577,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   result.max_deviation = (result.u.array() - mean).abs().maxCoeff();
   result.factorizations = model.factored() ? 1 : 0;
   result.back_solves = model.back_solves() + (model.factored() ? 1 : 0);
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  result.seconds = detail::seconds_since(started);
   return result;
 }
 

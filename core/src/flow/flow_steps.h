@@ -17,17 +17,13 @@
 #include "flow/hessian.h"
 #include "flow/metric.h"
 #include "linear/minres.h"
+#include "mesh/clock.h"
 #include "ricci/flow/flow_result.h"
 #include "ricci/flow/target.h"
 #include "ricci/linear/linear_solver.h"
 #include "ricci/linear/vertex_order.h"
 
 namespace ricci::detail {
-
-using Clock = std::chrono::steady_clock;
-inline double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 //! Kbar - K on the rows of the free vertices.
 Eigen::VectorXd free_residual(const Eigen::VectorXd& k, const TargetCurvature& target,

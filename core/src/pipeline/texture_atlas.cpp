@@ -8,6 +8,7 @@
 #include <sstream>
 #include <utility>
 
+#include "mesh/clock.h"
 #include "ricci/layout/charts.h"
 #include "ricci/layout/packing.h"
 #include "ricci/layout/seams.h"
@@ -101,8 +102,8 @@ std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> triangles_by_chart(cons
 }
 
 // Seconds since `from`, and `from` moved to now.
-double lap(std::chrono::steady_clock::time_point& from) {
-  const auto now = std::chrono::steady_clock::now();
+double lap(Clock::time_point& from) {
+  const Clock::time_point now = Clock::now();
   const double s = std::chrono::duration<double>(now - from).count();
   from = now;
   return s;
@@ -351,7 +352,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
 
   // === Seams and charts; charts whose faces overlap split between the sheets, until none does
   atlas.seconds = {};
-  auto clock = std::chrono::steady_clock::now();
+  auto clock = Clock::now();
   std::vector<char> seam = cut_through_cones(delivered, length3d, cones, branches, allowed).cut;
   Charts charts = lay_out_charts(delivered, flat, seam);
   std::vector<std::pair<int, int>> overlaps = overlapping_faces(delivered, seam, charts);
@@ -522,7 +523,7 @@ void pack_atlas(const PackingOptions& o, Uniformization& run) {
     return;
   }
   AtlasResult& atlas = run.atlas;
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> by_chart(atlas.num_charts);
   for (size_t f = 0; f < run.corners.size(); ++f) {
     const auto& q = run.corners[f];
@@ -541,8 +542,7 @@ void pack_atlas(const PackingOptions& o, Uniformization& run) {
       atlas.texture[f][c] = uv.cwiseMax(0.0).cwiseMin(1.0);  // rounding past the square's sides
     }
   }
-  atlas.seconds.packing +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  atlas.seconds.packing += seconds_since(start);
 }
 
 std::string atlas_failure(const Uniformization& run) {

@@ -1,6 +1,5 @@
 #include "ricci/pipeline/uniformize.h"
 
-#include <chrono>
 #include <cmath>
 #include <exception>
 #include <optional>
@@ -10,6 +9,7 @@
 #include <utility>
 
 #include "flow/spherical_start.h"
+#include "mesh/clock.h"
 #include "pipeline/attempts.h"
 #include "pipeline/circle_domain.h"
 #include "pipeline/delivered_layout.h"
@@ -425,25 +425,21 @@ Uniformization unpacked(const CompactMesh& mesh, const UniformizationOptions& re
   return instead;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 }  // namespace
 
 Uniformization detail::uniformize_unpacked(const CompactMesh& mesh,
                                            const UniformizationOptions& request) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = detail::Clock::now();
   Uniformization run = unpacked(mesh, request);
-  run.seconds = seconds_since(start);
+  run.seconds = detail::seconds_since(start);
   return run;
 }
 
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = detail::Clock::now();
   Uniformization run = detail::uniformize_unpacked(mesh, request);
   detail::pack_atlas(request.packing, run);
-  run.seconds = seconds_since(start);
+  run.seconds = detail::seconds_since(start);
   return run;
 }
 

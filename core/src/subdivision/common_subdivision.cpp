@@ -1,9 +1,9 @@
 #include "ricci/subdivision/common_subdivision.h"
 
-#include <chrono>
 #include <cmath>
 #include <vector>
 
+#include "mesh/clock.h"
 #include "ricci/mesh/errors.h"
 #include "subdivision/face_pieces.h"
 #include "subdivision/input_overlay.h"
@@ -25,7 +25,7 @@ using detail::realize;
 CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStructure& initial,
                                      const FlowResult& result, const Layout& layout,
                                      DiskSidePoints disk_points, PieceTriangles how) {
-  const auto begin = std::chrono::steady_clock::now();
+  const auto begin = detail::Clock::now();
   const Geometry g = layout.geometry;
   bool projective = true;
   for (const EdgeFlip& f : result.flip_sequence)
@@ -39,7 +39,7 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
   if (projective && split > 0 && !isometric_later && g != Geometry::Hyperbolic) {
     CommonSubdivision out =
         detail::subdivision_through_delaunay(mesh, initial, result, layout, split, how);
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    out.seconds = detail::seconds_since(begin);
     return out;
   }
   InputOverlay overlay(mesh, projective);
@@ -140,7 +140,7 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
       }
     }
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  out.seconds = detail::seconds_since(begin);
   return out;
 }
 
