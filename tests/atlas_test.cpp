@@ -331,11 +331,14 @@ TEST(Atlas, FewConesOnHighGenusGiveWideConesAndStillNoOverlap) {
 }
 
 TEST(Atlas, ACadPartWhoseFlowStallsWithItsConesGetsThoseOfATighterBound) {
-  // Cura's printer part (genus 3, 1.9k faces): with the 35 cones for D <= 0.2 the Delaunay
-  // triangulation of the flat metric would need edges from a vertex to itself, which the flips
-  // refuse, and the flow stalls; the cones of a tighter bound are placed (at most twice) until
-  // one flows (those for D <= 0.1). The atlas is within the bound asked, and the summary and the
-  // report say which bound its cones were placed for, and why.
+  // Cura's printer part (genus 3, 952 vertices, 1.9k faces): with the 35 cones for D <= 0.2 the
+  // Delaunay triangulation of the flat metric would need edges from a vertex to itself, which the
+  // flips refuse, and the flow stalls; the cones of a tighter bound are placed (at most twice)
+  // until one flows (those for D <= 0.1). Those 68 cones, more than an unfolding may take, leave
+  // QC p95 2.59 on its faces: on so few vertices they are placed again for QC (128 cones, QC p95
+  // 1.61, seams 11.8 to 8.9 sqrt(area), measured on 2026-12-06; before, no set of more than 64
+  // cones was). The atlas is within the bound asked, and the summary and the report say which
+  // bound its cones were placed for, and why.
   const std::string part = std::string(RICCI_REAL_MESH_DIR) + "/cura-felixpro2.obj";
   const std::string report = temp("part.json");
   const Atlas a = run_atlas(part, "--report " + report);
@@ -344,8 +347,7 @@ TEST(Atlas, ACadPartWhoseFlowStallsWithItsConesGetsThoseOfATighterBound) {
   const size_t again = a.summary.find(said);
   ASSERT_NE(again, std::string::npos) << a.summary;
   const double tighter = std::stod(a.summary.substr(again + said.size(), 8));
-  EXPECT_LT(tighter, 0.2);
-  EXPECT_NE(a.summary.find(": with the cones for D <= 0.2", again), std::string::npos) << a.summary;
+  EXPECT_LT(tighter, 0.1);
   const std::string json = slurp(report);
   const std::string bound_key = "\"bound\": ";
   const size_t bound_at = json.find(bound_key);
@@ -356,13 +358,27 @@ TEST(Atlas, ACadPartWhoseFlowStallsWithItsConesGetsThoseOfATighterBound) {
   ASSERT_NE(at, std::string::npos);
   const size_t begin = at + key.size();
   const std::string why = json.substr(begin, json.find('"', begin) - begin);
-  EXPECT_EQ(why.rfind("with the cones for D <= 0.2 (", 0), 0u) << why;
+  // The cones for QC, instead of the 68 for D <= 0.1, instead of the 35 whose flow stalled.
+  const std::string qc = "with the cones for D <= 0.1 (";
+  ASSERT_EQ(why.rfind(qc, 0), 0u) << why;
+  EXPECT_GT(std::stoi(why.substr(qc.size())), 64) << why;
+  const std::string qc_was = "cones) QC p95 on the faces was ";
+  const size_t qc_at = why.find(qc_was);
+  ASSERT_NE(qc_at, std::string::npos) << why;
+  const double before = std::stod(why.substr(qc_at + qc_was.size(), 12));
+  EXPECT_GT(before, 2);
+  EXPECT_LT(test::percentile(quasi_conformal(a), 0.95), before - 0.5) << a.summary;
+  EXPECT_NE(why.find("; with the cones for D <= 0.2 ("), std::string::npos) << why;
   EXPECT_NE(why.find("cones): the atlas was not reached: stalled"), std::string::npos) << why;
-  int failed = 0;
-  const std::string failure = "cones): the atlas ";
-  for (size_t i = why.find(failure); i != std::string::npos; i = why.find(failure, i + 1)) ++failed;
-  // Every placement's cost counts: a factorization each.
-  EXPECT_NE(json.find("\"placement\": {\"factorizations\": " + std::to_string(1 + failed) + ","),
+  // Every placement's cost counts: a factorization each, the delivered one's and each named.
+  int placements = 1;
+  for (const std::string& named :
+       {std::string("with the cones for "), std::string("with those for ")}) {
+    for (size_t i = why.find(named); i != std::string::npos; i = why.find(named, i + 1)) {
+      ++placements;
+    }
+  }
+  EXPECT_NE(json.find("\"placement\": {\"factorizations\": " + std::to_string(placements) + ","),
             std::string::npos)
       << why;
 }

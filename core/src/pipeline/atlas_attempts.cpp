@@ -261,10 +261,19 @@ constexpr int kQcCones = 4;
 // 1: more cones cost seams (PrusaSlicer's printbed-v2-300: seams 2.81 to 12.0 sqrt(area) for QC
 // p95 7.89 to 7.81).
 constexpr double kQcGain = 0.75;
-// Not made where the first set has more than kUnfoldedCones cones: a placement of hundreds of
-// cones costs seconds to minutes (PrusaSlicer's aq bed, a part of 12.8k faces at 273 cones: placed
-// again at 964, 225 s against 2.9 s, for QC p95 6.8 to 2.8; cura-zav-maxpro.stl's genus-97 plate
-// at 255 cones, on 1.55M pieces: 86 s to 297 s for 10.1 to 6.5).
+// Not made where the first set has more than kUnfoldedCones cones and, times the part's vertices,
+// more than kQcRetryWork (what a placement's back-solves and sweeps cost grows with both): a
+// placement of hundreds of cones on a large part costs seconds to minutes (PrusaSlicer's aq bed,
+// a part of 12.8k faces at 273 cones: placed again at 964, 225 s against 2.9 s, for QC p95 6.8 to
+// 2.8; cura-zav-maxpro.stl's genus-97 plate at 255 cones, on 1.55M pieces: 86 s to 297 s for 10.1
+// to 6.5), on a small one a second (a 689-vertex part of genus 11 of gymnasium's Adroit forearm
+// plate assembly, 65 cones: QC p95 4.98, where a copy of it at 62 cones was placed again at 168
+// for 2.89, in 0.8 s).
+constexpr double kQcRetryWork = 64.0 * 4096;
+bool nearer_conformal_affordable(const CompactMesh& mesh, const Uniformization& best) {
+  const auto cones = static_cast<double>(best.atlas.placement.cones.size());
+  return cones <= kUnfoldedCones || cones * mesh.num_vertices() <= kQcRetryWork;
+}
 
 // `best`'s cones placed again for tighter bounds (kQcTighter, kQcRetries, kQcCones), each valid
 // attempt within the bound that lowers QC p95 enough (kQcGain) delivered instead, at the cost of
@@ -353,9 +362,9 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
   if (!better) {
     if (u) add_cost(best.totals, best.atlas.placement, *u);
     // Cones for tighter bounds only where QC p95 is above kUnfoldQc; not where the user's budget
-    // fixed the count of cones (BFF's 8, say), nor from more than kUnfoldedCones.
+    // fixed the count of cones (BFF's 8, say), nor where they cost too much.
     if (!(best.quality.quasi_conformal_p95 > kUnfoldQc) || request.cone_placement.max_cones != 0 ||
-        static_cast<int>(best.atlas.placement.cones.size()) > kUnfoldedCones) {
+        !nearer_conformal_affordable(mesh, best)) {
       return best;
     }
     return nearer_conformal_cones(mesh, request, std::move(best));
