@@ -266,9 +266,10 @@ constexpr double kQcGain = 0.75;
 // placement of hundreds of cones on a large part costs seconds to minutes (PrusaSlicer's aq bed,
 // a part of 12.8k faces at 273 cones: placed again at 964, 225 s against 2.9 s, for QC p95 6.8 to
 // 2.8; cura-zav-maxpro.stl's genus-97 plate at 255 cones, on 1.55M pieces: 86 s to 297 s for 10.1
-// to 6.5), on a small one a second (a 689-vertex part of genus 11 of gymnasium's Adroit forearm
-// plate assembly, 65 cones: QC p95 4.98, where a copy of it at 62 cones was placed again at 168
-// for 2.89, in 0.8 s).
+// to 6.5), on a small one seconds at most (Cura's felixpro2 bed, 952 vertices at 68 cones: placed
+// again at 128, QC p95 2.59 to 1.61, seams 11.8 to 8.9 sqrt(area), the run 0.5 s to 0.6 s; a
+// part of 1,446 vertices of gymnasium's Adroit forearm at 165 cones: at 660, 2.2 to 1.5, its run
+// 1.4 s to 7.1 s).
 constexpr double kQcRetryWork = 64.0 * 4096;
 bool nearer_conformal_affordable(const CompactMesh& mesh, const Uniformization& best) {
   const auto cones = static_cast<double>(best.atlas.placement.cones.size());
