@@ -107,6 +107,34 @@ TEST(Packing, ChartsLandInTheSquareAtOneScaleApartByThePadding) {
   }
 }
 
+TEST(Packing, SeveralChartsSpanTheSquareWithinHalfThePadding) {
+  // The rasters' cells round each chart's box up: the square is the charts' own box, half the
+  // padding from its sides, the longer of its sides spanning it (not a cell or two short).
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> size(0.2, 2), angle(0, 2 * kPi);
+  for (int count : {3, 10, 40}) {
+    std::vector<Chart> charts;
+    for (int k = 0; k < count; ++k) {
+      charts.push_back(rectangle(size(random), size(random), angle(random), {4.0 * k, 0}));
+    }
+    PackingOptions o;
+    o.texture_size = 512;
+    o.padding = 6;
+    const Packing p = pack_charts(charts, o);
+    const double half = 0.5 * o.padding / o.texture_size;
+    Eigen::AlignedBox2d box;
+    for (size_t k = 0; k < charts.size(); ++k) {
+      for (const Triangle& u : placed(p, k, charts[k])) {
+        for (const auto& q : u) box.extend(q);
+      }
+    }
+    EXPECT_NEAR(box.min().x(), half, 1e-12) << count;
+    EXPECT_NEAR(box.min().y(), half, 1e-12) << count;
+    EXPECT_NEAR(box.max().maxCoeff(), 1 - half, 1e-12) << count;
+    EXPECT_EQ(p.padding, o.padding) << count;
+  }
+}
+
 TEST(Packing, APackingAgainForTheMarginSaysThePaddingItMeets) {
   // Few charts: the first guess of the extent is far off, the margin is packed again, and the
   // padding said is the last packing's, which meets the padding asked.

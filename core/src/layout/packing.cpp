@@ -420,7 +420,7 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   Packing tried = packing;
   packing.padding = -1;
   double shortfall = INFINITY;  // the padding needed over the margin's, as last packed
-  double packed_extent = extent;
+  double packed_extent = extent, packed_margin = 0;
   for (int attempt = 0; attempt < kMaxPackings && !alone; ++attempt) {
     const double margin = 1.03 * 0.5 * o.padding * extent / o.texture_size;
     // At most about 80k cells over the rasters (the charts' upright boxes with their margins):
@@ -457,12 +457,37 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     // Rasters that share no cell are twice the margin apart: in texels of this extent's texture.
     const double needed = 0.5 * o.padding * extent / o.texture_size;
     tried.padding = needed <= margin ? o.padding : o.padding * margin / needed;
-    if (tried.padding > packing.padding) packing = tried, packed_extent = extent;
+    if (tried.padding > packing.padding) {
+      packing = tried, packed_extent = extent, packed_margin = margin;
+    }
     if (needed <= margin || !(needed / margin < shortfall * (1 - kNearer))) break;
     shortfall = needed / margin;
   }
   if (alone) packing.padding = o.padding;
   extent = packed_extent;
+  if (!alone) {
+    // The rasters' cells round each chart's box up by one or two cells: the square is the charts'
+    // own box instead, with half the padding at its sides, as the rasters' margins left it.
+    Eigen::Vector2d low = Eigen::Vector2d::Constant(INFINITY), high = -low;
+    for (size_t k = 0; k < n; ++k) {
+      for (const Triangle& t : charts[k]) {
+        for (const auto& q : t) {
+          const Eigen::Vector2d p = packing.rotation[k] * q + packing.offset[k];
+          low = low.cwiseMin(p), high = high.cwiseMax(p);
+        }
+      }
+    }
+    const double padded = 1 - static_cast<double>(o.padding) / o.texture_size;
+    const double tight = padded > 0 ? (high - low).maxCoeff() / padded : INFINITY;
+    if (tight < extent) {
+      const Eigen::Vector2d from =
+          low - Eigen::Vector2d::Constant(0.5 * (tight - (high - low).maxCoeff()));
+      for (auto& b : packing.offset) b -= from;
+      extent = tight;
+      // Rasters that share no cell are twice their margin apart: in texels of the tighter texture.
+      packing.padding = std::min<double>(o.padding, 2 * packed_margin * o.texture_size / extent);
+    }
+  }
   packing.scale = 1 / extent;
   for (auto& b : packing.offset) b *= packing.scale;
   packing.utilization = total * packing.scale * packing.scale;
