@@ -416,7 +416,8 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   // towards the padding's, unless the charts are too many for the texture at that padding, and
   // the packing stops once an attempt brings it no nearer.
   // Each packing tried is kept where its padding is the widest yet (the last, where it meets the
-  // padding asked).
+  // padding asked), judged at its rasters' extent, which the charts' own box below can only
+  // shrink (a margin met there is met after).
   Packing tried = packing;
   packing.padding = -1;
   double shortfall = INFINITY;  // the padding needed over the margin's, as last packed
@@ -466,8 +467,9 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   if (alone) packing.padding = o.padding;
   extent = packed_extent;
   if (!alone) {
-    // The rasters' cells round each chart's box up by one or two cells: the square is the charts'
-    // own box instead, with half the padding at its sides, as the rasters' margins left it.
+    // The rasters' cells round each chart's box up by a cell or two: the square is the placed
+    // charts' own box instead, with half the padding at its sides, or, where the charts are nearer
+    // than the padding (too many for the texture), half their distance, the rasters' margin.
     Eigen::Vector2d low = Eigen::Vector2d::Constant(INFINITY), high = -low;
     for (size_t k = 0; k < n; ++k) {
       for (const Triangle& t : charts[k]) {
@@ -477,12 +479,14 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
         }
       }
     }
+    const double span = (high - low).maxCoeff();
     const double padded = 1 - static_cast<double>(o.padding) / o.texture_size;
-    const double tight = padded > 0 ? (high - low).maxCoeff() / padded : INFINITY;
+    const double tight = std::min(padded > 0 ? span / padded : INFINITY, span + 2 * packed_margin);
     if (tight < extent) {
-      const Eigen::Vector2d from =
-          low - Eigen::Vector2d::Constant(0.5 * (tight - (high - low).maxCoeff()));
-      for (auto& b : packing.offset) b -= from;
+      const Eigen::Vector2d from = low - Eigen::Vector2d::Constant(0.5 * (tight - span));
+      for (size_t k = 0; k < n; ++k) {
+        if (!charts[k].empty()) packing.offset[k] -= from;
+      }
       extent = tight;
       // Rasters that share no cell are twice their margin apart: in texels of the tighter texture.
       packing.padding = std::min<double>(o.padding, 2 * packed_margin * o.texture_size / extent);

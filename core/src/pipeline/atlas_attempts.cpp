@@ -270,6 +270,8 @@ constexpr double kQcGain = 0.75;
 // again at 128, QC p95 2.59 to 1.61, seams 11.8 to 8.9 sqrt(area), the run 0.5 s to 0.6 s; a
 // part of 1,446 vertices of gymnasium's Adroit forearm at 165 cones: at 660, 2.2 to 1.5, its run
 // 1.4 s to 7.1 s).
+// (At most kUnfoldedCones cones they are made whatever the part's size, as before this rule: the
+// placements of a few dozen cones cost little beside the part's flows.)
 constexpr double kQcRetryWork = 64.0 * 4096;
 bool nearer_conformal_affordable(const CompactMesh& mesh, const Uniformization& best) {
   const auto cones = static_cast<double>(best.atlas.placement.cones.size());
