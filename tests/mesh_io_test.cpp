@@ -128,6 +128,20 @@ TEST(MeshIo, PlyAsciiWithExtraPropertiesAndElements) {
   EXPECT_EQ(file.triangles.size(), 2u);
 }
 
+TEST(MeshIo, PlyWhoseFirstWordIsInCapitals) {
+  // COMPAS writes "PLY" where the format says "ply" (its tubemesh.ply was refused: "no PLY
+  // header"); read as PLY by its name and by its first bytes.
+  const std::string ply =
+      "PLY\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+  expect_tetrahedron(read_mesh(write_file("tet-capitals.ply", ply)));
+  const MeshFile sniffed = read_mesh_file(write_file("tet-capitals.mesh", ply));
+  EXPECT_EQ(sniffed.format, "ply");
+  EXPECT_EQ(sniffed.triangles.size(), 4u);
+  EXPECT_THROW(read_mesh(write_file("not.ply", "PLX\nend_header\n")), IoError);
+}
+
 std::string binary_ply(bool big_endian) {
   std::string out = std::string("ply\nformat ") +
                     (big_endian ? "binary_big_endian" : "binary_little_endian") +

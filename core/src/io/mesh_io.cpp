@@ -141,7 +141,7 @@ std::string lowercase_extension(const std::string& path) {
 // The format of a file without a known extension, from its first bytes.
 std::string sniff_format(std::string_view bytes) {
   const auto starts = [&](std::string_view s) { return bytes.substr(0, s.size()) == s; };
-  if (starts("ply")) return "ply";
+  if (io::is_ply_magic(bytes.substr(0, 3))) return "ply";
   if (starts("solid") || starts("SOLID")) return "stl";
   if (bytes.substr(0, bytes.find('\n')).find("OFF") != std::string_view::npos) return "off";
   if (io::is_binary_stl(bytes)) return "stl";

@@ -122,7 +122,7 @@ Header parse_header(const std::string& path, std::string_view text) {
   Header h;
   std::vector<std::string_view> f;
   while (header.next(f)) {
-    if (f.empty() || f[0] == "ply" || f[0] == "comment" || f[0] == "obj_info") continue;
+    if (f.empty() || io::is_ply_magic(f[0]) || f[0] == "comment" || f[0] == "obj_info") continue;
     if (f[0] == "format" && f.size() >= 2) {
       if (f[1] == "ascii") {
         h.encoding = Encoding::Ascii;
@@ -158,7 +158,7 @@ Header parse_header(const std::string& path, std::string_view text) {
 
 MeshFile read_ply(const std::string& path, std::string_view bytes) {
   const size_t end_header = bytes.find("end_header");
-  if (bytes.substr(0, 3) != "ply" || end_header == std::string_view::npos) {
+  if (!io::is_ply_magic(bytes.substr(0, 3)) || end_header == std::string_view::npos) {
     throw IoError("read_mesh: '" + path + "' has no PLY header ('ply' ... 'end_header')");
   }
   size_t body_start = bytes.find('\n', end_header);

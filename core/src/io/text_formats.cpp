@@ -93,6 +93,12 @@ std::string lowercase(std::string_view s) {
 
 }  // namespace
 
+bool is_ply_magic(std::string_view word) {
+  return word.size() == 3 && std::tolower(static_cast<unsigned char>(word[0])) == 'p' &&
+         std::tolower(static_cast<unsigned char>(word[1])) == 'l' &&
+         std::tolower(static_cast<unsigned char>(word[2])) == 'y';
+}
+
 bool is_binary_stl(std::string_view bytes) {
   return bytes.size() >= 84 &&
          84 + 50 * static_cast<std::uint64_t>(little_endian_uint32(bytes.data() + 80)) ==

@@ -66,6 +66,10 @@ void add_polygon(MeshFile& mesh, const std::vector<int>& corners);
 //! True when the bytes have the size of a binary STL file with the triangle count they state.
 bool is_binary_stl(std::string_view bytes);
 
+//! True for a PLY file's first word, "ply", in any case: the format says "ply", and COMPAS
+//! (a Python framework for architecture) writes "PLY".
+bool is_ply_magic(std::string_view word);
+
 MeshFile read_off(const std::string& path, std::string_view text);
 MeshFile read_obj(const std::string& path, std::string_view text);
 MeshFile read_stl(const std::string& path, std::string_view bytes);
