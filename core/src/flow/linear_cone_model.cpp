@@ -269,9 +269,7 @@ Eigen::VectorXd LinearConeModel::combination(const std::vector<int>& cones,
   solve_columns(cones);
   if (cones.size() >= by_solve_from_) {  // G k = R(sum_j k_j e_j): one back-solve
     Eigen::VectorXd b = Eigen::VectorXd::Zero(rows_);
-    for (size_t j = 0; j < cones.size(); ++j) {
-      if (free_index_[cones[j]] >= 0) b[free_index_[cones[j]]] += k[static_cast<long>(j)];
-    }
+    add_curvatures(cones, k, b);
     ++back_solves_;
     return g_ + scatter(solver_.solve(b));
   }
@@ -291,33 +289,39 @@ Eigen::VectorXd LinearConeModel::combination(const std::vector<int>& cones,
   return u;
 }
 
-Eigen::VectorXd LinearConeModel::u(const std::vector<int>& cones, const Solution& s) {
-  Eigen::VectorXd u = combination(cones, s.k);
+void LinearConeModel::add_curvatures(const std::vector<int>& cones, const Eigen::VectorXd& k,
+                                     Eigen::Ref<Eigen::VectorXd> b) const {
+  for (size_t j = 0; j < cones.size(); ++j) {
+    if (free_index_[cones[j]] >= 0) b[free_index_[cones[j]]] += k[static_cast<long>(j)];
+  }
+}
+
+void LinearConeModel::held_at_cones(const std::vector<int>& cones, const Solution& s,
+                                    Eigen::VectorXd& u) const {
   if (cones.empty() && mesh_.is_closed()) {
     u.array() -= u.mean();  // the torus: u up to a constant
   } else {
     u.array() += s.c;
   }
   for (int c : cones) u[c] = 0;  // held there: exactly, not to round-off
+}
+
+Eigen::VectorXd LinearConeModel::u(const std::vector<int>& cones, const Solution& s) {
+  Eigen::VectorXd u = combination(cones, s.k);
+  held_at_cones(cones, s, u);
   return u;
 }
 
 std::vector<Eigen::VectorXd> LinearConeModel::u(const std::vector<std::vector<int>>& sets,
                                                 const std::vector<const Solution*>& solutions) {
   Eigen::MatrixXd b = Eigen::MatrixXd::Zero(rows_, static_cast<long>(sets.size()));
-  for (size_t j = 0; j < sets.size(); ++j) {
-    for (size_t i = 0; i < sets[j].size(); ++i) {
-      const int r = free_index_[sets[j][i]];
-      if (r >= 0) b(r, static_cast<long>(j)) += solutions[j]->k[static_cast<long>(i)];
-    }
-  }
+  for (size_t j = 0; j < sets.size(); ++j) add_curvatures(sets[j], solutions[j]->k, b.col(j));
   const Eigen::MatrixXd x = solver_.solve(b);
   back_solves_ += static_cast<int>(sets.size());
   std::vector<Eigen::VectorXd> us;
   for (size_t j = 0; j < sets.size(); ++j) {
     Eigen::VectorXd u = g_ + scatter(x.col(static_cast<long>(j)));
-    u.array() += solutions[j]->c;
-    for (int c : sets[j]) u[c] = 0;
+    held_at_cones(sets[j], *solutions[j], u);
     us.push_back(std::move(u));
   }
   return us;

@@ -100,6 +100,12 @@ class LinearConeModel {
 
  private:
   Eigen::VectorXd combination(const std::vector<int>& cones, const Eigen::VectorXd& k);  // g + G k
+  // b += sum_j k_j e_(cones_j) over the free rows: the right-hand side whose solve is G k.
+  void add_curvatures(const std::vector<int>& cones, const Eigen::VectorXd& k,
+                      Eigen::Ref<Eigen::VectorXd> b) const;
+  // g + G k made s's u: its constant added (the mean taken out on a closed surface without
+  // cones), exactly 0 at the cones.
+  void held_at_cones(const std::vector<int>& cones, const Solution& s, Eigen::VectorXd& u) const;
   Eigen::VectorXd scatter(const Eigen::VectorXd& x) const;
   int store(int v, const Eigen::VectorXd& column);
 
