@@ -254,6 +254,16 @@ namespace {
 // long).
 constexpr double kUnfoldQc = 2;
 constexpr int kUnfoldedCones = 64;
+// Above this QC p95 (a square of texture drawn half as long again one way as the other) the
+// unfolding is delivered too where it is more conformal and its seams are at most kUnfoldSeams
+// times the placed atlas's plus kUnfoldSeamsPlus sqrt(area): a box's six or seven placed cones
+// shear its faces (CGAL's cube: QC p95 1.80, D 0.163), its eight corners unfold it (QC 1, D 0,
+// seams 2.04 to 2.86 sqrt(area)), as BFF's eight cones do; the seams of a cylinder unfolded
+// through the rims of its caps, at three times the placed cones' (a game's garbage can of 760
+// faces: 4 cones, QC p95 1.63, seams 1.61; unfolded through 36, seams 4.54), are not delivered.
+constexpr double kUnfoldVisibleQc = 1.5;
+constexpr double kUnfoldSeams = 2;
+constexpr double kUnfoldSeamsPlus = 0.5;
 constexpr double kQcTighter = 4;
 constexpr int kQcRetries = 2;
 constexpr int kQcCones = 4;
@@ -347,9 +357,10 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
   // 0.218 on its faces (QC p95 23) and those of tighter bounds stalled.
   const bool above_bound = best.atlas.placement.bound_reached &&
                            best.atlas.distortion > request.cone_placement.distortion_bound;
+  const bool sheared = best.quality.quasi_conformal_p95 > kUnfoldQc;
   if (best.preset != TargetPreset::Atlas || !best.valid() || best.atlas.user_cones ||
       best.atlas.unfolded != AtlasResult::Unfolded::No ||
-      !(best.quality.quasi_conformal_p95 > kUnfoldQc || above_bound)) {
+      !(sheared || best.quality.quasi_conformal_p95 > kUnfoldVisibleQc || above_bound)) {
     return best;
   }
   auto unfolding =
@@ -361,12 +372,14 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
   }
   const bool better =
       u && u->valid() &&
-      (above_bound || u->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95);
+      (above_bound || (u->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95 &&
+                       (sheared || u->atlas.seam_length <=
+                                       kUnfoldSeams * best.atlas.seam_length + kUnfoldSeamsPlus)));
   if (!better) {
     if (u) add_cost(best.totals, best.atlas.placement, *u);
     // Cones for tighter bounds only where QC p95 is above kUnfoldQc; not where the user's budget
     // fixed the count of cones (BFF's 8, say), nor where they cost too much.
-    if (!(best.quality.quasi_conformal_p95 > kUnfoldQc) || request.cone_placement.max_cones != 0 ||
+    if (!sheared || request.cone_placement.max_cones != 0 ||
         !nearer_conformal_affordable(mesh, best)) {
       return best;
     }
