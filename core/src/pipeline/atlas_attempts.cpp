@@ -2,6 +2,7 @@
 #include "pipeline/attempts.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -53,18 +54,31 @@ void within_bound_asked(const UniformizationOptions& request, ConePlacement& p) 
   }
 }
 
+// Whether the unfolding's charts meet by quarter turns, as --cone-angles quarter asks: each
+// cone's angle a multiple of pi/2 (to `tolerance`: a box's corners, 3 pi/2 each), on a sphere or
+// a disk, where every loop around the cut winds around cones only (on a torus or an annulus the
+// flat metric's turn along a loop that no cone closes is the surface's own).
+bool by_quarter_turns(const CompactMesh& mesh, const ConePlacement& unfolding, double tolerance) {
+  if (mesh.genus() != 0 || mesh.num_boundary_loops() > 1) return false;
+  return std::all_of(unfolding.cones.begin(), unfolding.cones.end(), [&](const Cone& c) {
+    const double quarters = c.angle / (kPi / 2);
+    return std::abs(quarters - std::round(quarters)) <= tolerance;
+  });
+}
+
 // The surface unfolded (unfolding_cones): its own metric, reached with no flow step, so it cannot
 // stall. Not where it would break the request: more cones than `most` or the budget, or quarter
-// turns asked for; else why not. Its cones may be sharper than the placement's floor
-// (min_cone_angle, which keeps a placed cone's wedge drawable): an unfolded cone's wedge is the
-// input's own faces.
+// turns asked for where it would not keep to them (by_quarter_turns); else why not. Its cones may
+// be sharper than the placement's floor (min_cone_angle, which keeps a placed cone's wedge
+// drawable): an unfolded cone's wedge is the input's own faces.
 std::variant<Uniformization, std::string> unfolded_run(const CompactMesh& mesh,
                                                        const UniformizationOptions& request,
                                                        int most) {
-  if (request.cone_placement.quarter_angles) {
+  const ConePlacement unfolding = detail::unfolding_cones(mesh, request.flow.tolerance / 2);
+  if (request.cone_placement.quarter_angles &&
+      !by_quarter_turns(mesh, unfolding, request.flow.tolerance)) {
     return std::string("unfolding it would keep its own angles, not quarter turns");
   }
-  const ConePlacement unfolding = detail::unfolding_cones(mesh, request.flow.tolerance / 2);
   const int budget = cone_budget(request.cone_placement);
   if (static_cast<int>(unfolding.cones.size()) > std::min(most, budget)) {
     return "unfolding it would take " + std::to_string(unfolding.cones.size()) + " cones, above " +
@@ -255,13 +269,18 @@ namespace {
 constexpr double kUnfoldQc = 2;
 constexpr int kUnfoldedCones = 64;
 // Above this QC p95 (a square of texture drawn half as long again one way as the other) the
-// unfolding is delivered too where it is more conformal and its seams are at most kUnfoldSeams
-// times the placed atlas's plus kUnfoldSeamsPlus sqrt(area): a box's six or seven placed cones
-// shear its faces (CGAL's cube: QC p95 1.80, D 0.163), its eight corners unfold it (QC 1, D 0,
-// seams 2.04 to 2.86 sqrt(area)), as BFF's eight cones do; the seams of a cylinder unfolded
-// through the rims of its caps, at three times the placed cones' (a game's garbage can of 760
-// faces: 4 cones, QC p95 1.63, seams 1.61; unfolded through 36, seams 4.54), are not delivered.
+// unfolding, and where it does not serve the cones of tighter bounds, are delivered too where
+// more conformal and their seams are at most kUnfoldSeams times the placed atlas's plus
+// kUnfoldSeamsPlus sqrt(area): a box's six or seven placed cones shear its faces (CGAL's cube:
+// QC p95 1.80, D 0.163), its eight corners unfold it (QC 1, D 0, seams 2.04 to 2.86 sqrt(area)),
+// as BFF's eight cones do; a 74-face part of a game's garbage can, 4 cones, QC p95 1.63, seams
+// 1.61, unfolds through its 36 vertices of curvature with seams of 4.54, not delivered, and gets
+// the 29 cones of a tighter bound, QC p95 1.31, seams 3.64. The tighter bounds are tried here
+// only where kQcRetryWork bounds the first set's cones (at least kVisibleQcCones) times the
+// part's vertices: QC p95 between this and kUnfoldQc is a coarse part's (a 32k-face part of
+// gymnasium's Adroit shoulder, 36 cones: placed again at 144 in 9 s more).
 constexpr double kUnfoldVisibleQc = 1.5;
+constexpr int kVisibleQcCones = 8;
 constexpr double kUnfoldSeams = 2;
 constexpr double kUnfoldSeamsPlus = 0.5;
 constexpr double kQcTighter = 4;
@@ -283,16 +302,26 @@ constexpr double kQcGain = 0.75;
 // (At most kUnfoldedCones cones they are made whatever the part's size, as before this rule: the
 // placements of a few dozen cones cost little beside the part's flows.)
 constexpr double kQcRetryWork = 64.0 * 4096;
-bool nearer_conformal_affordable(const CompactMesh& mesh, const Uniformization& best) {
+bool nearer_conformal_affordable(const CompactMesh& mesh, const Uniformization& best,
+                                 bool sheared) {
   const auto cones = static_cast<double>(best.atlas.placement.cones.size());
+  if (!sheared)
+    return std::max<double>(cones, kVisibleQcCones) * mesh.num_vertices() <= kQcRetryWork;
   return cones <= kUnfoldedCones || cones * mesh.num_vertices() <= kQcRetryWork;
+}
+
+// Whether seams of `length` are within kUnfoldSeams and kUnfoldSeamsPlus of the placed cones'.
+bool seams_within_reach(double length, double placed) {
+  return length <= kUnfoldSeams * placed + kUnfoldSeamsPlus;
 }
 
 // `best`'s cones placed again for tighter bounds (kQcTighter, kQcRetries, kQcCones), each valid
 // attempt within the bound that lowers QC p95 enough (kQcGain) delivered instead, at the cost of
-// all.
+// all; where `best` is not `sheared` (QC p95 above kUnfoldQc), only with seams within reach of
+// its own.
 Uniformization nearer_conformal_cones(const CompactMesh& mesh, const UniformizationOptions& request,
-                                      Uniformization best) {
+                                      Uniformization best, bool sheared) {
+  const double first_seams = best.atlas.seam_length;
   FlowTotals spent;
   ConePlacement placed;
   std::string why;
@@ -304,7 +333,9 @@ Uniformization nearer_conformal_cones(const CompactMesh& mesh, const Uniformizat
   const int most = std::min(
       cone_budget(request.cone_placement),
       std::max(kUnfoldedCones, kQcCones * static_cast<int>(best.atlas.placement.cones.size())));
-  for (int k = 0; k < kQcRetries && best.quality.quasi_conformal_p95 > kUnfoldQc; ++k) {
+  for (int k = 0; k < kQcRetries &&
+                  best.quality.quasi_conformal_p95 > (sheared ? kUnfoldQc : kUnfoldVisibleQc);
+       ++k) {
     UniformizationOptions tighter = request;
     tighter.cone_placement.distortion_bound = bound / kQcTighter;
     tighter.cone_placement.max_cones = most;
@@ -321,8 +352,9 @@ Uniformization nearer_conformal_cones(const CompactMesh& mesh, const Uniformizat
     // Its cones stopped at `most` count as reached where the bound asked is met, as at a budget;
     // a set that still has a cone sharper than the floor is not delivered.
     within_bound_asked(request, again.atlas.placement);
-    const bool usable =
-        again.valid() && again.atlas.placement.bound_reached && again.atlas.distortion <= allowed;
+    const bool usable = again.valid() && again.atlas.placement.bound_reached &&
+                        again.atlas.distortion <= allowed &&
+                        (sheared || seams_within_reach(again.atlas.seam_length, first_seams));
     if (usable &&
         again.quality.quasi_conformal_p95 - 1 <= kQcGain * (best.quality.quasi_conformal_p95 - 1)) {
       why += (why.empty() ? "" : "; ") + qc_was(best);
@@ -372,18 +404,18 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
   }
   const bool better =
       u && u->valid() &&
-      (above_bound || (u->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95 &&
-                       (sheared || u->atlas.seam_length <=
-                                       kUnfoldSeams * best.atlas.seam_length + kUnfoldSeamsPlus)));
+      (above_bound ||
+       (u->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95 &&
+        (sheared || seams_within_reach(u->atlas.seam_length, best.atlas.seam_length))));
   if (!better) {
     if (u) add_cost(best.totals, best.atlas.placement, *u);
-    // Cones for tighter bounds only where QC p95 is above kUnfoldQc; not where the user's budget
-    // fixed the count of cones (BFF's 8, say), nor where they cost too much.
-    if (!sheared || request.cone_placement.max_cones != 0 ||
-        !nearer_conformal_affordable(mesh, best)) {
+    // Cones for tighter bounds not where the user's budget fixed the count of cones (BFF's 8,
+    // say), nor where they cost too much.
+    if (request.cone_placement.max_cones != 0 ||
+        !nearer_conformal_affordable(mesh, best, sheared)) {
       return best;
     }
-    return nearer_conformal_cones(mesh, request, std::move(best));
+    return nearer_conformal_cones(mesh, request, std::move(best), sheared);
   }
   std::string why = above_bound ? d_was(best) : qc_was(best);
   if (!best.atlas.bound_instead.empty()) why += "; " + best.atlas.bound_instead;
