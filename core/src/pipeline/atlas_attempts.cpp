@@ -54,15 +54,18 @@ void within_bound_asked(const UniformizationOptions& request, ConePlacement& p) 
   }
 }
 
-// Whether the unfolding's charts meet by quarter turns, as --cone-angles quarter asks: each
-// cone's angle a multiple of pi/2 (to `tolerance`: a box's corners, 3 pi/2 each), on a sphere or
-// a disk, where every loop around the cut winds around cones only (on a torus or an annulus the
-// flat metric's turn along a loop that no cone closes is the surface's own).
+// Whether the unfolding's seams inside a chart join their sides by quarter turns, as
+// --cone-angles quarter asks: each cone's angle a multiple of pi/2 to `tolerance`, the flow's (a
+// box's corners, 3 pi/2 each; one turned off its axes and written to 7 digits misses them by up
+// to 1e-6, and gets the placed cones rounded to quarter turns, to which the flow brings it), on a
+// sphere or a disk, where every loop winds around cones only (on a torus or an annulus a loop
+// around a handle or a hole turns as the surface makes it). The packing turns each chart as a
+// whole.
 bool by_quarter_turns(const CompactMesh& mesh, const ConePlacement& unfolding, double tolerance) {
   if (mesh.genus() != 0 || mesh.num_boundary_loops() > 1) return false;
   return std::all_of(unfolding.cones.begin(), unfolding.cones.end(), [&](const Cone& c) {
-    const double quarters = c.angle / (kPi / 2);
-    return std::abs(quarters - std::round(quarters)) <= tolerance;
+    const double quarter = kPi / 2;
+    return std::abs(c.angle - quarter * std::round(c.angle / quarter)) <= tolerance;
   });
 }
 
@@ -299,14 +302,15 @@ constexpr double kQcGain = 0.75;
 // again at 128, QC p95 2.59 to 1.61, seams 11.8 to 8.9 sqrt(area), the run 0.5 s to 0.6 s; a
 // part of 1,446 vertices of gymnasium's Adroit forearm at 165 cones: at 660, 2.2 to 1.5, its run
 // 1.4 s to 7.1 s).
-// (At most kUnfoldedCones cones they are made whatever the part's size, as before this rule: the
-// placements of a few dozen cones cost little beside the part's flows.)
+// (Above kUnfoldQc, at most kUnfoldedCones cones they are made whatever the part's size, as
+// before this rule: the placements of a few dozen cones cost little beside the part's flows.)
 constexpr double kQcRetryWork = 64.0 * 4096;
 bool nearer_conformal_affordable(const CompactMesh& mesh, const Uniformization& best,
-                                 bool sheared) {
+                                 bool far_from_conformal) {
   const auto cones = static_cast<double>(best.atlas.placement.cones.size());
-  if (!sheared)
+  if (!far_from_conformal) {
     return std::max<double>(cones, kVisibleQcCones) * mesh.num_vertices() <= kQcRetryWork;
+  }
   return cones <= kUnfoldedCones || cones * mesh.num_vertices() <= kQcRetryWork;
 }
 
@@ -317,10 +321,10 @@ bool seams_within_reach(double length, double placed) {
 
 // `best`'s cones placed again for tighter bounds (kQcTighter, kQcRetries, kQcCones), each valid
 // attempt within the bound that lowers QC p95 enough (kQcGain) delivered instead, at the cost of
-// all; where `best` is not `sheared` (QC p95 above kUnfoldQc), only with seams within reach of
-// its own.
+// all; where `best` is not far from conformal (QC p95 at most kUnfoldQc), only with seams within
+// reach of its own.
 Uniformization nearer_conformal_cones(const CompactMesh& mesh, const UniformizationOptions& request,
-                                      Uniformization best, bool sheared) {
+                                      Uniformization best, bool far_from_conformal) {
   const double first_seams = best.atlas.seam_length;
   FlowTotals spent;
   ConePlacement placed;
@@ -333,8 +337,8 @@ Uniformization nearer_conformal_cones(const CompactMesh& mesh, const Uniformizat
   const int most = std::min(
       cone_budget(request.cone_placement),
       std::max(kUnfoldedCones, kQcCones * static_cast<int>(best.atlas.placement.cones.size())));
-  for (int k = 0; k < kQcRetries &&
-                  best.quality.quasi_conformal_p95 > (sheared ? kUnfoldQc : kUnfoldVisibleQc);
+  for (int k = 0; k < kQcRetries && best.quality.quasi_conformal_p95 >
+                                        (far_from_conformal ? kUnfoldQc : kUnfoldVisibleQc);
        ++k) {
     UniformizationOptions tighter = request;
     tighter.cone_placement.distortion_bound = bound / kQcTighter;
@@ -352,9 +356,9 @@ Uniformization nearer_conformal_cones(const CompactMesh& mesh, const Uniformizat
     // Its cones stopped at `most` count as reached where the bound asked is met, as at a budget;
     // a set that still has a cone sharper than the floor is not delivered.
     within_bound_asked(request, again.atlas.placement);
-    const bool usable = again.valid() && again.atlas.placement.bound_reached &&
-                        again.atlas.distortion <= allowed &&
-                        (sheared || seams_within_reach(again.atlas.seam_length, first_seams));
+    const bool usable =
+        again.valid() && again.atlas.placement.bound_reached && again.atlas.distortion <= allowed &&
+        (far_from_conformal || seams_within_reach(again.atlas.seam_length, first_seams));
     if (usable &&
         again.quality.quasi_conformal_p95 - 1 <= kQcGain * (best.quality.quasi_conformal_p95 - 1)) {
       why += (why.empty() ? "" : "; ") + qc_was(best);
@@ -389,10 +393,10 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
   // 0.218 on its faces (QC p95 23) and those of tighter bounds stalled.
   const bool above_bound = best.atlas.placement.bound_reached &&
                            best.atlas.distortion > request.cone_placement.distortion_bound;
-  const bool sheared = best.quality.quasi_conformal_p95 > kUnfoldQc;
+  const bool far_from_conformal = best.quality.quasi_conformal_p95 > kUnfoldQc;
   if (best.preset != TargetPreset::Atlas || !best.valid() || best.atlas.user_cones ||
       best.atlas.unfolded != AtlasResult::Unfolded::No ||
-      !(sheared || best.quality.quasi_conformal_p95 > kUnfoldVisibleQc || above_bound)) {
+      !(far_from_conformal || best.quality.quasi_conformal_p95 > kUnfoldVisibleQc || above_bound)) {
     return best;
   }
   auto unfolding =
@@ -406,16 +410,17 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
       u && u->valid() &&
       (above_bound ||
        (u->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95 &&
-        (sheared || seams_within_reach(u->atlas.seam_length, best.atlas.seam_length))));
+        (far_from_conformal || seams_within_reach(u->atlas.seam_length, best.atlas.seam_length))));
   if (!better) {
     if (u) add_cost(best.totals, best.atlas.placement, *u);
-    // Cones for tighter bounds not where the user's budget fixed the count of cones (BFF's 8,
-    // say), nor where they cost too much.
-    if (request.cone_placement.max_cones != 0 ||
-        !nearer_conformal_affordable(mesh, best, sheared)) {
+    // Cones for tighter bounds only where QC p95 is above kUnfoldVisibleQc; not where the user's
+    // budget fixed the count of cones (BFF's 8, say), nor where they cost too much.
+    if (!(best.quality.quasi_conformal_p95 > kUnfoldVisibleQc) ||
+        request.cone_placement.max_cones != 0 ||
+        !nearer_conformal_affordable(mesh, best, far_from_conformal)) {
       return best;
     }
-    return nearer_conformal_cones(mesh, request, std::move(best), sheared);
+    return nearer_conformal_cones(mesh, request, std::move(best), far_from_conformal);
   }
   std::string why = above_bound ? d_was(best) : qc_was(best);
   if (!best.atlas.bound_instead.empty()) why += "; " + best.atlas.bound_instead;
