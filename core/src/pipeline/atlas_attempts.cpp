@@ -280,8 +280,8 @@ constexpr int kUnfoldedCones = 64;
 // 1.61, unfolds through its 36 vertices of curvature with seams of 4.54, not delivered, and gets
 // the 29 cones of a tighter bound, QC p95 1.31, seams 3.64. The tighter bounds are tried here
 // only where kQcRetryWork bounds the first set's cones (at least kVisibleQcCones) times the
-// part's vertices: QC p95 between this and kUnfoldQc is a coarse part's (a 32k-face part of
-// gymnasium's Adroit shoulder, 36 cones: placed again at 144 in 9 s more).
+// part's vertices: QC p95 between this and kUnfoldQc is a coarse part's (without this bound a
+// 32k-face part of gymnasium's Adroit shoulder, 36 cones, was placed again at 144, 9 s more).
 constexpr double kUnfoldVisibleQc = 1.5;
 constexpr int kVisibleQcCones = 8;
 constexpr double kUnfoldSeams = 2;
