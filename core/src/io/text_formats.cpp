@@ -94,9 +94,7 @@ std::string lowercase(std::string_view s) {
 }  // namespace
 
 bool is_ply_magic(std::string_view word) {
-  return word.size() == 3 && std::tolower(static_cast<unsigned char>(word[0])) == 'p' &&
-         std::tolower(static_cast<unsigned char>(word[1])) == 'l' &&
-         std::tolower(static_cast<unsigned char>(word[2])) == 'y';
+  return lowercase(word) == "ply";
 }
 
 bool is_binary_stl(std::string_view bytes) {

@@ -346,48 +346,52 @@ Uniformization nearer_conformal_cones(const CompactMesh& mesh, const Uniformizat
           ? std::min(cone_budget(request.cone_placement),
                      std::max(most, static_cast<int>(kQcRetryWork / mesh.num_vertices())))
           : most;
+  // An attempt for a quarter of `bound` with at most `cap` cones. Its cones stopped at the cap
+  // count as reached where the bound asked is met, as at a budget; a set that still has a cone
+  // sharper than the floor is not delivered.
+  const auto attempt = [&](int cap) {
+    UniformizationOptions tighter = request;
+    tighter.cone_placement.distortion_bound = bound / kQcTighter;
+    tighter.cone_placement.max_cones = cap;
+    Uniformization run = atlas_within_bounds(mesh, tighter, false);
+    if (run.result.stop != FlowStop::Cancelled) within_bound_asked(request, run.atlas.placement);
+    return run;
+  };
+  const auto usable = [&](const Uniformization& run) {
+    return run.valid() && run.atlas.placement.bound_reached && run.atlas.distortion <= allowed &&
+           (far_from_conformal || seams_within_reach(run.atlas.seam_length, first_seams));
+  };
+  const auto nearer = [&](const Uniformization& run) {
+    return usable(run) &&
+           run.quality.quasi_conformal_p95 - 1 <= kQcGain * (best.quality.quasi_conformal_p95 - 1);
+  };
   for (int k = 0; k < kQcRetries && best.quality.quasi_conformal_p95 >
                                         (far_from_conformal ? kUnfoldQc : kUnfoldVisibleQc);
        ++k) {
-    UniformizationOptions tighter = request;
-    tighter.cone_placement.distortion_bound = bound / kQcTighter;
-    bool usable = false, nearer = false;
-    std::optional<Uniformization> again;
-    for (const int cap : {wide, most}) {
-      if (again) {  // the wide attempt made: again at `most` unless it served or `most` is as wide
-        if (nearer || cap == wide) break;
-        add_cost(spent, placed, *again);
-      }
-      tighter.cone_placement.max_cones = cap;
-      again = atlas_within_bounds(mesh, tighter, false);
-      if (again->result.stop == FlowStop::Cancelled) {
-        // Cancelled: every attempt's cost counts, before the cancelled one's own.
-        add_cost(spent, placed, best);
-        const FlowTotals own = again->totals;
-        again->totals = spent;
-        again->totals.add(own);
-        add_placement_cost(again->atlas.placement, placed);
-        return std::move(*again);
-      }
-      // Its cones stopped at the cap count as reached where the bound asked is met, as at a
-      // budget; a set that still has a cone sharper than the floor is not delivered.
-      within_bound_asked(request, again->atlas.placement);
-      usable = again->valid() && again->atlas.placement.bound_reached &&
-               again->atlas.distortion <= allowed &&
-               (far_from_conformal || seams_within_reach(again->atlas.seam_length, first_seams));
-      nearer = usable && again->quality.quasi_conformal_p95 - 1 <=
-                             kQcGain * (best.quality.quasi_conformal_p95 - 1);
+    Uniformization again = attempt(wide);
+    if (again.result.stop != FlowStop::Cancelled && wide > most && !nearer(again)) {
+      add_cost(spent, placed, again);
+      again = attempt(most);
     }
-    if (nearer) {
+    if (again.result.stop == FlowStop::Cancelled) {
+      // Cancelled: every attempt's cost counts, before the cancelled one's own.
+      add_cost(spent, placed, best);
+      const FlowTotals own = again.totals;
+      again.totals = spent;
+      again.totals.add(own);
+      add_placement_cost(again.atlas.placement, placed);
+      return again;
+    }
+    if (nearer(again)) {
       why += (why.empty() ? "" : "; ") + qc_was(best);
       if (!best.atlas.bound_instead.empty()) why += "; " + best.atlas.bound_instead;
       add_cost(spent, placed, best);
-      best = std::move(*again);
+      best = std::move(again);
     } else {
-      add_cost(spent, placed, *again);
-      if (!usable) break;
+      add_cost(spent, placed, again);
+      if (!usable(again)) break;
     }
-    bound = std::min(tighter.cone_placement.distortion_bound, best.atlas.distortion);
+    bound = std::min(bound / kQcTighter, best.atlas.distortion);
   }
   const FlowTotals own = best.totals;
   best.totals = spent;
