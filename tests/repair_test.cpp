@@ -118,6 +118,55 @@ TEST(Repair, NearCapsWhoseSidesMakeNoTriangleAreCaps) {
   EXPECT_EQ(r.components[0].mesh.num_faces(), 4);
 }
 
+// A closed surface whose base is a fan of caps: the fan's centre and its 2 k rim vertices all on
+// the x axis (a polygon collapsed onto a segment: k + 1 rim vertices along it and k back, between
+// them), the rim's two halves joined to two apexes, and two faces closing the ends.
+std::pair<Points, Faces> collapsed_fan(int k, double centre) {
+  Points p = {{centre, 0, 0}};
+  for (int i = 0; i <= k; ++i) p.push_back({-1 + 2.0 * i / k, 0, 0});
+  for (int i = 0; i < k; ++i) p.push_back({1 - (2.0 * i + 1) / k, 0, 0});
+  const int rim = 2 * k + 1, above = rim + 1, below = rim + 2;
+  p.push_back({0, 0.5, 1});
+  p.push_back({0, -0.5, 1});
+  Faces f;
+  for (int i = 0; i < rim; ++i) {
+    const int a = 1 + i, b = 1 + (i + 1) % rim;
+    f.push_back({0, a, b});
+    f.push_back({b, a, i < k ? above : below});
+  }
+  f.push_back({1 + k, below, above});
+  f.push_back({1, above, below});
+  return {p, f};
+}
+
+TEST(Repair, AFanOfCapsIsRemovedHoweverManyPassesItTakes) {
+  // 24 rim vertices each way: its caps take more than the 20 passes that were once the limit (the
+  // mesh was refused with 12 degenerate faces left); it comes back closed, its area the sides'.
+  const auto [p, f] = collapsed_fan(24, 0.0123);
+  const RepairedMesh r = repair_mesh(p, f);
+  ASSERT_NE(entry(r, "zero-area faces removed"), nullptr);
+  EXPECT_EQ(entry(r, "no split removes them"), nullptr);
+  ASSERT_EQ(r.components.size(), 1u);
+  const CompactMesh& m = r.components[0].mesh;
+  EXPECT_TRUE(m.is_closed());
+  EXPECT_EQ(m.genus(), 0);
+  EXPECT_NEAR(repaired_area(r), area(p, f), 1e-12 * area(p, f));
+}
+
+TEST(Repair, CapsThatSplitOneAnotherWithoutEndAreDropped) {
+  // With 16 each way the splits come back to four caps on four collinear vertices, pass after
+  // pass, as on a radiator's fins in Sweet Home 3D's furniture (both were refused, this with its
+  // four caps left, the radiator with a duplicate face the splits made): those are dropped and
+  // the rest kept, every component a checked mesh.
+  const auto [p, f] = collapsed_fan(16, 0.0123);
+  const RepairedMesh r = repair_mesh(p, f);
+  const RepairReport::Entry* dropped = entry(r, "no split removes them");
+  ASSERT_NE(dropped, nullptr);
+  EXPECT_GT(dropped->count, 0);
+  ASSERT_FALSE(r.components.empty());
+  EXPECT_NEAR(repaired_area(r), area(p, f), 1e-12 * area(p, f));
+}
+
 TEST(Repair, NonManifoldEdgeKeepsOnePairGlued) {
   const Points p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 1}};
   const RepairedMesh r = repair_mesh(p, {{0, 1, 2}, {0, 2, 3}, {2, 0, 4}});

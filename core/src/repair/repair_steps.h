@@ -91,7 +91,9 @@ std::vector<Face> drop_degenerate(const std::vector<Eigen::Vector3d>& p,
 void orient(std::vector<Face>& faces, Reporter& reporter);
 
 //! Removes caps: the face across the cap's longest edge is split at the cap's middle vertex (the
-//! two halves tile it), and the cap dropped; a cap on the boundary is dropped.
+//! two halves tile it), and the cap dropped; a cap on the boundary is dropped. Caps that the
+//! splits do not remove (they split one another in turn) are dropped, and any face the splits
+//! made twice.
 void remove_caps(const std::vector<Eigen::Vector3d>& p, std::vector<Face>& faces,
                  Reporter& reporter);
 
