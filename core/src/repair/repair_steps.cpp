@@ -263,39 +263,67 @@ int cap_corner(const std::vector<Eigen::Vector3d>& p, const Face& f) {
 
 void remove_caps(const std::vector<Eigen::Vector3d>& p, std::vector<Face>& faces,
                  Reporter& reporter) {
-  const auto count_caps = [&] {
-    return std::count_if(faces.begin(), faces.end(),
-                         [&](const Face& f) { return cap_corner(p, f) >= 0; });
-  };
+  // Per face, whether it is a cap: found again only for the faces a pass changes or adds.
+  std::vector<char> cap(faces.size());
+  for (size_t f = 0; f < faces.size(); ++f) cap[f] = cap_corner(p, faces[f]) >= 0;
+  std::ptrdiff_t caps = std::count(cap.begin(), cap.end(), 1);
   // A pass splits each cap's neighbour; a fan of caps around one vertex (a collapsed polygon, its
   // vertices on one line) can lose one a pass, or none for a dozen passes and then many (a
-  // chair's cushion of Sweet Home 3D's furniture: 40 caps in 38 passes; a fan of 32 collinear
-  // vertices in a test: 110 caps for 12 passes, then none left in 32 more). The passes go on while
-  // the caps left reach a new low within kStalled passes (at least the 20 passes made before).
+  // chair's cushion of Sweet Home 3D's furniture: 40 caps in 38 passes; a polygon of 121 sides
+  // collapsed onto a line, as repair_test.cpp's collapsed_fan(60): 110 caps left for 12 passes,
+  // none 33 passes later). The passes go on while the caps left reach a new low within kStalled
+  // passes (at least the 20 passes made before), at most kMostPasses (each costs a scan of the
+  // faces: 10 s in all with a 1M-face grid beside such a polygon of 2,401 sides).
   constexpr int kStalled = 32, kMostPasses = 1000;
-  std::ptrdiff_t fewest = count_caps();
-  for (int pass = 0, since_fewer = 0; fewest > 0 && pass < kMostPasses && since_fewer < kStalled;
+  std::ptrdiff_t fewest = caps;
+  std::vector<int> removed;  // the input faces of the caps removed, in order
+  std::vector<char> at_cap(p.size(), 0);
+  std::vector<int> local(faces.size(), -1);
+  for (int pass = 0, since_fewer = 0; caps > 0 && pass < kMostPasses && since_fewer < kStalled;
        ++pass) {
-    const EdgeMap edges(faces);
-    std::vector<char> touched(faces.size(), 0), dropped(faces.size(), 0);
+    // The faces with two vertices or more among the caps': every face on a cap's edge is one, so
+    // their edge map has each cap's edges with all their faces (a map of every face cost each
+    // pass as much again, 0.13 s at 1M faces).
+    for (size_t f = 0; f < faces.size(); ++f) {
+      if (cap[f]) {
+        for (int v : faces[f].v) at_cap[v] = 1;
+      }
+    }
+    std::vector<int> near;
+    std::vector<Face> near_faces;
+    for (size_t f = 0; f < faces.size(); ++f) {
+      const auto& v = faces[f].v;
+      if (at_cap[v[0]] + at_cap[v[1]] + at_cap[v[2]] >= 2) {
+        local[f] = static_cast<int>(near.size());
+        near.push_back(static_cast<int>(f));
+        near_faces.push_back(faces[f]);
+      }
+    }
+    for (size_t f = 0; f < faces.size(); ++f) {
+      if (cap[f]) {
+        for (int v : faces[f].v) at_cap[v] = 0;
+      }
+    }
+    const EdgeMap edges(near_faces);
+    std::vector<char> touched(faces.size(), 0), dropped(faces.size(), 0), changed(faces.size(), 0);
     std::vector<Face> added;
     for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+      if (!cap[f] || touched[f]) continue;
       const int c = cap_corner(p, faces[f]);
-      if (c < 0 || touched[f]) continue;
       const int m = faces[f].v[c], a = faces[f].v[(c + 1) % 3], b = faces[f].v[(c + 2) % 3];
-      const EdgeUses uses = edges.uses(edges.edge_of(f, (c + 1) % 3));
+      const EdgeUses uses = edges.uses(edges.edge_of(local[f], (c + 1) % 3));
       const EdgeUse* across = nullptr;
       for (const EdgeUse& u : uses) {
-        if (u.face != f) across = &u;
+        if (near[u.face] != f) across = &u;
       }
       const bool glued = uses.size() == 2 && across != nullptr;
-      if (glued && touched[across->face]) continue;  // next pass
+      const int other = glued ? near[across->face] : -1;
+      if (glued && touched[other]) continue;  // next pass
       touched[f] = dropped[f] = 1;
-      reporter.add("zero-area faces removed (the face across the longest edge split)", "face",
-                   faces[f].input);
+      removed.push_back(faces[f].input);
       if (!glued || across->from != b) continue;  // boundary (or non-manifold): dropped
-      Face& g = faces[across->face];
-      touched[across->face] = 1;
+      Face& g = faces[other];
+      touched[other] = changed[other] = 1;
       int d = -1;
       for (int v : g.v) {
         if (v != a && v != b) d = v;
@@ -303,44 +331,65 @@ void remove_caps(const std::vector<Eigen::Vector3d>& p, std::vector<Face>& faces
       // The face across is the cap itself, reversed (its vertex off a-b is m): the two are a
       // zero-area fold, and splitting one at m would make faces that repeat m. Both go.
       if (d < 0 || d == m) {
-        dropped[across->face] = 1;
-        reporter.add("zero-area faces removed (the face across the longest edge split)", "face",
-                     g.input);
+        dropped[other] = 1;
+        removed.push_back(g.input);
         continue;
       }
       added.push_back({{m, a, d}, g.input});  // g runs b -> a -> d; m lies on b -> a
       g.v = {b, m, d};
     }
-    if (added.empty() && std::none_of(dropped.begin(), dropped.end(), [](char x) { return x; })) {
-      break;
-    }
+    for (int f : near) local[f] = -1;
     std::vector<Face> kept;
+    std::vector<char> kept_cap;
     for (size_t f = 0; f < faces.size(); ++f) {
-      if (!dropped[f]) kept.push_back(faces[f]);
+      if (dropped[f]) continue;
+      kept.push_back(faces[f]);
+      kept_cap.push_back(changed[f] ? cap_corner(p, faces[f]) >= 0 : cap[f]);
     }
-    kept.insert(kept.end(), added.begin(), added.end());
+    for (const Face& f : added) {
+      kept.push_back(f);
+      kept_cap.push_back(cap_corner(p, f) >= 0);
+    }
     faces = std::move(kept);
-    const std::ptrdiff_t caps = count_caps();
+    cap = std::move(kept_cap);
+    local.resize(faces.size(), -1);
+    caps = std::count(cap.begin(), cap.end(), 1);
     since_fewer = caps < fewest ? 0 : since_fewer + 1;
     fewest = std::min(fewest, caps);
   }
-  // Caps among four or more vertices on one line split one another in turn without end (a
-  // radiator's fins: three caps left after every other pass); those left are dropped, and the
-  // faces the splits made twice on the same three vertices with them.
+  // Each input face once (the pieces of a split cap keep its index).
+  const auto report_once = [&](const std::vector<int>& inputs, const std::string& what) {
+    std::vector<int> sorted = inputs;
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<char> said(sorted.size(), 0);
+    for (int input : inputs) {
+      const size_t at = std::lower_bound(sorted.begin(), sorted.end(), input) - sorted.begin();
+      if (!said[at]) reporter.add(what, "face", input);
+      said[at] = 1;
+    }
+  };
+  report_once(removed, "zero-area faces removed (the face across the longest edge split)");
+  // Caps among four or more vertices on one line can split one another in turn without end (a
+  // radiator's fins: three caps left after every other pass); those the passes leave are
+  // dropped (a closed surface opens there), and the faces the splits made twice on the same three
+  // vertices, as duplicate input faces are.
   std::vector<Face> kept;
-  for (const Face& f : faces) {
-    if (cap_corner(p, f) < 0) {
-      kept.push_back(f);
+  std::vector<int> left, twice;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    if (cap[f]) {
+      left.push_back(faces[f].input);
     } else {
-      reporter.add("zero-area faces dropped (no split removes them)", "face", f.input);
+      kept.push_back(faces[f]);
     }
   }
+  report_once(left, "zero-area faces dropped (left by the splits)");
   std::vector<char> duplicate(kept.size(), 0);
   for (int k : repeated_triangles(static_cast<int>(p.size()), static_cast<int>(kept.size()),
                                   [&](int k) { return kept[k].v; })) {
     duplicate[k] = 1;
-    reporter.add("duplicate faces dropped", "face", kept[k].input);
+    twice.push_back(kept[k].input);
   }
+  report_once(twice, "faces the splits made twice dropped");
   faces.clear();
   for (size_t k = 0; k < kept.size(); ++k) {
     if (!duplicate[k]) faces.push_back(kept[k]);
