@@ -144,7 +144,7 @@ const std::vector<Flag>& flags() {
        "atlas: the most cones placed",
        [](const O&) { return std::to_string(kDefaultConeBudget); },
        [](O& o, const std::string& f, const std::string& v) {
-         o.request.cone_placement.max_cones = parse_int(f, v);
+         o.request.cone_placement.max_cones = max_cones_asked(parse_int(f, v));
        }},
       {{"--cone-angles"},
        "A",

@@ -105,10 +105,7 @@ FilterComputation compute(const MeshInput& input, const FilterSettings& settings
                                              : EdgeFlips::WhenNeeded;
   o.keep_input_triangulation = settings.keep_input_triangulation;
   o.cone_placement.distortion_bound = settings.atlas_distortion;
-  // The dialog shows the default budget; left there it is no budget the user gave (as the command
-  // line's without --max-cones), which would keep the placement's own retries from running.
-  o.cone_placement.max_cones =
-      settings.atlas_max_cones == kDefaultConeBudget ? 0 : settings.atlas_max_cones;
+  o.cone_placement.max_cones = max_cones_asked(settings.atlas_max_cones);
   o.cone_placement.quarter_angles = settings.atlas_quarter_angles;
   o.packing.texture_size = settings.atlas_texture_size;
   o.packing.padding = settings.atlas_padding;

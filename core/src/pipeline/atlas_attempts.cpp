@@ -268,7 +268,8 @@ namespace {
 // are placed again for a bound this many times below the last bound or D delivered, at most this
 // many times, with at most this many times the first set's cones, and an attempt that lowers QC
 // p95 enough (kQcGain) is delivered instead (the bed plate: 22 cones, QC p95 3.08, seams as
-// long).
+// long; since 2026-12-06 it is then unfolded through its 200 vertices of curvature, in one chart,
+// below).
 constexpr double kUnfoldQc = 2;
 constexpr int kUnfoldedCones = 64;
 // Above this QC p95 (a square of texture drawn half as long again one way as the other) the
@@ -424,10 +425,13 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
   auto unfolding =
       unfolded_run(mesh, request, above_bound ? std::numeric_limits<int>::max() : kUnfoldedCones);
   auto* u = std::get_if<Uniformization>(&unfolding);
-  if (u && u->result.stop == FlowStop::Cancelled) {
-    *u = delivered_instead(best, std::move(*u));
-    return std::move(*u);
-  }
+  // A cancelled unfolding, at the cost of `best` and the attempts before it.
+  const auto cancelled_instead = [&](Uniformization& cancelled) {
+    Uniformization run = delivered_instead(best, std::move(cancelled));
+    add_placement_cost(run.atlas.placement, best.atlas.placement);
+    return run;
+  };
+  if (u && u->result.stop == FlowStop::Cancelled) return cancelled_instead(*u);
   // The unfolding `u` in place of `best`, at the cost of both, and why.
   const auto unfolded_instead = [&](Uniformization& unfolded, AtlasResult::Unfolded kind) {
     std::string why = kind == AtlasResult::Unfolded::WithinBound ? d_was(best) : qc_was(best);
@@ -457,17 +461,17 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
     return best;
   }
   best = nearer_conformal_cones(mesh, request, std::move(best), far_from_conformal);
-  // Still far from conformal with them, the unfolding through more than kUnfoldedCones cones
-  // where its seams are within reach of theirs (a desk of Sweet Home 3D's furniture, 672 faces,
-  // genus 1: 90 cones, QC p95 5.2 on its pieces, seams 18.3 sqrt(area); unfolded through its 175
-  // vertices of curvature, QC 1, seams 15.6).
+  // Still far from conformal with them, the unfolding through more than kUnfoldedCones cones (at
+  // most the budget, 1024 by default) where its seams are within reach of theirs (a desk of Sweet
+  // Home 3D's furniture, 672 faces, genus 1: 90 cones, QC p95 5.2 on its pieces, seams 18.3
+  // sqrt(area); unfolded through its 175 vertices of curvature, QC 1, seams 15.6).
   if (u || best.result.stop == FlowStop::Cancelled || !best.valid() ||
       !(best.quality.quasi_conformal_p95 > kUnfoldQc)) {
     return best;
   }
   auto wide = unfolded_run(mesh, request, std::numeric_limits<int>::max());
   auto* w = std::get_if<Uniformization>(&wide);
-  if (w && w->result.stop == FlowStop::Cancelled) return delivered_instead(best, std::move(*w));
+  if (w && w->result.stop == FlowStop::Cancelled) return cancelled_instead(*w);
   if (w && w->valid() && w->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95 &&
       seams_within_reach(w->atlas.seam_length, best.atlas.seam_length)) {
     return unfolded_instead(*w, AtlasResult::Unfolded::MoreConformal);

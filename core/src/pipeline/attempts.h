@@ -45,7 +45,8 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
 //! uniformize_as_requested, and for the atlas: the surface unfolded where its QC p95 is high and
 //! that takes few cones, or where the delivered faces' D stays above the bound; else, where QC p95
 //! is high, cones for tighter bounds delivered where they lower it enough, and where it stays far
-//! from conformal, the unfolding through any count of cones whose seams stay within reach.
+//! from conformal, the unfolding through as many cones as the budget allows, where its seams stay
+//! within reach of theirs. Not at a budget the user gave.
 Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOptions& request);
 
 }  // namespace ricci::detail

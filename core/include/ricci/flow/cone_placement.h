@@ -70,6 +70,13 @@ inline constexpr int kDefaultConeBudget = 1024;
 inline int cone_budget(const ConePlacementOptions& o) {
   return o.max_cones > 0 ? o.max_cones : kDefaultConeBudget;
 }
+//! The max_cones for a budget a front end's user set: 0 (none given) where it is the default the
+//! front end shows (a dialog's field, a command line's help), so that leaving it as shown keeps
+//! the atlas's further attempts (cones of other counts for QC or a stall, an unfolding for QC),
+//! which a budget of the user's stops.
+inline int max_cones_asked(int budget) {
+  return budget == kDefaultConeBudget ? 0 : budget;
+}
 
 struct ConePlacement {
   //! The cones, each with the angle 2 pi - k the linear model gives it (or its rounding).
