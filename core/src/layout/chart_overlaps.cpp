@@ -114,7 +114,8 @@ class BoxTree {
 }  // namespace
 
 std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs,
-                                                   const std::vector<char>& known_clean) {
+                                                   const std::vector<char>& known_clean,
+                                                   size_t per_chart) {
   std::vector<std::pair<int, int>> pairs;
   const int nf = static_cast<int>(charts.corners.size());
   std::vector<std::vector<int>> by_chart(charts.num_charts);
@@ -131,14 +132,16 @@ std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t 
     const double size = (whole.hi - whole.lo).maxCoeff();
     if (!(size > 0)) continue;
     const double tolerance = 1e-9 * size;
+    const std::vector<int> in_order = faces;  // the tree reorders `faces`
     const BoxTree tree(box, faces);
     std::vector<std::pair<int, int>> found;
-    for (int f : faces) {
+    for (int f : in_order) {
       tree.visit(box[f], [&](int g) {
         if (g > f && interiors_overlap(charts.corners[f], charts.corners[g], tolerance)) {
           found.emplace_back(f, g);
         }
       });
+      if (per_chart > 0 && found.size() >= per_chart) break;
     }
     std::sort(found.begin(), found.end());
     pairs.insert(pairs.end(), found.begin(), found.end());
@@ -277,11 +280,12 @@ std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<c
 std::vector<std::pair<int, int>> overlapping_faces(const Triangulation& mesh,
                                                    const std::vector<char>& cut,
                                                    const Charts& charts,
-                                                   std::vector<char> known_clean) {
+                                                   std::vector<char> known_clean,
+                                                   size_t per_chart) {
   const std::vector<char> embedded = embedded_charts(mesh, cut, charts);
   if (known_clean.empty()) known_clean.assign(embedded.size(), 0);
   for (size_t k = 0; k < known_clean.size(); ++k) known_clean[k] = known_clean[k] || embedded[k];
-  return overlapping_faces(charts, 0, known_clean);
+  return overlapping_faces(charts, 0, known_clean, per_chart);
 }
 
 double overlap_depth(const Charts& charts, int f, int g) {

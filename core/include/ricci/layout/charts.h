@@ -91,10 +91,12 @@ double drawn_quasi_conformal_ratio(const std::vector<Eigen::Vector3d>& positions
 //! Pairs of faces of one chart whose interiors overlap (beyond a relative tolerance of 1e-9 of
 //! the chart's size): the whole chart tested, not only neighbours, through a hierarchy of the
 //! faces' bounding boxes. Each pair once, smaller face first; at most max_pairs of them
-//! (0: all).
+//! (0: all). Of each chart, with `per_chart` (0: all), only its first pairs: its faces in order
+//! until they make at least that many, the pairs of their smaller faces' order up to there.
 //! Charts whose flag in `known_clean` is set are not tested.
 std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t max_pairs = 0,
-                                                   const std::vector<char>& known_clean = {});
+                                                   const std::vector<char>& known_clean = {},
+                                                   size_t per_chart = 0);
 
 //! Per chart: 1 where its layout is an embedding for certain, so that overlapping_faces would find
 //! no pair in it: the chart is a disk (Euler characteristic 1, one border loop through wedges
@@ -112,7 +114,8 @@ std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<c
 std::vector<std::pair<int, int>> overlapping_faces(const Triangulation& mesh,
                                                    const std::vector<char>& cut,
                                                    const Charts& charts,
-                                                   std::vector<char> known_clean = {});
+                                                   std::vector<char> known_clean = {},
+                                                   size_t per_chart = 0);
 
 //! How deep faces f and g of a layout overlap, relative to the smaller: how far their interiors
 //! reach into each other (the least over the six side directions) over the shorter of their
