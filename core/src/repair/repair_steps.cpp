@@ -282,8 +282,8 @@ void remove_caps(const std::vector<Eigen::Vector3d>& p, std::vector<Face>& faces
   for (int pass = 0, since_fewer = 0; caps > 0 && pass < kMostPasses && since_fewer < kStalled;
        ++pass) {
     // The faces with two vertices or more among the caps': every face on a cap's edge is one, so
-    // their edge map has each cap's edges with all their faces (a map of every face cost each
-    // pass as much again, 0.13 s at 1M faces).
+    // their edge map has each cap's edges with all their faces (a map of every face each pass
+    // took the repair of the 1M-face grid beside the 2,401-gon above to 127 s).
     for (size_t f = 0; f < faces.size(); ++f) {
       if (cap[f]) {
         for (int v : faces[f].v) at_cap[v] = 1;
