@@ -255,6 +255,7 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     // (A quadrilateral whose Ptolemy diagonal is not Delaunay is convex.)
     if (k == l || (!from_lengths && !(angle_a < kPi && angle_b < kPi))) {
       ++report.blocked;
+      report.loops_refused += k == l;
       continue;
     }
     const int e_bk = mesh.face_edge(f, (c + 1) % 3), e_ka = mesh.face_edge(f, (c + 2) % 3);

@@ -55,6 +55,7 @@ struct FlipReport {
   std::vector<EdgeFlip> sequence;  //!< the flipped edges, in order
   int blocked = 0;  //!< non-Delaunay edges that could not be flipped (non-convex quadrilateral,
                     //!< both opposite vertices one, eta <= 0 or an invalid triangle after)
+  int loops_refused = 0;  //!< of them, flips refused as their new edge would be a loop
 };
 
 //! The new diagonal k-l of an isometric flip, from the quadrilateral's sides k-a, a-l, l-b, b-k

@@ -121,14 +121,23 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
       "; triangles at the boundary degenerate, and no edge flip of this surface removes a "
       "boundary edge: try the tangential scheme, whose triangles are always valid";
   const bool at_boundary = flipping && step.blocked_at_boundary;
+  // Elsewhere only where a flip to an edge from a vertex to itself was refused (make_delaunay):
+  // the stall then says nothing of the target (held-out CAD plates of genus 2 stalled so with
+  // their cones, and flowed where such flips were made).
+  const char* loop_note =
+      "; the Delaunay triangulation of the longer steps needs an edge from a vertex to itself, "
+      "which these edge flips do not make: the flow cannot go on there, whether or not the "
+      "target is reachable; try the tangential scheme, whose triangles are always valid";
   // Why a stalled flow stalled, after what it did: the metric exists, the boundary's triangles
-  // degenerate, or `otherwise`.
+  // degenerate, a loop was refused, or `otherwise`.
   const auto stalled_because = [&](const std::string& otherwise) {
     if (exists) {
       s << exists_note;
     } else if (at_boundary) {
       s << boundary_note;
       result.stalled_at_boundary = true;
+    } else if (flipping && step.blocked_by_loop) {
+      s << loop_note;
     } else {
       s << otherwise;
     }

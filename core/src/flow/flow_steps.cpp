@@ -296,6 +296,7 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
       s.blocked_by_validity = true;
       s.blocked_at_boundary =
           s.blocked_at_boundary || invalid_at_boundary(s.flipped ? *s.flipped : mesh, s.state);
+      s.blocked_by_loop = s.blocked_by_loop || s.flips.loops_refused > 0;
       continue;
     }
     s.k = curvature(s.flipped ? *s.flipped : mesh, s.state);

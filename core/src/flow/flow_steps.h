@@ -161,6 +161,8 @@ struct LineSearch {
   bool blocked_by_validity = false;  //!< a longer step left the set of valid triangles
   //! ... and a triangle it left invalid has a boundary edge, which no flip removes
   bool blocked_at_boundary = false;
+  //! ... and a triangle stayed invalid where a Ptolemy flip to a loop was refused
+  bool blocked_by_loop = false;
   double alpha = 1;
   Eigen::VectorXd u, k;  //!< accepted point and its curvature
   MetricState state;     //!< the accepted state, or the last one tried
