@@ -11,9 +11,14 @@
 #include <vector>
 
 #include "layout_measures.h"
+#include "pipeline/texture_atlas.h"
+#include "ricci/flow/cone_placement.h"
+#include "ricci/flow/flow_solver.h"
+#include "ricci/flow/ricci_flow.h"
 #include "ricci/io/mesh_io.h"
 #include "ricci/pipeline/uniformize.h"
 #include "ricci/repair/repair.h"
+#include "ricci/subdivision/common_subdivision.h"
 #include "test_meshes.h"
 
 namespace ricci {
@@ -354,6 +359,53 @@ TEST(CommonSubdivision, SpherePiecesFollowTheInputsDelaunayTriangulation) {
 // A hyperbolic triangle is drawn with straight sides, but its sides are arcs bowing toward the
 // disk's centre: near the rim a thin face positive in the metric turns over as drawn. Netgen's
 // hinge (genus 5, no flips) has three such faces; they are split until none is turned.
+TEST(CommonSubdivision, FollowsTheEdgesFromAVertexToItselfOfAFlowThatMakesThem) {
+  // Cura's felixpro2 bed with the atlas's cones for D <= 0.2: the Delaunay triangulation of its
+  // flat metric needs edges from a vertex to itself. Without them the flow stalls; with
+  // FlowOptions::loops it converges on a triangulation that has some, and the common subdivision
+  // follows them: the input surface, and in each flowed face drawn alone by its side lengths
+  // (placed here by the law of cosines) pieces that tile it, none turned.
+  const CompactMesh mesh = read_mesh(RICCI_REAL_MESH_DIR "/cura-felixpro2.obj");
+  const ConePlacement cones = place_cones(mesh);
+  const TargetCurvature target = detail::atlas_target(mesh, cones, false);
+  const ConformalStructure structure = prepare_flow(mesh, Geometry::Euclidean, {}, target);
+  FlowOptions options;
+  options.edge_flips = EdgeFlips::Always;
+  RicciFlowSolver without(mesh, structure, options);
+  EXPECT_FALSE(without.solve(target, &cones.u).converged);
+  options.loops = true;
+  RicciFlowSolver with(mesh, structure, options);
+  const FlowResult r = with.solve(target, &cones.u);
+  ASSERT_TRUE(r.converged) << r.failure;
+  const Triangulation& flowed = result_triangulation(mesh, r);
+  int loops = 0;
+  for (int e = 0; e < flowed.num_edges(); ++e)
+    loops += flowed.edge_vertices(e)[0] == flowed.edge_vertices(e)[1];
+  EXPECT_GT(loops, 0);
+  Layout alone;
+  std::vector<double> face_area(flowed.num_faces());
+  for (int f = 0; f < flowed.num_faces(); ++f) {
+    const double a = r.edge_lengths[flowed.face_edge(f, 0)],
+                 b = r.edge_lengths[flowed.face_edge(f, 1)],
+                 c = r.edge_lengths[flowed.face_edge(f, 2)];
+    const double x = (b * b + c * c - a * a) / (2 * c), y = std::sqrt(b * b - x * x);
+    alone.corners.push_back({Vec3::Zero(), Vec3(c, 0, 0), Vec3(x, y, 0)});
+    face_area[f] = 0.5 * c * y;
+  }
+  const CommonSubdivision sub = common_subdivision(mesh, structure, r, alone);
+  expect_input_surface(mesh, sub);
+  std::vector<double> tiled(flowed.num_faces(), 0.0);
+  for (size_t f = 0; f < sub.faces.size(); ++f) {
+    const double area = signed_area2(sub.corners[f][0], sub.corners[f][1], sub.corners[f][2]);
+    EXPECT_GT(area, 0) << "piece " << f << " turned";
+    tiled[sub.final_face[f]] += area;
+  }
+  for (int f = 0; f < flowed.num_faces(); ++f)
+    EXPECT_NEAR(tiled[f], face_area[f], 1e-9 * face_area[f]) << "flowed face " << f;
+  std::printf("[ loops    ] felixpro2 at %zu cones: %d loops, %zu pieces\n", cones.cones.size(),
+              loops, sub.faces.size());
+}
+
 TEST(PoincareDiskDrawing, ThinFacesNearTheRimAreSplitUntilNoneTurns) {
   const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/netgen-hinge.stl");
   const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);

@@ -59,7 +59,7 @@ TEST(Delaunay, FlipsOfThePackingSchemesKeepTheMetric) {
     const double area_before = total_area(t, g, state);
     int not_delaunay = 0;
     for (int e = 0; e < t.num_edges(); ++e) not_delaunay += !is_delaunay(t, state, e);
-    const FlipReport report = make_delaunay(t, s, s.u0, state, 100 * t.num_edges());
+    const FlipReport report = make_delaunay(t, s, s.u0, state, 100 * t.num_edges(), false);
     EXPECT_GT(report.flips, not_delaunay / 2) << to_string(g);
     expect_valid_triangulation(t);
     // The state the routine kept up to date is the metric of the flipped triangulation.
@@ -126,7 +126,7 @@ TEST(Delaunay, PtolemyFlipsFromLengthsMakeEveryTriangleValid) {
     IntrinsicTriangulation t(mesh);
     MetricState state = evaluate_metric(t, s, u);
     ASSERT_GE(state.num_invalid_faces, 10) << to_string(g);  // E2: 22
-    const FlipReport report = make_delaunay(t, s, u, state, 100 * t.num_edges());
+    const FlipReport report = make_delaunay(t, s, u, state, 100 * t.num_edges(), false);
     EXPECT_GT(report.flips, 0);
     EXPECT_EQ(report.blocked, 0);
     expect_valid_triangulation(t);
@@ -147,7 +147,7 @@ TEST(Delaunay, PtolemyFlipsFromLengthsMakeEveryTriangleValid) {
   EXPECT_FALSE(all_ptolemy(tangential));
   IntrinsicTriangulation t2(mesh);
   MetricState invalid = evaluate_metric(t2, yamabe, u);
-  EXPECT_EQ(make_delaunay(t2, tangential, u, invalid, 100).flips, 0);
+  EXPECT_EQ(make_delaunay(t2, tangential, u, invalid, 100, false).flips, 0);
 }
 
 TEST(Delaunay, LineSearchFlipsAcrossInvalidTriangles) {
@@ -169,7 +169,7 @@ TEST(Delaunay, LineSearchFlipsAcrossInvalidTriangles) {
   ConformalStructure flipped_structure = s;
   MetricState at_goal = evaluate_metric(flipped, s, goal);
   ASSERT_FALSE(at_goal.valid());
-  make_delaunay(flipped, flipped_structure, goal, at_goal, 100 * flipped.num_edges());
+  make_delaunay(flipped, flipped_structure, goal, at_goal, 100 * flipped.num_edges(), false);
   ASSERT_TRUE(at_goal.valid());
   const TargetCurvature target = TargetCurvature::from_values(mesh, curvature(flipped, at_goal));
   const std::vector<int> free_index =
@@ -183,7 +183,7 @@ TEST(Delaunay, LineSearchFlipsAcrossInvalidTriangles) {
                                                  static_cast<int>(du.size()))
                                .squaredNorm();
   const detail::LineSearch with =
-      detail::search_line(input, s, target, free_index, u0, du, phi, 40, true);
+      detail::search_line(input, s, target, free_index, u0, du, phi, 40, true, false);
   ASSERT_TRUE(with.accepted);
   EXPECT_EQ(with.alpha, 1);
   ASSERT_TRUE(with.flipped.has_value());
@@ -191,7 +191,7 @@ TEST(Delaunay, LineSearchFlipsAcrossInvalidTriangles) {
   EXPECT_EQ(static_cast<int>(with.flips.sequence.size()), with.flips.flips);
   EXPECT_LE(detail::max_residual(with.k, target), 1e-9);
   const detail::LineSearch without =
-      detail::search_line(input, s, target, free_index, u0, du, phi, 40, false);
+      detail::search_line(input, s, target, free_index, u0, du, phi, 40, false, false);
   EXPECT_TRUE(without.blocked_by_validity);
   EXPECT_FALSE(without.flipped.has_value());
   EXPECT_LT(without.alpha, 1);

@@ -187,7 +187,7 @@ TEST(RicciFlow, AStartWhoseDelaunayTriangulationNeedsALoopIsEasedToTheColdStarts
   MetricState at_start = evaluate_metric(e.input_delaunay, e.input_class, e.placement.u);
   ASSERT_FALSE(at_start.valid());
   const FlipReport flips = make_delaunay(e.input_delaunay, e.input_class, e.placement.u, at_start,
-                                         10 * mesh.num_edges());
+                                         10 * mesh.num_edges(), false);
   EXPECT_GT(flips.blocked, 0);
   EXPECT_FALSE(at_start.valid()) << "the start's own triangulation needs no loop";
   const auto [cold, warm] = cold_and_warm(mesh, e);

@@ -182,7 +182,8 @@ FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure&
     const Quad q = quad(e);
     const double ka = length(q.sides[0]), al = length(q.sides[1]), lb = length(q.sides[2]),
                  bk = length(q.sides[3]), ab = length(e);
-    // Delaunay: the angles at k and l opposite a-b sum to at most pi.
+    // Delaunay: the angles at k and l opposite a-b sum to at most pi. No loop (k = l): the
+    // common subdivision finds the corners of this triangulation's faces by their vertices.
     if (angle_between_sides(ka, bk, ab) + angle_between_sides(al, lb, ab) <= kPi + 1e-12 ||
         q.k == q.l) {
       continue;
@@ -214,7 +215,7 @@ FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure&
 }
 
 FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
-                         const Eigen::VectorXd& u, MetricState& state, int max_flips) {
+                         const Eigen::VectorXd& u, MetricState& state, int max_flips, bool loops) {
   FlipReport report;
   // Triangles that violate the triangle inequality have no angles: only Ptolemy flips (Euclidean
   // and hyperbolic Yamabe) can be decided and made from the lengths alone, and they end in valid
@@ -251,19 +252,25 @@ FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& struc
     const double angle_a = state.faces[f].angle[(c + 1) % 3] + state.faces[fg].angle[(d + 2) % 3];
     const double angle_b = state.faces[f].angle[(c + 2) % 3] + state.faces[fg].angle[(d + 1) % 3];
     // k-l may already be an edge: intrinsic Delaunay triangulations can need two edges between
-    // one pair of vertices (both sides of a thin ear). Only a self-loop is refused.
+    // one pair of vertices (both sides of a thin ear), and an edge from a vertex to itself (k = l,
+    // a loop): without it a triangle can violate the triangle inequality with no flip left to
+    // mend it, and the flow stalls (CAD plates of genus 2 with their cones did). Loops only where
+    // asked, by Ptolemy flips (FlowOptions::loops); never a quadrilateral two of whose sides are
+    // one edge (around a vertex of degree 1).
     // (A quadrilateral whose Ptolemy diagonal is not Delaunay is convex.)
-    if (k == l || (!from_lengths && !(angle_a < kPi && angle_b < kPi))) {
-      ++report.blocked;
-      report.loops_refused += k == l;
-      continue;
-    }
     const int e_bk = mesh.face_edge(f, (c + 1) % 3), e_ka = mesh.face_edge(f, (c + 2) % 3);
     const int e_al = mesh.face_edge(fg, (d + 1) % 3), e_lb = mesh.face_edge(fg, (d + 2) % 3);
+    const EdgeFlip record = flip_record(mesh, structure, state, e);
+    const bool to_triangles = mesh.flips_to_triangles(e);
+    const bool loop_refused = k == l && !(loops && record.ptolemy && to_triangles);
+    if (loop_refused || !to_triangles || (!from_lengths && !(angle_a < kPi && angle_b < kPi))) {
+      ++report.blocked;
+      report.loops_refused += loop_refused;
+      continue;
+    }
     const double old_eta = structure.eta[e];
     double new_eta;
     const auto& eps = structure.eps;
-    const EdgeFlip record = flip_record(mesh, structure, state, e);
     if (record.ptolemy) {
       // Ptolemy: lambda_kl lambda_ab = lambda_ka lambda_lb + lambda_al lambda_bk.
       const double lam = (lambda(structure, e_ka) * lambda(structure, e_lb) +

@@ -12,7 +12,8 @@
 //
 // A new diagonal may join two vertices that another edge already joins: intrinsic triangulations
 // can need such multi-edges (both sides of a thin ear). Everything downstream works per edge
-// index, halfedge or face corner, never by vertex pair.
+// index, halfedge or face corner, never by vertex pair. With FlowOptions::loops, an edge may also
+// join a vertex to itself, and a face have two corners at one vertex.
 #pragma once
 
 #include <array>
@@ -54,8 +55,9 @@ struct FlipReport {
   int flips = 0;                   //!< edges flipped
   std::vector<EdgeFlip> sequence;  //!< the flipped edges, in order
   int blocked = 0;  //!< non-Delaunay edges that could not be flipped (non-convex quadrilateral,
-                    //!< both opposite vertices one, eta <= 0 or an invalid triangle after)
-  int loops_refused = 0;  //!< of them, flips refused as their new edge would be a loop
+                    //!< a loop not asked for, two sides one edge, eta <= 0 or an invalid
+                    //!< triangle after)
+  int loops_refused = 0;  //!< of them, flips to an edge from a vertex to itself (a loop) not made
 };
 
 //! The new diagonal k-l of an isometric flip, from the quadrilateral's sides k-a, a-l, l-b, b-k
@@ -72,10 +74,11 @@ FlipReport make_input_delaunay(IntrinsicTriangulation& mesh, ConformalStructure&
 //! Flips non-Delaunay edges until none is left (or max_flips is reached), updating the flipped
 //! edges' eta in `structure` and the lengths and angles in `state`. A state with invalid
 //! triangles is flipped by is_ptolemy_delaunay() when all_ptolemy(structure), and left as it is
-//! otherwise; it ends valid unless a flip that would make a self-loop was refused (blocked), or
-//! an invalid triangle has a boundary edge (which no flip removes). \pre state ==
-//! evaluate_metric(mesh, structure, u)
+//! otherwise; it ends valid unless a flip was refused (blocked: one that would make a loop, an
+//! edge from a vertex to itself, unless `loops` and the flip is a Ptolemy flip; one whose
+//! quadrilateral has two sides that are one edge), or an invalid triangle has a boundary edge
+//! (which no flip removes). \pre state == evaluate_metric(mesh, structure, u)
 FlipReport make_delaunay(IntrinsicTriangulation& mesh, ConformalStructure& structure,
-                         const Eigen::VectorXd& u, MetricState& state, int max_flips);
+                         const Eigen::VectorXd& u, MetricState& state, int max_flips, bool loops);
 
 }  // namespace ricci

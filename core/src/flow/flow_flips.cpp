@@ -43,7 +43,7 @@ void detail::FlowState::keep_delaunay() {
     }
   }
   const FlipReport flips =
-      make_delaunay(triangulation, structure, u, metric, 10 * mesh.num_edges());
+      make_delaunay(triangulation, structure, u, metric, 10 * mesh.num_edges(), options.loops);
   result.num_flips += flips.flips;
   flip_sequence.insert(flip_sequence.end(), flips.sequence.begin(), flips.sequence.end());
   // A flip that was undone leaves the same triangles in other face slots: the pattern's per-face
@@ -94,7 +94,8 @@ void detail::FlowState::start_flipping(int iteration, const std::string& why) {
 // A vertex whose u is far below its neighbours' (at the tip of a spike, away from the cones: the
 // linear cone model gives the man's fingertips -6, their neighbours -2 to -3) lies, in the start's
 // Delaunay triangulation, inside an edge from one vertex to itself; this triangulation holds no
-// such edge (make_delaunay refuses the flip), and the jump leaves the faces around that vertex
+// such edge (make_delaunay refuses the flip but with FlowOptions::loops, and the one to a face
+// around a vertex of degree 1 always), and the jump leaves the faces around that vertex
 // invalid. Newton moves every free vertex and converges to one metric whatever its start, so the
 // start at those vertices can be eased: each invalid face's corner opposite its longest side
 // (the one whose u is too low) is raised until its two sides at it exceed the third by
@@ -114,7 +115,7 @@ Eigen::VectorXd detail::FlowState::jump_eased(const Eigen::VectorXd& start,
                                               detail::LineSearch& jump) {
   Eigen::VectorXd eased = start;
   for (int easing = 0;; ++easing) {
-    detail::evaluate_trial_point(triangulation, structure, eased, true, jump);
+    detail::evaluate_trial_point(triangulation, structure, eased, true, options.loops, jump);
     if (jump.state.valid() || !jump.flipped || easing == kEasings) return eased;
     const IntrinsicTriangulation& t = *jump.flipped;
     Eigen::VectorXd next = eased;
@@ -180,7 +181,8 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way, bo
     // triangle is invalid.
     detail::LineSearch jump;
     const Eigen::VectorXd eased = ease ? jump_eased(start, jump) : start;
-    if (!ease) detail::evaluate_trial_point(triangulation, structure, start, true, jump);
+    if (!ease)
+      detail::evaluate_trial_point(triangulation, structure, start, true, options.loops, jump);
     if (jump.state.valid()) {
       result.eased_start_vertices = static_cast<int>((eased.array() != start.array()).count());
       if (result.eased_start_vertices > 0) unfinished_walk = walk_from_here(start, true);

@@ -104,7 +104,7 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
   detail::LineSearch step = detail::search_line(triangulation, structure, target, free_index, u, du,
                                                 0.5 * r.squaredNorm(), options.max_step_halvings,
                                                 flipping && (flip_trial_points || !hyperbolic()),
-                                                circles ? &*circles : nullptr);
+                                                options.loops, circles ? &*circles : nullptr);
   times.line_search += seconds_since(t);
   blocked_by_triangles = step.blocked_by_validity;
   const char* flips_help = flipping ? "" : " on this triangulation (edge flips help)";

@@ -268,14 +268,15 @@ bool invalid_at_boundary(const Triangulation& mesh, const MetricState& state) {
 }  // namespace
 
 void evaluate_trial_point(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
-                          const Eigen::VectorXd& u, bool flip_invalid, LineSearch& s) {
+                          const Eigen::VectorXd& u, bool flip_invalid, bool loops, LineSearch& s) {
   s.state = evaluate_metric(mesh, structure, u);
   s.flipped.reset();
   s.flips = FlipReport();
   if (!s.state.valid() && flip_invalid && all_ptolemy(structure)) {
     s.flipped.emplace(mesh);
     ConformalStructure flipped_structure = structure;
-    s.flips = make_delaunay(*s.flipped, flipped_structure, u, s.state, 10 * mesh.num_edges());
+    s.flips =
+        make_delaunay(*s.flipped, flipped_structure, u, s.state, 10 * mesh.num_edges(), loops);
     s.flipped_eta = std::move(flipped_structure.eta);
   }
 }
@@ -283,7 +284,8 @@ void evaluate_trial_point(const IntrinsicTriangulation& mesh, const ConformalStr
 LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                        const TargetCurvature& target, const std::vector<int>& free_index,
                        const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
-                       int max_halvings, bool flip_invalid, const CircleCondition* circles) {
+                       int max_halvings, bool flip_invalid, bool loops,
+                       const CircleCondition* circles) {
   LineSearch s;
   s.u = u;
   const int n = static_cast<int>(du.size());
@@ -291,7 +293,7 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
     for (int v = 0; v < u.size(); ++v) {
       if (free_index[v] >= 0) s.u[v] = u[v] + s.alpha * du[free_index[v]];
     }
-    evaluate_trial_point(mesh, structure, s.u, flip_invalid, s);
+    evaluate_trial_point(mesh, structure, s.u, flip_invalid, loops, s);
     if (!s.state.valid()) {
       s.blocked_by_validity = true;
       s.blocked_at_boundary =

@@ -175,9 +175,9 @@ struct LineSearch {
 //! The metric at u (lengths and angles) in `s.state`; where a triangle is invalid there and
 //! flip_invalid holds with all_ptolemy(structure), first flipped to Delaunay on a copy (s.flipped,
 //! s.flipped_eta, s.flips): valid then, but where a flip was refused (a self-loop, or rounding)
-//! or a boundary triangle is invalid (no flip mends it).
+//! or a boundary triangle is invalid (no flip mends it). `loops` as make_delaunay's.
 void evaluate_trial_point(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
-                          const Eigen::VectorXd& u, bool flip_invalid, LineSearch& s);
+                          const Eigen::VectorXd& u, bool flip_invalid, bool loops, LineSearch& s);
 
 //! Armijo backtracking on |Kbar - K|^2 / 2 from u along du, halving at most max_halvings times,
 //! never accepting a point where a triangle is invalid. With flip_invalid, a trial point whose
@@ -189,7 +189,7 @@ void evaluate_trial_point(const IntrinsicTriangulation& mesh, const ConformalStr
 LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStructure& structure,
                        const TargetCurvature& target, const std::vector<int>& free_index,
                        const Eigen::VectorXd& u, const Eigen::VectorXd& du, double phi,
-                       int max_halvings, bool flip_invalid,
+                       int max_halvings, bool flip_invalid, bool loops,
                        const CircleCondition* circles = nullptr);
 
 //! A flow whose residual is within this factor of the angle sums' round-off (curvature_round_off)

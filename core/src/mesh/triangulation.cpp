@@ -234,14 +234,24 @@ void Triangulation::link_twins(int e) {
   if (halfedge[1] >= 0) twin_[halfedge[1]] = halfedge[0];
 }
 
-bool Triangulation::flip(int e) {
+bool Triangulation::flips_to_triangles(int e) const {
   if (is_boundary_edge(e)) return false;
+  const int h = edge_halfedge(e), t = twin_[h];
+  const int f = h / 3, c = h % 3, g = t / 3, d = t % 3;
+  if (f == g) return false;
+  std::array<int, 4> sides = {face_edges_[f][(c + 1) % 3], face_edges_[f][(c + 2) % 3],
+                              face_edges_[g][(d + 1) % 3], face_edges_[g][(d + 2) % 3]};
+  std::sort(sides.begin(), sides.end());
+  return std::adjacent_find(sides.begin(), sides.end()) == sides.end();
+}
+
+bool Triangulation::flip(int e) {
+  if (!flips_to_triangles(e)) return false;
   const int h = edge_halfedge(e), t = twin_[h];
   const int f = h / 3, c = h % 3, g = t / 3, d = t % 3;
   // Face f = (k, a, b) and face g = (l, b, a), both counter-clockwise: the quad is k, a, l, b.
   const int k = faces_[f][c], a = faces_[f][(c + 1) % 3], b = faces_[f][(c + 2) % 3];
   const int l = faces_[g][d];
-  if (k == l || f == g) return false;
   const int e_bk = face_edges_[f][(c + 1) % 3], e_ka = face_edges_[f][(c + 2) % 3];
   const int e_al = face_edges_[g][(d + 1) % 3], e_lb = face_edges_[g][(d + 2) % 3];
   // New faces (k, a, l) and (l, b, k), each listing the edge opposite each corner.

@@ -88,12 +88,11 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
   std::vector<BoundaryPoint>& points = out.points;
   std::array<int, 3> corner_index{};
   for (int i = 0; i < 3; ++i) {
-    const int v = T.face_vertex(face, i);
     corner_index[i] = static_cast<int>(points.size());
     points.push_back({i, -1, i});
-    const int edge = T.face_edge(face, (i + 2) % 3);
-    std::vector<int> list = overlay.crossings_on(edge);
-    if (T.edge_vertices(edge)[0] != v) std::reverse(list.begin(), list.end());
+    const int h = 3 * face + (i + 2) % 3;  // the side from corner i to corner i + 1
+    std::vector<int> list = overlay.crossings_on(T.face_edge(face, (i + 2) % 3));
+    if (!overlay.runs_from_tail(h)) std::reverse(list.begin(), list.end());
     for (int c : list) points.push_back({-1, c, i});
   }
   const int m = static_cast<int>(points.size());
@@ -106,11 +105,11 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
     const auto it = point_of_crossing.find(crossing);
     return it == point_of_crossing.end() ? -1 : it->second;
   };
-  auto corner_of_vertex = [&](int v) {
-    for (int i = 0; i < 3; ++i) {
-      if (T.face_vertex(face, i) == v) return corner_index[i];
-    }
-    return -1;
+  // The corner at vertex v from which an input edge runs straight to the crossing at point p: the
+  // corner opposite p's side (the face may have two corners at v, on either side of a loop).
+  auto corner_to = [&](int v, int p) {
+    const int opposite = (points[p].side + 2) % 3;
+    return T.face_vertex(face, opposite) == v ? corner_index[opposite] : -1;
   };
   // On one closed side: points i and j both lie on side s = [corner s, corner s + 1].
   auto same_side = [&](int i, int j) {
@@ -135,11 +134,10 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
     const int from = x.forward ? faces[0] : faces[1], to = x.forward ? faces[1] : faces[0];
     const int E = x.input_edge;
     if (from == face) {
-      const int before =
-          x.prev >= 0 ? index_of(x.prev) : corner_of_vertex(input.edge_vertices(E)[0]);
+      const int before = x.prev >= 0 ? index_of(x.prev) : corner_to(input.edge_vertices(E)[0], p);
       add_chord(before, p, E);
     }
-    if (to == face && x.next < 0) add_chord(p, corner_of_vertex(input.edge_vertices(E)[1]), E);
+    if (to == face && x.next < 0) add_chord(p, corner_to(input.edge_vertices(E)[1], p), E);
   }
   // The pieces: walk each region keeping it on the left, from every unused boundary arc.
   std::vector<char> arc_used(m, 0);

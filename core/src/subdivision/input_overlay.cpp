@@ -28,10 +28,12 @@ Eigen::Vector2d apex(const Eigen::Vector2d& p, const Eigen::Vector2d& q, double 
 
 }  // namespace
 
-// A point of an input edge inside a quadrilateral: a crossing, or one of the edge's two vertices.
+// A point of an input edge inside a quadrilateral: a crossing, or one of the edge's two vertices
+// at a corner of the quadrilateral (local index 0..3: a vertex can be two of its corners).
 struct InputOverlay::Point {
   int crossing = -1;
   int vertex = -1;
+  int corner = -1;
 };
 
 // The piece of an input edge inside the quadrilateral of a flip, in the input edge's direction:
@@ -43,22 +45,20 @@ struct InputOverlay::Strand {
 };
 
 // The quadrilateral k, a, l, b of a flip (local indices 0..3) in a planar picture in which every
-// input strand and the new diagonal are straight: positions z and, per vertex, the weight w that
+// input strand and the new diagonal are straight: positions z and, per corner, the weight w that
 // turns the convention's barycentric coordinates into those of the picture (b_v w_v, normalized).
+// Its corners are told apart by their place, not their vertices: k and l are one vertex where
+// the flip makes an edge from a vertex to itself (a loop, as intrinsic Delaunay triangulations
+// may need).
 struct InputOverlay::Quad {
   int e = -1, f = -1, g = -1;
   std::array<int, 4> vertex{};  // k, a, l, b
   int e_ka = -1, e_al = -1, e_lb = -1, e_bk = -1;
+  // The halfedges a -> b (of e, in f), k -> a, b -> k (in f), a -> l, l -> b (in g).
+  int h_ab = -1, h_ka = -1, h_bk = -1, h_al = -1, h_lb = -1;
   std::array<Eigen::Vector2d, 4> z;
   std::array<double, 4> w{1, 1, 1, 1};
   bool circle = false;  // the picture is the circle through the four vertices (unit circle)
-
-  int local(int v) const {
-    for (int i = 0; i < 4; ++i) {
-      if (vertex[i] == v) return i;
-    }
-    return -1;
-  }
 };
 
 InputOverlay::InputOverlay(const Triangulation& input, bool projective)
@@ -71,9 +71,16 @@ InputOverlay::InputOverlay(const Triangulation& input, bool projective)
   for (int e = 0; e < input.num_edges(); ++e) coincident_[e] = e;
 }
 
-double InputOverlay::t_from(int c, int v) const {
-  const Crossing& x = crossings_[c];
-  return current_.edge_vertices(x.edge)[0] == v ? x.t : 1 - x.t;
+bool InputOverlay::runs_from_tail(int h) const {
+  const int e = current_.face_edge(h / 3, h % 3);
+  const auto& ends = current_.edge_vertices(e);
+  if (ends[0] != ends[1]) return current_.halfedge_tail(h) == ends[0];
+  return h == current_.edge_halfedge(e);
+}
+
+double InputOverlay::t_along(int c, int h) const {
+  const double t = crossings_[c].t;
+  return runs_from_tail(h) ? t : 1 - t;
 }
 
 std::vector<int> InputOverlay::crossings_on(int edge) const {
@@ -95,9 +102,11 @@ int InputOverlay::add_crossing(const Crossing& c) {
 }
 
 std::vector<InputOverlay::Strand> InputOverlay::strands_through(const Quad& q) const {
+  enum { K = 0, A = 1, L = 2, B = 3 };
   std::vector<Strand> strands;
-  // The point before (after) crossing c along its input edge: a crossing, or the edge's end.
-  auto neighbour = [&](int c, bool after) {
+  // The point before (after) crossing c along its input edge: a crossing, or the edge's end at
+  // `corner` of the quadrilateral.
+  auto neighbour = [&](int c, bool after, int corner) {
     const Crossing& x = crossings_[c];
     const int next = after ? x.next : x.prev;
     Point p;
@@ -105,27 +114,44 @@ std::vector<InputOverlay::Strand> InputOverlay::strands_through(const Quad& q) c
       p.crossing = next;
     } else {
       p.vertex = input_.edge_vertices(x.input_edge)[after ? 1 : 0];
+      p.corner = corner;
     }
     return p;
   };
-  auto before = [&](int c) { return neighbour(c, false); };
-  auto after = [&](int c) { return neighbour(c, true); };
-  for (int c : on_edge_[q.e]) strands.push_back({crossings_[c].input_edge, before(c), after(c), c});
-  for (int side : {q.e_ka, q.e_al, q.e_lb, q.e_bk}) {
+  // A strand from a vertex to a crossing of e starts at the corner of its face off e: k in f,
+  // l in g.
+  for (int c : on_edge_[q.e]) {
+    const Crossing& x = crossings_[c];
+    const auto& faces = current_.edge_faces(q.e);
+    const int from = x.forward ? faces[0] : faces[1], to = x.forward ? faces[1] : faces[0];
+    strands.push_back({x.input_edge, neighbour(c, false, from == q.f ? K : L),
+                       neighbour(c, true, to == q.f ? K : L), c});
+  }
+  // A strand from a vertex to a crossing of a side, within the side's face, starts at the corner
+  // opposite the side: b for k-a and a-l, a for b-k and l-b.
+  const std::array<std::pair<int, int>, 4> sides = {
+      {{q.e_ka, B}, {q.e_al, B}, {q.e_lb, A}, {q.e_bk, A}}};
+  for (const auto& [side, opposite] : sides) {
     for (int c : on_edge_[side]) {
       const Crossing& x = crossings_[c];
       const auto& faces = current_.edge_faces(side);
       const int from = x.forward ? faces[0] : faces[1], to = x.forward ? faces[1] : faces[0];
       const bool from_quad = from == q.f || from == q.g, to_quad = to == q.f || to == q.g;
       if (from_quad && !(x.prev >= 0 && crossings_[x.prev].edge == q.e)) {
-        strands.push_back({x.input_edge, before(c), {c, -1}, -1});
+        strands.push_back({x.input_edge, neighbour(c, false, opposite), {c, -1, -1}, -1});
       }
-      if (to_quad && x.next < 0) strands.push_back({x.input_edge, {c, -1}, after(c), -1});
+      if (to_quad && x.next < 0) {
+        strands.push_back({x.input_edge, {c, -1, -1}, neighbour(c, true, opposite), -1});
+      }
     }
   }
+  // An input edge along e runs from a to b or from b to a (never a loop: input edges join two
+  // vertices).
   if (coincident_[q.e] >= 0) {
     const int E = coincident_[q.e];
-    strands.push_back({E, {-1, input_.edge_vertices(E)[0]}, {-1, input_.edge_vertices(E)[1]}, -1});
+    const auto& ends = input_.edge_vertices(E);
+    const bool from_a = ends[0] == q.vertex[A];
+    strands.push_back({E, {-1, ends[0], from_a ? A : B}, {-1, ends[1], from_a ? B : A}, -1});
   }
   return strands;
 }
@@ -150,7 +176,28 @@ void InputOverlay::flip(const EdgeFlip& record) {
   q.e_ka = T.face_edge(q.f, (c + 2) % 3);
   q.e_al = T.face_edge(q.g, (d + 1) % 3);
   q.e_lb = T.face_edge(q.g, (d + 2) % 3);
+  q.h_ab = h;
+  q.h_bk = 3 * q.f + (c + 1) % 3;
+  q.h_ka = 3 * q.f + (c + 2) % 3;
+  q.h_al = 3 * q.g + (d + 1) % 3;
+  q.h_lb = 3 * q.g + (d + 2) % 3;
   enum { K = 0, A = 1, L = 2, B = 3 };
+  // Four sides that are four edges, each in one face of the quadrilateral (as the strands below
+  // are followed).
+  if (!T.flips_to_triangles(e)) fail("two sides of the quadrilateral are one edge");
+  // The corners at the ends of crossing x's edge, the first where its t starts.
+  const auto ends_of = [&](const Crossing& x) -> std::array<int, 2> {
+    const auto oriented = [&](int side, int tail, int head) -> std::array<int, 2> {
+      return runs_from_tail(side) ? std::array<int, 2>{tail, head} : std::array<int, 2>{head, tail};
+    };
+    if (x.edge == e) return oriented(q.h_ab, A, B);
+    if (x.edge == q.e_ka) return oriented(q.h_ka, K, A);
+    if (x.edge == q.e_bk) return oriented(q.h_bk, B, K);
+    if (x.edge == q.e_al) return oriented(q.h_al, A, L);
+    if (x.edge == q.e_lb) return oriented(q.h_lb, L, B);
+    fail("a strand's crossing lies on no side of the quadrilateral");
+    return {-1, -1};
+  };
 
   // The planar picture.
   // An isometric flip of the input's metric (before the flow, EdgeFlip::isometric): the unfolded
@@ -188,10 +235,9 @@ void InputOverlay::flip(const EdgeFlip& record) {
 
   // Position of a point in the picture, and its parameter along its input edge.
   auto place = [&](const Point& p) -> Eigen::Vector2d {
-    if (p.crossing < 0) return q.z[q.local(p.vertex)];
+    if (p.crossing < 0) return q.z[p.corner];
     const Crossing& x = crossings_[p.crossing];
-    const auto& ends = T.edge_vertices(x.edge);
-    const int i = q.local(ends[0]), j = q.local(ends[1]);
+    const auto [i, j] = ends_of(x);
     const double bi = (1 - x.t) * q.w[i], bj = x.t * q.w[j];
     return (bi * q.z[i] + bj * q.z[j]) / (bi + bj);
   };
@@ -207,16 +253,15 @@ void InputOverlay::flip(const EdgeFlip& record) {
   };
   auto end_of = [&](const Point& p) -> End {
     if (p.crossing < 0) {
-      const int i = q.local(p.vertex);
-      if (i == K) return {'K', 0};
-      if (i == L) return {'L', 0};
-      return {i == A ? 'A' : 'B', 1};
+      if (p.corner == K) return {'K', 0};
+      if (p.corner == L) return {'L', 0};
+      return {p.corner == A ? 'A' : 'B', 1};
     }
     const Crossing& x = crossings_[p.crossing];
-    if (x.edge == q.e_ka) return {'A', t_from(p.crossing, q.vertex[K])};
-    if (x.edge == q.e_al) return {'A', 1 + t_from(p.crossing, q.vertex[A])};
-    if (x.edge == q.e_bk) return {'B', t_from(p.crossing, q.vertex[K])};
-    if (x.edge == q.e_lb) return {'B', 1 + t_from(p.crossing, q.vertex[B])};
+    if (x.edge == q.e_ka) return {'A', t_along(p.crossing, q.h_ka)};
+    if (x.edge == q.e_al) return {'A', 1 + t_along(p.crossing, q.h_al)};
+    if (x.edge == q.e_bk) return {'B', 1 - t_along(p.crossing, q.h_bk)};
+    if (x.edge == q.e_lb) return {'B', 2 - t_along(p.crossing, q.h_lb)};
     return {0, 0};
   };
 
@@ -255,7 +300,7 @@ void InputOverlay::flip(const EdgeFlip& record) {
     // has a cut per input edge crossing the new diagonal, and many flips build a subdivision).
     std::array<Point, 3> pts = {st.p0, st.p1, st.p1};
     size_t num_pts = 2;
-    if (st.m >= 0) pts[1] = {st.m, -1}, num_pts = 3;
+    if (st.m >= 0) pts[1] = {st.m, -1, -1}, num_pts = 3;
     std::array<Eigen::Vector2d, 3> zs;
     std::array<double, 3> side{};
     for (size_t i = 0; i < num_pts; ++i) {
@@ -295,7 +340,7 @@ void InputOverlay::flip(const EdgeFlip& record) {
     } else if (q.circle && P.crossing < 0 && Q.crossing < 0) {
       // The diagonal a-b itself: the picture's parameter turned into the convention's by the
       // weights, as for the new edge's below.
-      const double bp = (1 - sigma) / q.w[q.local(P.vertex)], bq = sigma / q.w[q.local(Q.vertex)];
+      const double bp = (1 - sigma) / q.w[P.corner], bq = sigma / q.w[Q.corner];
       cut.s = sp + (sq - sp) * bq / (bp + bq);
     } else {
       cut.s = sp + sigma * (sq - sp);
@@ -330,7 +375,8 @@ void InputOverlay::flip(const EdgeFlip& record) {
   const int was_coincident = coincident_[e];
   coincident_[e] = -1;
   if (!current_.flip(e)) fail("the edge cannot be flipped");
-  const bool k_first = current_.edge_vertices(e)[0] == q.vertex[K];
+  // The new edge in g = (l, b, k), opposite b: the halfedge k -> l.
+  const bool k_first = runs_from_tail(3 * q.g + 1);
   auto link = [&](int E, const Point& from, int to_crossing, const Point& to) {
     // from -> to_crossing (or to, when to_crossing < 0)
     const int next = to_crossing >= 0 ? to_crossing : to.crossing;

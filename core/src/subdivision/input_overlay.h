@@ -36,7 +36,7 @@ namespace ricci::detail {
 struct Crossing {
   int input_edge = -1;
   int edge = -1;             //!< of the current triangulation
-  double t = 0;              //!< along `edge`, from its edge_vertices()[0]
+  double t = 0;              //!< along `edge`, from its edge_vertices()[0] (runs_from_tail)
   double s = 0;              //!< along the input edge, from its edge_vertices()[0]
   int prev = -1, next = -1;  //!< along the input edge; -1: its first (last) vertex
   bool forward = true;       //!< the input edge passes from edge_faces(edge)[0] to [1]
@@ -65,8 +65,12 @@ class InputOverlay {
   int first_crossing(int input_edge) const { return first_[input_edge]; }
   int num_flips() const { return num_flips_; }
 
-  //! Parameter of crossing c on its current edge measured from vertex v (an end of the edge).
-  double t_from(int c, int v) const;
+  //! Whether the parameters t of the crossings on halfedge h's edge run from h's tail (else from
+  //! its head): from the edge's edge_vertices()[0], and on a loop (an edge from a vertex to
+  //! itself) from the tail of its halfedge in edge_faces()[0].
+  bool runs_from_tail(int h) const;
+  //! Parameter of crossing c measured from the tail of halfedge h of its current edge.
+  double t_along(int c, int h) const;
 
  private:
   struct Point;

@@ -55,6 +55,13 @@ struct FlowOptions {
   //! S2 on a closed genus-0 surface (run_ricci_flow, compute_ricci_flow): first walk to the
   //! stereographic lift of the flattened punctured mesh (spherical_start.h).
   bool stereographic_start = true;
+  //! Ptolemy flips (Yamabe in E2 and H2) may make an edge from a vertex to itself (a loop), as
+  //! the Delaunay triangulation of a metric can need: without, a flow can stall with a triangle
+  //! that violates the triangle inequality and no flip left to mend it. Not a face with one edge
+  //! on two sides (around a vertex of degree 1): flows that need those still stall. The common
+  //! subdivision follows loops; the layouts of the flowed triangulation across a cut (plane cut
+  //! open, Poincare disk) do not, and no pipeline asks for loops yet (docs/design.md).
+  bool loops = false;
   //! Called once per iteration; returning false cancels the flow.
   std::function<bool(const FlowProgress&)> progress;
 };

@@ -56,6 +56,9 @@ class Triangulation {
 
   //! The two vertices opposite interior edge e (in its first and second face).
   std::array<int, 2> opposite_vertices(int e) const;
+  //! Whether flip(e) can replace e: an interior edge between two faces whose other four sides are
+  //! four edges (not where e's faces wrap around a vertex of degree 1 or 2 and meet twice).
+  bool flips_to_triangles(int e) const;
 
   //! The connectivity of faces over vertices 0..num_vertices-1 (a subdivision's, say), with no
   //! geometry checked. \throws InvalidMeshError as build_connectivity does.
@@ -63,9 +66,10 @@ class Triangulation {
 
  protected:
   //! Replaces interior edge e, the diagonal of the quadrilateral of its two faces, by the other
-  //! diagonal. Returns false (and changes nothing) for a boundary edge or when both opposite
-  //! vertices coincide. The new diagonal may join vertices another edge joins already.
-  //! (Public in IntrinsicTriangulation only: a CompactMesh's input lengths belong to its edges.)
+  //! diagonal. Returns false (and changes nothing) where !flips_to_triangles(e). The new
+  //! diagonal may join vertices another edge joins already, or a vertex to itself (a loop, where
+  //! both opposite vertices coincide; its faces then have two corners at that vertex). (Public in
+  //! IntrinsicTriangulation only: a CompactMesh's input lengths belong to its edges.)
   bool flip(int e);
 
   Triangulation() = default;
