@@ -156,10 +156,13 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
   }
   const std::vector<double>& history = result.residual_history;
   if (stall.stalled(step, history)) {
-    s << "stalled at iteration " << it << ": for " << detail::StallWindow::kLength
+    const int window = stall.loop_steps() >= detail::StallWindow::kLoopLength
+                           ? detail::StallWindow::kLoopLength
+                           : detail::StallWindow::kLength;
+    s << "stalled at iteration " << it << ": for " << window
       << " iterations the step was cut below 1/64 to keep triangles from degenerating, and "
          "max |K - Kbar| only went from "
-      << history[history.size() - detail::StallWindow::kLength] << " to " << result.residual;
+      << history[history.size() - static_cast<size_t>(window)] << " to " << result.residual;
     return stalled_because(std::string("; the target is not reachable") +
                            (flipping ? " even with edge flips" : flips_help) +
                            ", or try the tangential scheme, whose triangles are always valid");

@@ -320,6 +320,8 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
 
 bool StallWindow::stalled(const LineSearch& step, const std::vector<double>& residual_history) {
   short_steps_ = (step.blocked_by_validity && step.alpha <= kShortStep) ? short_steps_ + 1 : 0;
+  loop_steps_ = (step.blocked_by_loop && step.alpha <= kShortStep) ? loop_steps_ + 1 : 0;
+  if (loop_steps_ >= kLoopLength) return true;
   recent_.push_back(step.blocked_by_validity ? -step.alpha : step.alpha);
   if (recent_.size() > 6) recent_.erase(recent_.begin());
   const size_t n = residual_history.size();
