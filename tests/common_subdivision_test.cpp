@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <string>
@@ -16,6 +17,8 @@
 #include "ricci/flow/flow_solver.h"
 #include "ricci/flow/ricci_flow.h"
 #include "ricci/io/mesh_io.h"
+#include "ricci/layout/lay_out.h"
+#include "ricci/mesh/errors.h"
 #include "ricci/pipeline/uniformize.h"
 #include "ricci/repair/repair.h"
 #include "ricci/subdivision/common_subdivision.h"
@@ -356,56 +359,83 @@ TEST(CommonSubdivision, SpherePiecesFollowTheInputsDelaunayTriangulation) {
   EXPECT_LE(test::percentile(ratio, 0.95), 3.4);
 }
 
-// A hyperbolic triangle is drawn with straight sides, but its sides are arcs bowing toward the
-// disk's centre: near the rim a thin face positive in the metric turns over as drawn. Netgen's
-// hinge (genus 5, no flips) has three such faces; they are split until none is turned.
+// Cura's felixpro2 bed with the atlas's cones for D <= 0.2: the Delaunay triangulation of its
+// flat metric needs edges from a vertex to itself. Without them the flow in the canonical class
+// (after the input's isometric flips to its Delaunay triangulation) stalls; with
+// FlowOptions::loops it converges on a triangulation that has some, there and in the input's own
+// class, and the common subdivision follows them on both routes: the input surface, in each flowed
+// face drawn alone by its side lengths (placed here by the law of cosines) pieces that tile it,
+// none turned, and each side two pieces of different flowed faces share of one length in both (a
+// crossing's parameter read from the wrong end of its edge would move it).
 TEST(CommonSubdivision, FollowsTheEdgesFromAVertexToItselfOfAFlowThatMakesThem) {
-  // Cura's felixpro2 bed with the atlas's cones for D <= 0.2: the Delaunay triangulation of its
-  // flat metric needs edges from a vertex to itself. Without them the flow stalls; with
-  // FlowOptions::loops it converges on a triangulation that has some, and the common subdivision
-  // follows them: the input surface, and in each flowed face drawn alone by its side lengths
-  // (placed here by the law of cosines) pieces that tile it, none turned.
   const CompactMesh mesh = read_mesh(RICCI_REAL_MESH_DIR "/cura-felixpro2.obj");
   const ConePlacement cones = place_cones(mesh);
   const TargetCurvature target = detail::atlas_target(mesh, cones, false);
   const ConformalStructure structure = prepare_flow(mesh, Geometry::Euclidean, {}, target);
-  FlowOptions options;
-  options.edge_flips = EdgeFlips::Always;
-  RicciFlowSolver without(mesh, structure, options);
-  EXPECT_FALSE(without.solve(target, &cones.u).converged);
-  options.loops = true;
-  RicciFlowSolver with(mesh, structure, options);
-  const FlowResult r = with.solve(target, &cones.u);
-  ASSERT_TRUE(r.converged) << r.failure;
-  const Triangulation& flowed = result_triangulation(mesh, r);
-  int loops = 0;
-  for (int e = 0; e < flowed.num_edges(); ++e)
-    loops += flowed.edge_vertices(e)[0] == flowed.edge_vertices(e)[1];
-  EXPECT_GT(loops, 0);
-  Layout alone;
-  std::vector<double> face_area(flowed.num_faces());
-  for (int f = 0; f < flowed.num_faces(); ++f) {
-    const double a = r.edge_lengths[flowed.face_edge(f, 0)],
-                 b = r.edge_lengths[flowed.face_edge(f, 1)],
-                 c = r.edge_lengths[flowed.face_edge(f, 2)];
-    const double x = (b * b + c * c - a * a) / (2 * c), y = std::sqrt(b * b - x * x);
-    alone.corners.push_back({Vec3::Zero(), Vec3(c, 0, 0), Vec3(x, y, 0)});
-    face_area[f] = 0.5 * c * y;
+  for (const bool delaunay_class : {true, false}) {
+    SCOPED_TRACE(delaunay_class ? "the input's Delaunay class" : "the input's own class");
+    FlowOptions options;
+    options.edge_flips = EdgeFlips::Always;
+    options.delaunay_class = delaunay_class;
+    RicciFlowSolver without(mesh, structure, options);
+    if (delaunay_class) {
+      EXPECT_FALSE(without.solve(target, &cones.u).converged);
+    }
+    options.loops = true;
+    RicciFlowSolver with(mesh, structure, options);
+    const FlowResult r = with.solve(target, &cones.u);
+    ASSERT_TRUE(r.converged) << r.failure;
+    const Triangulation& flowed = result_triangulation(mesh, r);
+    int loops = 0;
+    for (int e = 0; e < flowed.num_edges(); ++e)
+      loops += flowed.edge_vertices(e)[0] == flowed.edge_vertices(e)[1];
+    EXPECT_GT(loops, 0);
+    // The layouts of the flowed triangulation itself, which find corners by their vertex, refuse
+    // it rather than draw it wrong.
+    EXPECT_THROW(lay_out(flowed, Geometry::Euclidean, r.edge_lengths), LayoutError);
+    Layout alone;
+    std::vector<double> face_area(flowed.num_faces());
+    double size = 0;
+    for (int f = 0; f < flowed.num_faces(); ++f) {
+      const double a = r.edge_lengths[flowed.face_edge(f, 0)],
+                   b = r.edge_lengths[flowed.face_edge(f, 1)],
+                   c = r.edge_lengths[flowed.face_edge(f, 2)];
+      const double x = (b * b + c * c - a * a) / (2 * c), y = std::sqrt(b * b - x * x);
+      alone.corners.push_back({Vec3::Zero(), Vec3(c, 0, 0), Vec3(x, y, 0)});
+      face_area[f] = 0.5 * c * y;
+      size = std::max(size, c);
+    }
+    const CommonSubdivision sub = common_subdivision(mesh, structure, r, alone);
+    expect_input_surface(mesh, sub);
+    std::vector<double> tiled(flowed.num_faces(), 0.0);
+    // Per side of the pieces (its two vertices): its length in the first flowed face seen.
+    std::map<std::pair<int, int>, std::pair<int, double>> side_length;
+    double worst = 0;
+    for (size_t f = 0; f < sub.faces.size(); ++f) {
+      const auto& p = sub.corners[f];
+      const double area = signed_area2(p[0], p[1], p[2]);
+      EXPECT_GT(area, 0) << "piece " << f << " turned";
+      tiled[sub.final_face[f]] += area;
+      for (int k = 0; k < 3; ++k) {
+        const int v = sub.faces[f][k], w = sub.faces[f][(k + 1) % 3];
+        const double length = (p[(k + 1) % 3] - p[k]).norm();
+        const auto [it, first] =
+            side_length.insert({{std::min(v, w), std::max(v, w)}, {sub.final_face[f], length}});
+        if (!first && it->second.first != sub.final_face[f])
+          worst = std::max(worst, std::abs(it->second.second - length));
+      }
+    }
+    for (int f = 0; f < flowed.num_faces(); ++f)
+      EXPECT_NEAR(tiled[f], face_area[f], 1e-9 * face_area[f]) << "flowed face " << f;
+    EXPECT_LE(worst, 1e-9 * size);
+    std::printf("[ loops    ] felixpro2 at %zu cones: %d loops, %zu pieces, sides agree to %.2g\n",
+                cones.cones.size(), loops, sub.faces.size(), worst / size);
   }
-  const CommonSubdivision sub = common_subdivision(mesh, structure, r, alone);
-  expect_input_surface(mesh, sub);
-  std::vector<double> tiled(flowed.num_faces(), 0.0);
-  for (size_t f = 0; f < sub.faces.size(); ++f) {
-    const double area = signed_area2(sub.corners[f][0], sub.corners[f][1], sub.corners[f][2]);
-    EXPECT_GT(area, 0) << "piece " << f << " turned";
-    tiled[sub.final_face[f]] += area;
-  }
-  for (int f = 0; f < flowed.num_faces(); ++f)
-    EXPECT_NEAR(tiled[f], face_area[f], 1e-9 * face_area[f]) << "flowed face " << f;
-  std::printf("[ loops    ] felixpro2 at %zu cones: %d loops, %zu pieces\n", cones.cones.size(),
-              loops, sub.faces.size());
 }
 
+// A hyperbolic triangle is drawn with straight sides, but its sides are arcs bowing toward the
+// disk's centre: near the rim a thin face positive in the metric turns over as drawn. Netgen's
+// hinge (genus 5, no flips) has three such faces; they are split until none is turned.
 TEST(PoincareDiskDrawing, ThinFacesNearTheRimAreSplitUntilNoneTurns) {
   const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/netgen-hinge.stl");
   const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);

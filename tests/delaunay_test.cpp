@@ -220,6 +220,30 @@ TEST(Delaunay, FlipTwiceRestoresTheTriangulation) {
   }
 }
 
+// A tetrahedron flipped once has two vertices of degree 2. Flipping an edge at one of them makes
+// a loop at the vertex opposite it on both sides, and a face whose two sides are one edge (the
+// degree-2 vertex's other edge): refused, the triangulation unchanged. Flipping the new edge
+// back is no such flip.
+TEST(Delaunay, AFlipToAFaceWithOneEdgeOnTwoSidesIsRefused) {
+  IntrinsicTriangulation t(
+      Triangulation::from_faces(4, {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}}));
+  int e01 = -1, e02 = -1;
+  for (int e = 0; e < t.num_edges(); ++e) {
+    if (t.edge_vertices(e) == std::array<int, 2>{0, 1}) e01 = e;
+    if (t.edge_vertices(e) == std::array<int, 2>{0, 2}) e02 = e;
+  }
+  ASSERT_TRUE(t.flips_to_triangles(e01));
+  ASSERT_TRUE(t.flip(e01));  // 0-1 becomes a second edge 2-3
+  expect_valid_triangulation(t);
+  const auto opposite = t.opposite_vertices(e02);
+  EXPECT_EQ(opposite[0], opposite[1]);  // 3 on both sides: the flip would make a loop 3-3
+  const std::vector<std::array<int, 3>> before = t.faces();
+  EXPECT_FALSE(t.flips_to_triangles(e02));
+  EXPECT_FALSE(t.flip(e02));
+  EXPECT_EQ(t.faces(), before);
+  EXPECT_TRUE(t.flips_to_triangles(e01));
+}
+
 // With flips, the Euclidean Yamabe flow's class is that of the input metric's intrinsic Delaunay
 // triangulation (Gillespie, Springborn, Crane): the result is Ptolemy-equivalent to it.
 TEST(Delaunay, YamabeWithFlipsIsPtolemyConformalToTheInputsDelaunayTriangulation) {

@@ -156,9 +156,7 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
   }
   const std::vector<double>& history = result.residual_history;
   if (stall.stalled(step, history)) {
-    const int window = stall.loop_steps() >= detail::StallWindow::kLoopLength
-                           ? detail::StallWindow::kLoopLength
-                           : detail::StallWindow::kLength;
+    const int window = stall.window();
     s << "stalled at iteration " << it << ": for " << window
       << " iterations the step was cut below 1/64 to keep triangles from degenerating, and "
          "max |K - Kbar| only went from "

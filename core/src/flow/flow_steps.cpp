@@ -321,11 +321,16 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
 bool StallWindow::stalled(const LineSearch& step, const std::vector<double>& residual_history) {
   short_steps_ = (step.blocked_by_validity && step.alpha <= kShortStep) ? short_steps_ + 1 : 0;
   loop_steps_ = (step.blocked_by_loop && step.alpha <= kShortStep) ? loop_steps_ + 1 : 0;
-  if (loop_steps_ >= kLoopLength) return true;
   recent_.push_back(step.blocked_by_validity ? -step.alpha : step.alpha);
   if (recent_.size() > 6) recent_.erase(recent_.begin());
   const size_t n = residual_history.size();
-  return short_steps_ >= kLength && residual_history[n - 1] > 0.5 * residual_history[n - kLength];
+  const auto little_progress = [&](int window) {
+    return residual_history[n - 1] > 0.5 * residual_history[n - static_cast<size_t>(window)];
+  };
+  window_ = loop_steps_ >= kLoopLength && little_progress(kLoopLength) ? kLoopLength
+            : short_steps_ >= kLength && little_progress(kLength)      ? kLength
+                                                                       : 0;
+  return window_ > 0;
 }
 
 std::string StallWindow::flips_called_for() const {

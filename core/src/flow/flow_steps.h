@@ -161,7 +161,7 @@ struct LineSearch {
   bool blocked_by_validity = false;  //!< a longer step left the set of valid triangles
   //! ... and a triangle it left invalid has a boundary edge, which no flip removes
   bool blocked_at_boundary = false;
-  //! ... and a triangle stayed invalid where a Ptolemy flip to a loop was refused
+  //! ... and a longer trial point stayed invalid where its flips refused one to a loop
   bool blocked_by_loop = false;
   double alpha = 1;
   Eigen::VectorXd u, k;  //!< accepted point and its curvature
@@ -205,23 +205,23 @@ inline constexpr double kDegeneratedRoundOff = 100;
 inline constexpr double kShortStep = 1.0 / 64;
 
 //! Steps cut short by degenerating triangles for many iterations with little progress: the flow
-//! is running into the boundary of the valid set, where no solution lies. Or fewer in a row where
-//! the longer trial points' Delaunay triangulation needs an edge from a vertex to itself that the
-//! flips do not make (FlowOptions::loops): stopped after 3 such steps instead of 10, the atlases
-//! of the real set, CGAL's, 100 game assets and 120 furniture models (453 outputs) and of 592
-//! held-out files (579 outputs) came out the same, and so did the default targets' 231 outputs of
-//! the real set and CGAL's; the 17 files of the first whose attempts stalled so took 90 s instead
-//! of 97 (medians of 3 alternating batches).
+//! is running into the boundary of the valid set, where no solution lies. Or fewer in a row, with
+//! as little progress, where the longer trial points' Delaunay triangulation needs an edge from a
+//! vertex to itself that the flips do not make (FlowOptions::loops). Stopped after 3 such steps
+//! instead of 10, the atlases of the real set, CGAL's, 100 game assets and 120 furniture models
+//! (453 outputs) and of 592 held-out files (579 outputs) came out the same, and so did the default
+//! targets' 231 outputs of the real set and CGAL's; the 17 files of the first whose attempts
+//! stalled so took 93 s instead of 106 (medians of 3 alternating batches, beside builds).
 class StallWindow {
  public:
   static constexpr int kLength = 10;
   //! Short steps in a row whose longer trial points needed a loop the flips did not make.
   static constexpr int kLoopLength = 3;
   //! Records an accepted step; true when the flow has stalled: kLength short steps in a row with
-  //! little progress, or kLoopLength blocked by a refused loop.
+  //! little progress, or kLoopLength with little progress blocked by a refused loop.
   bool stalled(const LineSearch& step, const std::vector<double>& residual_history);
-  //! The number of short steps in a row blocked by a refused loop.
-  int loop_steps() const { return loop_steps_; }
+  //! After stalled() held: the steps in a row it judged by (kLength or kLoopLength).
+  int window() const { return window_; }
   //! The number of short steps in a row so far.
   int short_steps() const { return short_steps_; }
   //! Without flips (EdgeFlips::WhenNeeded), whether the steps so far call for them, and why; ""
@@ -240,6 +240,7 @@ class StallWindow {
  private:
   int short_steps_ = 0;
   int loop_steps_ = 0;
+  int window_ = 0;
   // The accepted steps' lengths, negated where triangles cut them (the last few).
   std::vector<double> recent_;
 };

@@ -251,6 +251,11 @@ void InputOverlay::flip(const EdgeFlip& record) {
     char side = 0;  // 'A', 'B', 'K', 'L'
     double pos = 0;
   };
+  // Parameter of crossing c from the head of side h (b -> k, l -> b: from k, from b).
+  auto t_to_head = [&](int crossing, int side) {
+    const double t = crossings_[crossing].t;
+    return runs_from_tail(side) ? 1 - t : t;
+  };
   auto end_of = [&](const Point& p) -> End {
     if (p.crossing < 0) {
       if (p.corner == K) return {'K', 0};
@@ -260,8 +265,8 @@ void InputOverlay::flip(const EdgeFlip& record) {
     const Crossing& x = crossings_[p.crossing];
     if (x.edge == q.e_ka) return {'A', t_along(p.crossing, q.h_ka)};
     if (x.edge == q.e_al) return {'A', 1 + t_along(p.crossing, q.h_al)};
-    if (x.edge == q.e_bk) return {'B', 1 - t_along(p.crossing, q.h_bk)};
-    if (x.edge == q.e_lb) return {'B', 2 - t_along(p.crossing, q.h_lb)};
+    if (x.edge == q.e_bk) return {'B', t_to_head(p.crossing, q.h_bk)};
+    if (x.edge == q.e_lb) return {'B', 1 + t_to_head(p.crossing, q.h_lb)};
     return {0, 0};
   };
 

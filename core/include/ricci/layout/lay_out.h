@@ -13,7 +13,8 @@ namespace ricci {
 
 //! Lays out `lengths`, a metric of the geometry with angle sum 2 pi at interior vertices (a
 //! converged flow's), by the method for its geometry (see the top of this file).
-//! \throws InvalidArgumentError for lengths that are not a valid metric of the geometry.
+//! \throws InvalidArgumentError for lengths that are not a valid metric of the geometry;
+//!   LayoutError for a triangulation with an edge from a vertex to itself (FlowOptions::loops).
 //! H2 domains in charts: each within `chart_radius` (at most kChartRadius) of its disk's centre.
 Layout lay_out(const Triangulation& mesh, Geometry geometry, const std::vector<double>& lengths,
                LinearSolverKind solver = LinearSolverKind::Cholmod,
