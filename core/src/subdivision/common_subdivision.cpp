@@ -96,8 +96,8 @@ CommonSubdivision common_subdivision(const CompactMesh& mesh, const ConformalStr
         const BoundaryPoint& b = cut.points[p];
         if (b.corner >= 0) return layout.corners[face][b.corner];
         const int v = T.face_vertex(face, b.side), w = T.face_vertex(face, (b.side + 1) % 3);
-        const double tr = realize(overlay, overlay.t_along(b.crossing, 3 * face + (b.side + 2) % 3),
-                                  v, w, result.u);
+        const double tr =
+            realize(overlay, overlay.t_on_side(b.crossing, face, b.side), v, w, result.u);
         return between(g, layout.corners[face][b.side], layout.corners[face][(b.side + 1) % 3], tr,
                        disk_points);
       };

@@ -90,9 +90,9 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
   for (int i = 0; i < 3; ++i) {
     corner_index[i] = static_cast<int>(points.size());
     points.push_back({i, -1, i});
-    const int h = 3 * face + (i + 2) % 3;  // the side from corner i to corner i + 1
     std::vector<int> list = overlay.crossings_on(T.face_edge(face, (i + 2) % 3));
-    if (!overlay.runs_from_tail(h)) std::reverse(list.begin(), list.end());
+    if (!overlay.runs_from_tail(InputOverlay::side_halfedge(face, i)))
+      std::reverse(list.begin(), list.end());
     for (int c : list) points.push_back({-1, c, i});
   }
   const int m = static_cast<int>(points.size());

@@ -71,6 +71,13 @@ class InputOverlay {
   bool runs_from_tail(int h) const;
   //! Parameter of crossing c measured from the tail of halfedge h of its current edge.
   double t_along(int c, int h) const;
+  //! Parameter of crossing c on side `side` of face `face` of the current triangulation (from
+  //! corner `side` to corner side + 1), measured from corner `side`.
+  double t_on_side(int c, int face, int side) const {
+    return t_along(c, side_halfedge(face, side));
+  }
+  //! The halfedge of face `face` from corner `side` to corner side + 1.
+  static int side_halfedge(int face, int side) { return 3 * face + (side + 2) % 3; }
 
  private:
   struct Point;

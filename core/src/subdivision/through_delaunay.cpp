@@ -406,7 +406,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
         if (b.corner >= 0) {
           out.corners.push_back(z[b.corner]);
         } else {
-          const double t = in_delaunay.t_along(b.crossing, 3 * F + (b.side + 2) % 3);
+          const double t = in_delaunay.t_on_side(b.crossing, F, b.side);
           out.corners.push_back((1 - t) * z[b.side] + t * z[(b.side + 1) % 3]);
         }
       }
@@ -461,9 +461,8 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
       if (b.crossing < 0) continue;
       const int v = bc_point(b.crossing);
       if (v >= nv && added[v - nv].input_edge >= 0) {
-        layout_in.emplace(
-            std::make_pair(v, G),
-            g_layout(b.side, over_delaunay.t_along(b.crossing, 3 * G + (b.side + 2) % 3)));
+        layout_in.emplace(std::make_pair(v, G),
+                          g_layout(b.side, over_delaunay.t_on_side(b.crossing, G, b.side)));
       }
     }
     for (const FacePiece& piece : cut.pieces) {
@@ -485,7 +484,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
           const Crossing& x = bc_crossings[b.crossing];
           q.vertex = bc_point(b.crossing);
           q.g_side = b.side;
-          q.g_t = over_delaunay.t_along(b.crossing, 3 * G + (b.side + 2) % 3);
+          q.g_t = over_delaunay.t_on_side(b.crossing, G, b.side);
           q.layout = g_layout(b.side, q.g_t);
           q.f_side = side_of_edge(F, x.input_edge);
           if (q.f_side < 0) fail(G, "a crossing outside its face of the Delaunay triangulation");
