@@ -263,13 +263,17 @@ namespace {
 // A coarse part's placed cones can leave its faces far from conformal (a 28-face oven window of
 // gymnasium-robotics at 4 cones: QC p95 42 on its faces, BFF's 3.96 at 4 cones; a printer's bed
 // plate of 396 faces at 4 cones, D 0.012: QC p95 5.78, BFF's 2.46 at 8). Where the delivered QC
-// p95 is above this and the part unfolds with at most this many cones, the unfolding (QC 1 and D 0
-// on its faces) is delivered instead, its seams through more cones. Where it does not, the cones
-// are placed again for a bound this many times below the last bound or D delivered, at most this
-// many times, with at most this many times the first set's cones, and an attempt that lowers QC
-// p95 enough (kQcGain) is delivered instead (the bed plate: 22 cones, QC p95 3.08, seams as
-// long; since 2026-12-06 it is then unfolded through its 200 vertices of curvature, in one chart,
-// below).
+// p95 is above this, the unfolding (QC 1 and D 0 on its faces) is delivered instead, its seams
+// through more cones: through at most this many cones whatever its seams, through more (at most
+// the budget) where its seams are within reach of the placed cones' (seams_within_reach). The
+// genus-2 plates of gymnasium's Adroit forearm (about 317 vertices, QC p95 8 to 11 at 37 to 64
+// cones) unfold so at once, QC 1, seams 7.8 to 10.5 sqrt(area); before 2026-12-06 the cones of
+// two tighter bounds were placed first, and most plates kept 146 to 204 cones, QC p95 1.07 to
+// 1.70, seams 7.9 to 12. Where the unfolding is not delivered, the cones are placed again for a
+// bound this many times below the last bound or D delivered, at most this many times, with at
+// most this many times the first set's cones, and an attempt that lowers QC p95 enough (kQcGain)
+// is delivered instead (the bed plate: 22 cones, QC p95 3.08, seams as long), and where that
+// leaves QC p95 above this, the unfolding is weighed again against it (below).
 constexpr double kUnfoldQc = 2;
 constexpr int kUnfoldedCones = 64;
 // Above this QC p95 (a square of texture drawn half as long again one way as the other) the
@@ -422,9 +426,14 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
       !(far_from_conformal || best.quality.quasi_conformal_p95 > kUnfoldVisibleQc || above_bound)) {
     return best;
   }
-  auto unfolding =
-      unfolded_run(mesh, request, above_bound ? std::numeric_limits<int>::max() : kUnfoldedCones);
+  // Far from conformal, the unfolding through as many cones as the budget allows, before any cones
+  // of tighter bounds; through more than kUnfoldedCones delivered only where its seams are within
+  // reach of `best`'s.
+  auto unfolding = unfolded_run(
+      mesh, request,
+      above_bound || far_from_conformal ? std::numeric_limits<int>::max() : kUnfoldedCones);
   auto* u = std::get_if<Uniformization>(&unfolding);
+  const bool wide = u && static_cast<int>(u->atlas.placement.cones.size()) > kUnfoldedCones;
   // A cancelled unfolding, at the cost of `best` and the attempts before it.
   const auto cancelled_instead = [&](Uniformization& cancelled) {
     Uniformization run = delivered_instead(best, std::move(cancelled));
@@ -443,41 +452,50 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
     run.atlas.bound_asked = request.cone_placement.distortion_bound;
     return run;
   };
-  const bool better =
-      u && u->valid() &&
-      (above_bound ||
-       (u->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95 &&
-        (far_from_conformal || seams_within_reach(u->atlas.seam_length, best.atlas.seam_length))));
-  if (better) {
+  // More conformal than `best`, with seams within reach of its seams where it unfolds through
+  // more than kUnfoldedCones cones or `best` is not far from conformal.
+  const auto more_conformal = [&](const Uniformization& unfolded, bool wide_one) {
+    return unfolded.valid() &&
+           unfolded.quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95 &&
+           ((far_from_conformal && !wide_one) ||
+            seams_within_reach(unfolded.atlas.seam_length, best.atlas.seam_length));
+  };
+  if (u && u->valid() && (above_bound || more_conformal(*u, wide))) {
     return unfolded_instead(*u, above_bound ? AtlasResult::Unfolded::WithinBound
                                             : AtlasResult::Unfolded::MoreConformal);
   }
-  if (u) add_cost(best.totals, best.atlas.placement, *u);
+  // A wide unfolding not delivered here is weighed again against the cones of tighter bounds
+  // (below), its cost counted once.
+  std::optional<Uniformization> wide_kept;
+  if (wide && u->valid()) {
+    wide_kept = std::move(*u);
+  } else if (u) {
+    add_cost(best.totals, best.atlas.placement, *u);
+  }
+  const auto with_kept_cost = [&](Uniformization run) {
+    if (wide_kept) add_cost(run.totals, run.atlas.placement, *wide_kept);
+    return run;
+  };
   // Cones for tighter bounds only where QC p95 is above kUnfoldVisibleQc; not where the user's
   // budget fixed the count of cones (BFF's 8, say), nor where they cost too much.
   if (!(best.quality.quasi_conformal_p95 > kUnfoldVisibleQc) ||
       request.cone_placement.max_cones != 0 ||
       !nearer_conformal_affordable(mesh, best, far_from_conformal)) {
-    return best;
+    return with_kept_cost(std::move(best));
   }
   best = nearer_conformal_cones(mesh, request, std::move(best), far_from_conformal);
-  // Still far from conformal with them, the unfolding through more than kUnfoldedCones cones (at
-  // most the budget, 1024 by default) where its seams are within reach of theirs (a desk of Sweet
-  // Home 3D's furniture, 672 faces, genus 1: 90 cones, QC p95 5.2 on its pieces, seams 18.3
-  // sqrt(area); unfolded through its 175 vertices of curvature, QC 1, seams 15.6).
-  if (u || best.result.stop == FlowStop::Cancelled || !best.valid() ||
+  // Still far from conformal with them, the wide unfolding where its seams are within reach of
+  // theirs (a desk of Sweet Home 3D's furniture, 672 faces, genus 1: 90 cones, QC p95 5.2 on its
+  // pieces, seams 18.3 sqrt(area); unfolded through its 175 vertices of curvature, QC 1, seams
+  // 15.6).
+  if (!wide_kept || best.result.stop == FlowStop::Cancelled || !best.valid() ||
       !(best.quality.quasi_conformal_p95 > kUnfoldQc)) {
-    return best;
+    return with_kept_cost(std::move(best));
   }
-  auto wide = unfolded_run(mesh, request, std::numeric_limits<int>::max());
-  auto* w = std::get_if<Uniformization>(&wide);
-  if (w && w->result.stop == FlowStop::Cancelled) return cancelled_instead(*w);
-  if (w && w->valid() && w->quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95 &&
-      seams_within_reach(w->atlas.seam_length, best.atlas.seam_length)) {
-    return unfolded_instead(*w, AtlasResult::Unfolded::MoreConformal);
+  if (more_conformal(*wide_kept, true)) {
+    return unfolded_instead(*wide_kept, AtlasResult::Unfolded::MoreConformal);
   }
-  if (w) add_cost(best.totals, best.atlas.placement, *w);
-  return best;
+  return with_kept_cost(std::move(best));
 }
 
 }  // namespace ricci::detail
