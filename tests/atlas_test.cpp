@@ -998,6 +998,31 @@ TEST(Atlas, ACoarsePartFarFromConformalIsUnfoldedAtOnceWhereItsSeamsStayWithinRe
   EXPECT_EQ(at_budget.summary.find("unfolded"), std::string::npos) << at_budget.summary;
 }
 
+TEST(Atlas, APartWhoseFirstAtlasIsFarFromConformalIsUnfoldedBeforeItsConesArePlacedAgainForD) {
+  // pyglet's logo: a part of 6 faces (a disk) gets no cone for D <= 0.2, and its free boundary
+  // leaves D 0.906 and QC p95 624 on its faces. Far from conformal, it is unfolded at once, not
+  // after the cones placed again for D (before 2026-12-06's rule the report named those: "the
+  // delivered faces' D was 0.906").
+  const std::string logo = std::string(RICCI_REAL_MESH_DIR) + "/pyglet-logo.obj";
+  const std::string report = temp("logo.json");
+  const Atlas a = run_atlas(logo, "--report " + report);
+  expect_valid_atlas(a, logo, 0.2);
+  const std::string json = slurp(report);
+  const std::string first =
+      "\"bound_instead\": \"with the cones for D <= 0.2 (0 cones) QC p95 on the faces was ";
+  const size_t at = json.find(first);
+  ASSERT_NE(at, std::string::npos) << json.substr(0, 2000);
+  EXPECT_GT(std::stod(json.substr(at + first.size(), 12)), 2);
+  const size_t end = json.find('"', at + first.size());
+  EXPECT_EQ(json.substr(at, end - at).find("the delivered faces' D was"), std::string::npos);
+  // That part's atlas: unfolded for a map nearer conformal.
+  const size_t unfolded = json.rfind("\"unfolded\": ", at);
+  ASSERT_NE(unfolded, std::string::npos);
+  const std::string more_conformal = "\"unfolded\": \"more-conformal\"";
+  EXPECT_EQ(json.compare(unfolded, more_conformal.size(), more_conformal), 0)
+      << json.substr(unfolded, 40);
+}
+
 TEST(Atlas, ALowPolyPartFarFromConformalIsUnfoldedThroughMoreConesThanTheCap) {
   // Minetest's boat, 156 faces, its 80 vertices all curved: its 12 cones for D <= 0.2 left QC p95
   // 3.85 on the faces, the cones placed again within 64 left 7.01 (measured on 2026-12-06 before

@@ -195,11 +195,10 @@ std::string qc_was(const Uniformization& run) {
 constexpr double kRetryMargin = 0.95;
 constexpr int kDistortionRetries = 2;
 
-}  // namespace
-
-Uniformization uniformize_as_requested(const CompactMesh& mesh,
-                                       const UniformizationOptions& request) {
-  Uniformization best = atlas_within_bounds(mesh, request);
+// `best`, the run for the request (atlas_within_bounds), with the cones placed again where the
+// delivered faces' D exceeds the bound (kRetryMargin, kDistortionRetries).
+Uniformization with_distortion_retries(const CompactMesh& mesh,
+                                       const UniformizationOptions& request, Uniformization best) {
   const double asked = request.cone_placement.distortion_bound;
   best.atlas.bound_asked = asked;
   const auto above = [&](const Uniformization& run) {
@@ -256,6 +255,13 @@ Uniformization uniformize_as_requested(const CompactMesh& mesh,
     within_bound_asked(request, best.atlas.placement);
   }
   return best;
+}
+
+}  // namespace
+
+Uniformization uniformize_as_requested(const CompactMesh& mesh,
+                                       const UniformizationOptions& request) {
+  return with_distortion_retries(mesh, request, atlas_within_bounds(mesh, request));
 }
 
 namespace {
@@ -413,7 +419,67 @@ Uniformization nearer_conformal_cones(const CompactMesh& mesh, const Uniformizat
 }  // namespace
 
 Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOptions& request) {
-  Uniformization best = uniformize_as_requested(mesh, request);
+  // A run the unfolding may replace: an atlas of placed cones.
+  const auto placed_atlas = [](const Uniformization& run) {
+    return run.preset == TargetPreset::Atlas && run.valid() && !run.atlas.user_cones &&
+           run.atlas.unfolded == AtlasResult::Unfolded::No;
+  };
+  // The unfolding `unfolded` in place of `replaced`, at the cost of both, and why.
+  const auto unfolded_instead = [&](const Uniformization& replaced, Uniformization& unfolded,
+                                    AtlasResult::Unfolded kind) {
+    std::string why =
+        kind == AtlasResult::Unfolded::WithinBound ? d_was(replaced) : qc_was(replaced);
+    if (!replaced.atlas.bound_instead.empty()) why += "; " + replaced.atlas.bound_instead;
+    Uniformization run = delivered_instead(replaced, std::move(unfolded));
+    add_placement_cost(run.atlas.placement, replaced.atlas.placement);
+    run.atlas.unfolded = kind;
+    run.atlas.bound_instead = why;
+    run.atlas.bound_asked = request.cone_placement.distortion_bound;
+    return run;
+  };
+  // A cancelled unfolding, at the cost of `replaced` and the attempts before it.
+  const auto cancelled_instead = [&](const Uniformization& replaced, Uniformization& cancelled) {
+    Uniformization run = delivered_instead(replaced, std::move(cancelled));
+    add_placement_cost(run.atlas.placement, replaced.atlas.placement);
+    return run;
+  };
+  const auto wide = [](const Uniformization& unfolded) {
+    return static_cast<int>(unfolded.atlas.placement.cones.size()) > kUnfoldedCones;
+  };
+  // More conformal than `than`, which is far from conformal or not: with seams within reach of
+  // its seams where it unfolds through more than kUnfoldedCones cones or `than` is not far.
+  const auto more_conformal = [&](const Uniformization& unfolded, const Uniformization& than,
+                                  bool far) {
+    return unfolded.valid() &&
+           unfolded.quality.quasi_conformal_p95 < than.quality.quasi_conformal_p95 &&
+           ((far && !wide(unfolded)) ||
+            seams_within_reach(unfolded.atlas.seam_length, than.atlas.seam_length));
+  };
+
+  Uniformization best = atlas_within_bounds(mesh, request);
+  // Where the first atlas is far from conformal, the unfolding through as many cones as the budget
+  // allows, before any cones placed again (for the bound or for QC); through more than
+  // kUnfoldedCones delivered only where its seams are within reach of the first atlas's.
+  std::optional<Uniformization> unfolding;
+  std::string unfolding_refused;  // why there is none, where it was tried
+  if (placed_atlas(best) && best.quality.quasi_conformal_p95 > kUnfoldQc) {
+    auto made = unfolded_run(mesh, request, std::numeric_limits<int>::max());
+    if (auto* u = std::get_if<Uniformization>(&made)) {
+      if (u->result.stop == FlowStop::Cancelled) return cancelled_instead(best, *u);
+      if (more_conformal(*u, best, true)) {
+        return unfolded_instead(best, *u, AtlasResult::Unfolded::MoreConformal);
+      }
+      unfolding = std::move(*u);
+    } else {
+      unfolding_refused = std::get<std::string>(made);
+    }
+  }
+  best = with_distortion_retries(mesh, request, std::move(best));
+  // An unfolding made but not delivered: its cost counted once, in the run delivered.
+  const auto with_unfolding_cost = [&](Uniformization run) {
+    if (unfolding) add_cost(run.totals, run.atlas.placement, *unfolding);
+    return run;
+  };
   // Where the delivered faces' D breaks the bound that the cones' linear model met (the summary's
   // warning), the unfolding meets it (D 0) with as many cones as the budget allows, whatever its
   // seams: a CAD part of 100 holes, 258 interior vertices all curved, whose cones for 0.2 left
@@ -421,81 +487,49 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
   const bool above_bound = best.atlas.placement.bound_reached &&
                            best.atlas.distortion > request.cone_placement.distortion_bound;
   const bool far_from_conformal = best.quality.quasi_conformal_p95 > kUnfoldQc;
-  if (best.preset != TargetPreset::Atlas || !best.valid() || best.atlas.user_cones ||
-      best.atlas.unfolded != AtlasResult::Unfolded::No ||
+  if (!placed_atlas(best) ||
       !(far_from_conformal || best.quality.quasi_conformal_p95 > kUnfoldVisibleQc || above_bound)) {
-    return best;
+    return with_unfolding_cost(std::move(best));
   }
-  // Far from conformal, the unfolding through as many cones as the budget allows, before any cones
-  // of tighter bounds; through more than kUnfoldedCones delivered only where its seams are within
-  // reach of `best`'s.
-  auto unfolding = unfolded_run(
-      mesh, request,
-      above_bound || far_from_conformal ? std::numeric_limits<int>::max() : kUnfoldedCones);
-  auto* u = std::get_if<Uniformization>(&unfolding);
-  const bool wide = u && static_cast<int>(u->atlas.placement.cones.size()) > kUnfoldedCones;
-  // A cancelled unfolding, at the cost of `best` and the attempts before it.
-  const auto cancelled_instead = [&](Uniformization& cancelled) {
-    Uniformization run = delivered_instead(best, std::move(cancelled));
-    add_placement_cost(run.atlas.placement, best.atlas.placement);
-    return run;
-  };
-  if (u && u->result.stop == FlowStop::Cancelled) return cancelled_instead(*u);
-  // The unfolding `u` in place of `best`, at the cost of both, and why.
-  const auto unfolded_instead = [&](Uniformization& unfolded, AtlasResult::Unfolded kind) {
-    std::string why = kind == AtlasResult::Unfolded::WithinBound ? d_was(best) : qc_was(best);
-    if (!best.atlas.bound_instead.empty()) why += "; " + best.atlas.bound_instead;
-    Uniformization run = delivered_instead(best, std::move(unfolded));
-    add_placement_cost(run.atlas.placement, best.atlas.placement);
-    run.atlas.unfolded = kind;
-    run.atlas.bound_instead = why;
-    run.atlas.bound_asked = request.cone_placement.distortion_bound;
-    return run;
-  };
-  // More conformal than `best`, with seams within reach of its seams where it unfolds through
-  // more than kUnfoldedCones cones or `best` is not far from conformal.
-  const auto more_conformal = [&](const Uniformization& unfolded, bool wide_one) {
-    return unfolded.valid() &&
-           unfolded.quality.quasi_conformal_p95 < best.quality.quasi_conformal_p95 &&
-           ((far_from_conformal && !wide_one) ||
-            seams_within_reach(unfolded.atlas.seam_length, best.atlas.seam_length));
-  };
-  if (u && u->valid() && (above_bound || more_conformal(*u, wide))) {
-    return unfolded_instead(*u, above_bound ? AtlasResult::Unfolded::WithinBound
-                                            : AtlasResult::Unfolded::MoreConformal);
+  // The unfolding, where not made above: far from conformal or above the bound through as many
+  // cones as the budget allows, else through at most kUnfoldedCones.
+  const int most =
+      above_bound || far_from_conformal ? std::numeric_limits<int>::max() : kUnfoldedCones;
+  if (!unfolding && unfolding_refused.empty()) {
+    auto made = unfolded_run(mesh, request, most);
+    if (auto* u = std::get_if<Uniformization>(&made)) {
+      if (u->result.stop == FlowStop::Cancelled) return cancelled_instead(best, *u);
+      unfolding = std::move(*u);
+    }
   }
-  // A wide unfolding not delivered here is weighed again against the cones of tighter bounds
-  // (below), its cost counted once.
-  std::optional<Uniformization> wide_kept;
-  if (wide && u->valid()) {
-    wide_kept = std::move(*u);
-  } else if (u) {
-    add_cost(best.totals, best.atlas.placement, *u);
+  // One made above through more cones than may be taken here is not delivered here.
+  const bool may_deliver = unfolding && (most > kUnfoldedCones || !wide(*unfolding));
+  if (may_deliver &&
+      (above_bound ? unfolding->valid() : more_conformal(*unfolding, best, far_from_conformal))) {
+    return unfolded_instead(
+        best, *unfolding,
+        above_bound ? AtlasResult::Unfolded::WithinBound : AtlasResult::Unfolded::MoreConformal);
   }
-  const auto with_kept_cost = [&](Uniformization run) {
-    if (wide_kept) add_cost(run.totals, run.atlas.placement, *wide_kept);
-    return run;
-  };
   // Cones for tighter bounds only where QC p95 is above kUnfoldVisibleQc; not where the user's
   // budget fixed the count of cones (BFF's 8, say), nor where they cost too much.
   if (!(best.quality.quasi_conformal_p95 > kUnfoldVisibleQc) ||
       request.cone_placement.max_cones != 0 ||
       !nearer_conformal_affordable(mesh, best, far_from_conformal)) {
-    return with_kept_cost(std::move(best));
+    return with_unfolding_cost(std::move(best));
   }
   best = nearer_conformal_cones(mesh, request, std::move(best), far_from_conformal);
-  // Still far from conformal with them, the wide unfolding where its seams are within reach of
-  // theirs (a desk of Sweet Home 3D's furniture, 672 faces, genus 1: 90 cones, QC p95 5.2 on its
-  // pieces, seams 18.3 sqrt(area); unfolded through its 175 vertices of curvature, QC 1, seams
-  // 15.6).
-  if (!wide_kept || best.result.stop == FlowStop::Cancelled || !best.valid() ||
+  // Still far from conformal with them, the unfolding through more than kUnfoldedCones cones
+  // where its seams are within reach of theirs (a desk of Sweet Home 3D's furniture, 672 faces,
+  // genus 1: 90 cones, QC p95 5.2 on its pieces, seams 18.3 sqrt(area); unfolded through its 175
+  // vertices of curvature, QC 1, seams 15.6).
+  if (!unfolding || !wide(*unfolding) || best.result.stop == FlowStop::Cancelled || !best.valid() ||
       !(best.quality.quasi_conformal_p95 > kUnfoldQc)) {
-    return with_kept_cost(std::move(best));
+    return with_unfolding_cost(std::move(best));
   }
-  if (more_conformal(*wide_kept, true)) {
-    return unfolded_instead(*wide_kept, AtlasResult::Unfolded::MoreConformal);
+  if (more_conformal(*unfolding, best, true)) {
+    return unfolded_instead(best, *unfolding, AtlasResult::Unfolded::MoreConformal);
   }
-  return with_kept_cost(std::move(best));
+  return with_unfolding_cost(std::move(best));
 }
 
 }  // namespace ricci::detail

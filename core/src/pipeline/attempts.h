@@ -42,11 +42,12 @@ Uniformization uniformize_unpacked(const CompactMesh& mesh, const Uniformization
 Uniformization uniformize_as_requested(const CompactMesh& mesh,
                                        const UniformizationOptions& request);
 
-//! uniformize_as_requested, and for the atlas: the surface unfolded where its QC p95 is high and
-//! that takes few cones, or where the delivered faces' D stays above the bound; else, where QC p95
-//! is high, cones for tighter bounds delivered where they lower it enough, and where it stays far
-//! from conformal, the unfolding through as many cones as the budget allows, where its seams stay
-//! within reach of theirs. Not at a budget the user gave.
+//! uniformize_as_requested, and for the atlas: where the first atlas is far from conformal, the
+//! surface unfolded at once where that takes few cones or its seams stay within reach of the
+//! atlas's; else where the delivered faces' D stays above the bound, or QC p95 is high and the
+//! unfolding takes few cones; else, where QC p95 is high, cones for tighter bounds delivered where
+//! they lower it enough (not at a budget the user gave), and where it stays far from conformal,
+//! the unfolding where its seams stay within reach of theirs.
 Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOptions& request);
 
 }  // namespace ricci::detail
