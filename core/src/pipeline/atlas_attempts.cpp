@@ -310,9 +310,9 @@ constexpr double kQcGain = 0.75;
 // a part of 12.8k faces at 273 cones: placed again at 964, 225 s against 2.9 s, for QC p95 6.8 to
 // 2.8; cura-zav-maxpro.stl's genus-97 plate at 255 cones, on 1.55M pieces: 86 s to 297 s for 10.1
 // to 6.5), on a small one seconds at most (Cura's felixpro2 bed, 952 vertices at 68 cones: placed
-// again at 128, QC p95 2.59 to 1.61, seams 11.8 to 8.9 sqrt(area), the run 0.5 s to 0.6 s; a
-// part of 1,446 vertices of gymnasium's Adroit forearm at 165 cones: at 660, 2.2 to 1.5, its run
-// 1.4 s to 7.1 s).
+// again at 128, QC p95 2.59 to 1.61, seams 11.8 to 8.9 sqrt(area), the run 0.5 s to 0.6 s, before
+// 2026-12-06's unfolding at once, which now delivers it; a part of 1,446 vertices of gymnasium's
+// Adroit forearm at 165 cones: at 660, 2.2 to 1.5, its run 1.4 s to 7.1 s).
 // (Above kUnfoldQc, at most kUnfoldedCones cones they are made whatever the part's size, as
 // before this rule: the placements of a few dozen cones cost little beside the part's flows.)
 constexpr double kQcRetryWork = 64.0 * 4096;
@@ -446,8 +446,9 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
   const auto wide = [](const Uniformization& unfolded) {
     return static_cast<int>(unfolded.atlas.placement.cones.size()) > kUnfoldedCones;
   };
-  // More conformal than `than`, which is far from conformal or not: with seams within reach of
-  // its seams where it unfolds through more than kUnfoldedCones cones or `than` is not far.
+  // Whether `unfolded` may replace `than` for QC: valid, more conformal, and with seams within
+  // reach of `than`'s unless it unfolds through at most kUnfoldedCones cones and `than` is far
+  // from conformal (`far`).
   const auto more_conformal = [&](const Uniformization& unfolded, const Uniformization& than,
                                   bool far) {
     return unfolded.valid() &&
@@ -456,22 +457,26 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
             seams_within_reach(unfolded.atlas.seam_length, than.atlas.seam_length));
   };
 
+  // Through more than kUnfoldedCones cones an unfolding is made only where the budget is not the
+  // user's (who asked for at most that many cones, and that none be placed again for QC).
+  const int widest =
+      request.cone_placement.max_cones != 0 ? kUnfoldedCones : std::numeric_limits<int>::max();
   Uniformization best = atlas_within_bounds(mesh, request);
-  // Where the first atlas is far from conformal, the unfolding through as many cones as the budget
-  // allows, before any cones placed again (for the bound or for QC); through more than
-  // kUnfoldedCones delivered only where its seams are within reach of the first atlas's.
+  // Where the first atlas that flowed (after the tighter bounds its stalls took) is far from
+  // conformal, the unfolding through as many cones as allowed, before its cones are placed again
+  // for the bound or for QC; through more than kUnfoldedCones delivered only where its seams are
+  // within reach of that atlas's.
   std::optional<Uniformization> unfolding;
-  std::string unfolding_refused;  // why there is none, where it was tried
+  int tried_with = 0;  // the most cones an unfolding was asked to take (0: none asked)
   if (placed_atlas(best) && best.quality.quasi_conformal_p95 > kUnfoldQc) {
-    auto made = unfolded_run(mesh, request, std::numeric_limits<int>::max());
+    auto made = unfolded_run(mesh, request, widest);
+    tried_with = widest;
     if (auto* u = std::get_if<Uniformization>(&made)) {
       if (u->result.stop == FlowStop::Cancelled) return cancelled_instead(best, *u);
       if (more_conformal(*u, best, true)) {
         return unfolded_instead(best, *u, AtlasResult::Unfolded::MoreConformal);
       }
       unfolding = std::move(*u);
-    } else {
-      unfolding_refused = std::get<std::string>(made);
     }
   }
   best = with_distortion_retries(mesh, request, std::move(best));
@@ -491,11 +496,14 @@ Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOp
       !(far_from_conformal || best.quality.quasi_conformal_p95 > kUnfoldVisibleQc || above_bound)) {
     return with_unfolding_cost(std::move(best));
   }
-  // The unfolding, where not made above: far from conformal or above the bound through as many
-  // cones as the budget allows, else through at most kUnfoldedCones.
-  const int most =
-      above_bound || far_from_conformal ? std::numeric_limits<int>::max() : kUnfoldedCones;
-  if (!unfolding && unfolding_refused.empty()) {
+  // The atlas the retries for D deliver is weighed as the first one was: above the bound against
+  // the unfolding through as many cones as the budget allows; far from conformal through as many
+  // as allowed above; else through at most kUnfoldedCones. Made here where not made above with as
+  // many.
+  const int most = above_bound          ? std::numeric_limits<int>::max()
+                   : far_from_conformal ? widest
+                                        : kUnfoldedCones;
+  if (!unfolding && most > tried_with) {
     auto made = unfolded_run(mesh, request, most);
     if (auto* u = std::get_if<Uniformization>(&made)) {
       if (u->result.stop == FlowStop::Cancelled) return cancelled_instead(best, *u);

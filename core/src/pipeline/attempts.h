@@ -42,12 +42,15 @@ Uniformization uniformize_unpacked(const CompactMesh& mesh, const Uniformization
 Uniformization uniformize_as_requested(const CompactMesh& mesh,
                                        const UniformizationOptions& request);
 
-//! uniformize_as_requested, and for the atlas: where the first atlas is far from conformal, the
-//! surface unfolded at once where that takes few cones or its seams stay within reach of the
-//! atlas's; else where the delivered faces' D stays above the bound, or QC p95 is high and the
-//! unfolding takes few cones; else, where QC p95 is high, cones for tighter bounds delivered where
-//! they lower it enough (not at a budget the user gave), and where it stays far from conformal,
-//! the unfolding where its seams stay within reach of theirs.
+//! uniformize_as_requested, and for the atlas: the surface unfolded instead of the first atlas
+//! that flowed where that atlas is far from conformal (QC p95 above 2) and the unfolding is more
+//! conformal, through at most 64 cones or with seams within reach of the atlas's (through more
+//! cones only where the budget is not the user's); else, weighed so against the atlas the retries
+//! for D deliver, and unfolded where that atlas's D stays above the bound, or its QC p95 is above
+//! 1.5 and the unfolding takes at most 64 cones with seams within reach; else, where QC p95 is
+//! high, cones for tighter bounds delivered where they lower it enough (not at a budget the user
+//! gave), and where it stays far from conformal, the unfolding where its seams stay within reach
+//! of theirs.
 Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOptions& request);
 
 }  // namespace ricci::detail
