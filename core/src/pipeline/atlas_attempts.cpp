@@ -271,7 +271,8 @@ namespace {
 // plate of 396 faces at 4 cones, D 0.012: QC p95 5.78, BFF's 2.46 at 8). Where the delivered QC
 // p95 is above this, the unfolding (QC 1 and D 0 on its faces) is delivered instead, its seams
 // through more cones: through at most this many cones whatever its seams, through more (at most
-// the budget) where its seams are within reach of the placed cones' (seams_within_reach). The
+// the budget; not at a budget the user gave) where its seams are within reach of the placed
+// cones' (seams_within_reach). The
 // genus-2 plates of gymnasium's Adroit forearm (about 317 vertices, QC p95 3 to 11 at 10 to 64
 // cones) unfold so at once, QC 1, seams 7.8 to 10.5 sqrt(area); before 2026-12-06 the cones of
 // two tighter bounds were placed first, and most plates kept 146 to 204 cones, QC p95 1.07 to
