@@ -275,11 +275,12 @@ namespace {
 // cones' (seams_within_reach). The genus-2 plates of gymnasium's Adroit forearm (about 317
 // vertices, QC p95 3 to 11 at 10 to 64 cones) unfold so at once, QC 1, seams 7.8 to 10.5
 // sqrt(area); before 2026-12-06 the cones of two tighter bounds were placed first, and most plates
-// kept 146 to 204 cones, QC p95 1.07 to 1.70, seams 7.9 to 12. Where the unfolding is not delivered, the cones are placed again for a
-// bound this many times below the last bound or D delivered, at most this many times, with at
-// most this many times the first set's cones, and an attempt that lowers QC p95 enough (kQcGain)
-// is delivered instead (the bed plate: 22 cones, QC p95 3.08, seams as long), and where that
-// leaves QC p95 above this, the unfolding is weighed again against it (below).
+// kept 146 to 204 cones, QC p95 1.07 to 1.70, seams 7.9 to 12. Where the unfolding is not
+// delivered, the cones are placed again for a bound this many times below the last bound or D
+// delivered, at most this many times, with at most this many times the first set's cones, and an
+// attempt that lowers QC p95 enough (kQcGain) is delivered instead (the bed plate: 22 cones, QC
+// p95 3.08, seams as long), and where that leaves QC p95 above this, the unfolding is weighed again
+// against it (below).
 constexpr double kUnfoldQc = 2;
 constexpr int kUnfoldedCones = 64;
 // Above this QC p95 (a square of texture drawn half as long again one way as the other) the
