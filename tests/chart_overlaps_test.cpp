@@ -175,6 +175,91 @@ TEST(ChartOverlaps, EveryPairPartedInTurnBeforeOneLayoutLeavesNoOverlap) {
   EXPECT_TRUE(overlapping_faces(parted).empty());
 }
 
+// A flat strip of 40 x 10 unit squares in the plane, narrowed to its 2 middle rows over the 4
+// columns from `neck` on: a wide chart with a narrow neck.
+CompactMesh necked_strip(int neck) {
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i <= 40; ++i) {
+    for (int j = 0; j <= 10; ++j) p.emplace_back(i, j, 0);
+  }
+  const auto at = [](int i, int j) { return 11 * i + j; };
+  std::vector<std::array<int, 3>> f;
+  for (int i = 0; i < 40; ++i) {
+    for (int j = 0; j < 10; ++j) {
+      if (i >= neck && i < neck + 4 && (j < 4 || j >= 6)) continue;
+      f.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      f.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  // The vertices no face uses stay, unused: CompactMesh keeps them as isolated.
+  std::vector<int> index(p.size(), -1);
+  std::vector<Eigen::Vector3d> used;
+  for (auto& t : f) {
+    for (int& v : t) {
+      if (index[v] < 0) index[v] = static_cast<int>(used.size()), used.push_back(p[v]);
+      v = index[v];
+    }
+  }
+  return CompactMesh(used, f);
+}
+
+// The seam that parts faces at the strip's two ends (the middle rows), and its 3D length.
+double parting_seam(const CompactMesh& mesh, bool shortest) {
+  std::vector<double> lengths;
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const auto [a, b] = mesh.edge_vertices(e);
+    lengths.push_back((mesh.positions()[a] - mesh.positions()[b]).norm());
+  }
+  const std::vector<Eigen::Vector3d> centroid = face_centroids(mesh);
+  int f = 0, g = 0;
+  for (int h = 0; h < mesh.num_faces(); ++h) {
+    if ((centroid[h] - Eigen::Vector3d(0.3, 5.3, 0)).norm() < 0.5) f = h;
+    if ((centroid[h] - Eigen::Vector3d(39.7, 5.3, 0)).norm() < 0.5) g = h;
+  }
+  std::vector<int> part(mesh.num_faces(), 0);
+  std::vector<char> cut(mesh.num_edges(), 0);
+  const int marked = shortest ? SheetSeparator(mesh, part, lengths).separate(1, f, g, {}, centroid, cut)
+                              : separate_sheets(mesh, part, 1, f, g, {}, centroid, cut);
+  EXPECT_GT(marked, 0);
+  EXPECT_NE(part[f], part[g]);
+  double length = 0;
+  for (int e = 0; e < mesh.num_edges(); ++e) length += cut[e] ? lengths[e] : 0;
+  // The seam parts the strip in two: each side is connected across uncut edges.
+  for (int side : {0, 1}) {
+    std::vector<char> seen(mesh.num_faces(), 0);
+    std::vector<int> stack{side == part[f] ? f : g};
+    seen[stack[0]] = 1;
+    int count = 1;
+    while (!stack.empty()) {
+      const int h = stack.back();
+      stack.pop_back();
+      for (int c = 0; c < 3; ++c) {
+        const int t = mesh.twin(3 * h + c);
+        if (t < 0 || cut[mesh.face_edge(h, c)] || seen[t / 3]) continue;
+        seen[t / 3] = 1, ++count;
+        stack.push_back(t / 3);
+      }
+    }
+    EXPECT_EQ(count, std::count(part.begin(), part.end(), side));
+  }
+  return length;
+}
+
+TEST(ChartOverlaps, SheetsArePartedAtANeckNearTheMiddleWhereTheSeamIsShortest) {
+  // The faces nearer one end than the other part across the strip's full width (10); given the
+  // edges' lengths, the separator parts them at the neck (2 wide), a level of the two distances'
+  // difference within the band of the middle.
+  const double apart = 39.4;  // the two faces' distance, about
+  const int inside = static_cast<int>(0.5 * (1 - 0.8 * kSeparationBand) * apart);
+  const CompactMesh near_middle = necked_strip(inside);
+  EXPECT_GE(parting_seam(near_middle, false), 10);
+  EXPECT_NEAR(parting_seam(near_middle, true), 2, 1e-12);
+  // A neck near an end, past the band, is not taken: the pieces stay of like size.
+  const int outside = static_cast<int>(0.5 * (1 - kSeparationBand) * apart) - 5;
+  ASSERT_GE(outside, 1);
+  EXPECT_GE(parting_seam(necked_strip(outside), true), 10);
+}
+
 TEST(ChartOverlaps, OverlapDepthIsHowFarTwoFacesReachIntoEachOther) {
   // The unit right triangle and its copy moved by t < 1 along x overlap by (1 - t) / sqrt(2) (in
   // the hypotenuse's direction); over the longest side, sqrt(2).

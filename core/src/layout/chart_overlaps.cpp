@@ -315,6 +315,12 @@ SheetSeparator::SheetSeparator(const Triangulation& mesh, std::vector<int>& part
   }
 }
 
+SheetSeparator::SheetSeparator(const Triangulation& mesh, std::vector<int>& part,
+                               const std::vector<double>& lengths)
+    : SheetSeparator(mesh, part) {
+  lengths_ = &lengths;
+}
+
 int SheetSeparator::separate(int new_part, int f, int g, const std::vector<int>& group,
                              const std::vector<Eigen::Vector3d>& centroid, std::vector<char>& cut) {
   const Triangulation& mesh = mesh_;
@@ -368,6 +374,7 @@ int SheetSeparator::separate(int new_part, int f, int g, const std::vector<int>&
       }
     }
   }
+  if (lengths_) shorter_share(chart, member, first, group, centroid, seeds, cut, share);
   const auto share_of = [&](int face) {
     const int k = local[group_of(face)];
     return k >= 0 ? share[k] : -1;
@@ -393,6 +400,115 @@ int SheetSeparator::separate(int new_part, int f, int g, const std::vector<int>&
     faces_[new_part] = std::move(moved);
   }
   return marked;
+}
+
+void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
+                                   const std::vector<int>& first, const std::vector<int>& group,
+                                   const std::vector<Eigen::Vector3d>& centroid, const int seeds[2],
+                                   const std::vector<char>& cut, std::vector<int>& share) {
+  const Triangulation& mesh = mesh_;
+  const std::vector<int>& local = local_;
+  const auto group_of = [&](int face) { return group.empty() ? face : group[face]; };
+  const int groups = static_cast<int>(first.size()) - 1;
+  constexpr double kFar = std::numeric_limits<double>::infinity();
+  // The part's uncut inner edges between groups: (a, b, the edge's length), each edge once.
+  struct Side {
+    int a, b;
+    double length;
+  };
+  std::vector<Side> sides;
+  std::vector<int> rep(groups, -1);  // a group by its global number
+  for (int la = 0; la < groups; ++la) {
+    for (int i = first[la]; i < first[la + 1]; ++i) {
+      const int h = member[i];
+      rep[la] = group_of(h);
+      for (int c = 0; c < 3; ++c) {
+        const int t = mesh.twin(3 * h + c);
+        if (t < 0 || t / 3 < h || cut[mesh.face_edge(h, c)] || part_[t / 3] != chart) continue;
+        const int lb = local[group_of(t / 3)];
+        if (lb != la) sides.push_back({la, lb, (*lengths_)[mesh.face_edge(h, c)]});
+      }
+    }
+  }
+  std::vector<std::vector<std::pair<int, double>>> next(groups);
+  for (const Side& e : sides) {
+    const double step = (centroid[rep[e.a]] - centroid[rep[e.b]]).norm();
+    next[e.a].push_back({e.b, step}), next[e.b].push_back({e.a, step});
+  }
+  const auto distances = [&](int seed) {
+    std::vector<double> d(groups, kFar);
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    d[seed] = 0;
+    queue.push({0, seed});
+    while (!queue.empty()) {
+      const auto [dist, a] = queue.top();
+      queue.pop();
+      if (dist > d[a]) continue;
+      for (const auto& [b, step] : next[a]) {
+        if (dist + step < d[b]) d[b] = dist + step, queue.push({d[b], b});
+      }
+    }
+    return d;
+  };
+  const int from = local[seeds[0]], to = local[seeds[1]];
+  const std::vector<double> df = distances(from), dg = distances(to);
+  const double apart = df[to];
+  if (!(apart > 0) || !(apart < kFar)) return;
+  std::vector<double> level(groups, kFar);
+  for (int a = 0; a < groups; ++a) {
+    if (df[a] < kFar && dg[a] < kFar) level[a] = df[a] - dg[a];
+  }
+  // The seam of a level t parts the groups below t from the others: sum of the lengths of the
+  // sides whose two levels straddle it.
+  std::vector<std::pair<double, double>> events;  // (level, +-length)
+  for (const Side& e : sides) {
+    const double lo = std::min(level[e.a], level[e.b]), hi = std::max(level[e.a], level[e.b]);
+    if (!(hi < kFar) || lo == hi) continue;
+    events.push_back({lo, e.length}), events.push_back({hi, -e.length});
+  }
+  std::sort(events.begin(), events.end());
+  const double lowest = -kSeparationBand * apart, highest = kSeparationBand * apart;
+  double running = 0, best = kFar, best_t = 0;
+  for (size_t i = 0; i < events.size(); ++i) {
+    running += events[i].second;
+    // For t just above this level (up to the next): the sides counted so far straddle it.
+    if (i + 1 < events.size() && events[i + 1].first == events[i].first) continue;
+    const double t_next = i + 1 < events.size() ? events[i + 1].first : kFar;
+    const double t = std::min(t_next, highest);
+    if (t <= events[i].first || t < lowest || events[i].first >= highest) continue;
+    if (running < best) best = running, best_t = t;
+  }
+  if (!(best < kFar)) return;
+  // f's side: the groups below the level connected to f; g's: those connected to g among the
+  // others; the rest (enclosed by f's side) joins f's.
+  std::vector<int> side(groups, -1);
+  const auto flood = [&](int seed, int label, const std::function<bool(int)>& may) {
+    std::vector<int> stack{seed};
+    side[seed] = label;
+    while (!stack.empty()) {
+      const int a = stack.back();
+      stack.pop_back();
+      for (const auto& [b, step] : next[a]) {
+        if (side[b] < 0 && may(b)) side[b] = label, stack.push_back(b);
+      }
+    }
+  };
+  flood(from, 0, [&](int a) { return level[a] < best_t; });
+  if (side[to] >= 0) return;
+  flood(to, 1, [](int) { return true; });
+  for (int a = 0; a < groups; ++a) {
+    if (side[a] < 0 && level[a] < kFar) side[a] = 0;
+  }
+  double shorter = 0, nearest = 0;
+  for (const Side& e : sides) {
+    if (side[e.a] >= 0 && side[e.b] >= 0 && side[e.a] != side[e.b]) shorter += e.length;
+    if (share[e.a] >= 0 && share[e.b] >= 0 && share[e.a] != share[e.b]) nearest += e.length;
+  }
+  if (!(shorter < nearest)) return;
+  for (int a = 0; a < groups; ++a) {
+    if (side[a] >= 0) share[a] = side[a];
+  }
 }
 
 std::vector<char> unchanged_clean_charts(const Charts& now, const Charts& before,

@@ -397,7 +397,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     // round.
     std::vector<char> stuck(parts, 0);
     std::vector<char> split_once(parts, 0);
-    SheetSeparator separator(delivered, part);
+    SheetSeparator separator(delivered, part, length3d);
     for (const auto& [f, g] : overlaps) {
       if (part[f] != part[g] || stuck[part[f]]) continue;
       const bool first = part[f] < charts.num_charts && !split_once[part[f]];

@@ -145,12 +145,24 @@ int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_p
                     const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
                     std::vector<char>& cut);
 
+//! How far from the middle of two overlapping faces a SheetSeparator given lengths may part them:
+//! levels of d_f - d_g within this share of their distance (each side at least a quarter of the
+//! way). Measured on the atlases of the real-mesh set and CGAL's (453 files): ...
+inline constexpr double kSeparationBand = 0.5;
+
 //! separate_sheets for many pairs of one layout: the faces of each part are indexed once, so that
 //! each pair costs its part's faces, not the mesh's. `part` is changed through this object only
 //! while it is in use.
 class SheetSeparator {
  public:
   SheetSeparator(const Triangulation& mesh, std::vector<int>& part);
+  //! Given the edges' lengths (per edge of `mesh`), each pair is parted where the seam is
+  //! shortest (the sum of its edges' lengths) among the level sets of d_f - d_g, the two groups'
+  //! distances as separate_sheets takes them, that lie within kSeparationBand times d_f(g) of 0
+  //! (0: the nearest groups' seam), each side connected; the nearest groups' seam where none is
+  //! shorter. A chart's sheets part at a narrow place near the middle, not across its width.
+  SheetSeparator(const Triangulation& mesh, std::vector<int>& part,
+                 const std::vector<double>& lengths);
   //! separate_sheets(mesh, part, new_part, f, g, group, centroid, cut).
   int separate(int new_part, int f, int g, const std::vector<int>& group,
                const std::vector<Eigen::Vector3d>& centroid, std::vector<char>& cut);
@@ -160,6 +172,12 @@ class SheetSeparator {
   std::vector<int>& part_;
   std::vector<std::vector<int>> faces_;  // per part label, in increasing order
   std::vector<int> local_;               // per group, its number in the part at hand (else -1)
+  // Where a level set of the two distances' difference within the band parts f's share from g's
+  // along a shorter seam than the nearest-group one (`share`, by local group), that one instead.
+  void shorter_share(int chart, const std::vector<int>& member, const std::vector<int>& first,
+                     const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
+                     const int seeds[2], const std::vector<char>& cut, std::vector<int>& share);
+  const std::vector<double>* lengths_ = nullptr;
 };
 
 }  // namespace ricci
