@@ -218,8 +218,9 @@ double parting_seam(const CompactMesh& mesh, bool shortest) {
   }
   std::vector<int> part(mesh.num_faces(), 0);
   std::vector<char> cut(mesh.num_edges(), 0);
-  const int marked = shortest ? SheetSeparator(mesh, part, lengths).separate(1, f, g, {}, centroid, cut)
-                              : separate_sheets(mesh, part, 1, f, g, {}, centroid, cut);
+  const int marked = shortest
+                         ? SheetSeparator(mesh, part, lengths).separate(1, f, g, {}, centroid, cut)
+                         : separate_sheets(mesh, part, 1, f, g, {}, centroid, cut);
   EXPECT_GT(marked, 0);
   EXPECT_NE(part[f], part[g]);
   double length = 0;

@@ -147,7 +147,9 @@ int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_p
 
 //! How far from the middle of two overlapping faces a SheetSeparator given lengths may part them:
 //! levels of d_f - d_g within this share of their distance (each side at least a quarter of the
-//! way). Measured on the atlases of the real-mesh set and CGAL's (453 files): ...
+//! way). Measured on 453 atlases (the real-mesh set, CGAL's meshes, game assets, furniture), seams
+//! median over sqrt(area): 4.62 with the nearest groups' seam, 4.37 at 0.5, 4.28 at 0.7 (charts
+//! more on 94 files, fewer on 67; utilization median 0.577 to 0.573; at 0.5: 0.581).
 inline constexpr double kSeparationBand = 0.5;
 
 //! separate_sheets for many pairs of one layout: the faces of each part are indexed once, so that
