@@ -191,7 +191,7 @@ CompactMesh necked_strip(int neck) {
       f.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
     }
   }
-  // The vertices no face uses stay, unused: CompactMesh keeps them as isolated.
+  // Numbered again over the vertices the faces use.
   std::vector<int> index(p.size(), -1);
   std::vector<Eigen::Vector3d> used;
   for (auto& t : f) {
