@@ -901,8 +901,8 @@ TEST(Atlas, ABoxTurnedAndInSinglePrecisionMeetsByQuarterTurns) {
 TEST(Atlas, AnUnfoldingWhoseSeamsAreTooLongGivesWayToTighterCones) {
   // CGAL's bones, component 19 (74 faces, genus 0): its cones for D <= 0.2 (6) left QC p95 1.83
   // on its faces; unfolded through its vertices of curvature its seams would be 4.88 sqrt(area)
-  // against 2.12, past twice as long and 0.5 (measured on 2026-12-06, with the sheets parted at
-  // the shortest seam near the middle): the cones of a tighter bound are delivered instead.
+  // against 2.12 placed, past the reach of 2 x 2.12 + 0.5 = 4.74 (measured on 2026-12-06, with the
+  // sheets parted at a neck): the cones of a tighter bound are delivered instead.
   // Components 0 and 1 unfold within the seams' limit.
   const std::string bones = cgal("bones.off");
   const Atlas a = run_atlas(bones);

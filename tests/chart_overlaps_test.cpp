@@ -176,7 +176,7 @@ TEST(ChartOverlaps, EveryPairPartedInTurnBeforeOneLayoutLeavesNoOverlap) {
 }
 
 // A flat strip of 40 x 10 unit squares in the plane, narrowed to its 2 middle rows over the 4
-// columns from `neck` on: a wide chart with a narrow neck.
+// columns from `neck` on (none where neck < 0): a wide chart with a narrow neck.
 CompactMesh necked_strip(int neck) {
   std::vector<Eigen::Vector3d> p;
   for (int i = 0; i <= 40; ++i) {
@@ -186,7 +186,7 @@ CompactMesh necked_strip(int neck) {
   std::vector<std::array<int, 3>> f;
   for (int i = 0; i < 40; ++i) {
     for (int j = 0; j < 10; ++j) {
-      if (i >= neck && i < neck + 4 && (j < 4 || j >= 6)) continue;
+      if (neck >= 0 && i >= neck && i < neck + 4 && (j < 4 || j >= 6)) continue;
       f.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
       f.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
     }
@@ -203,8 +203,12 @@ CompactMesh necked_strip(int neck) {
   return CompactMesh(used, f);
 }
 
-// The seam that parts faces at the strip's two ends (the middle rows), and its 3D length.
-double parting_seam(const CompactMesh& mesh, bool shortest) {
+// The seam that parts faces at the strip's two ends (the middle rows): its 3D length, and the
+// share of the faces on f's side.
+struct Parting {
+  double length = 0, f_side = 0;
+};
+Parting parting_seam(const CompactMesh& mesh, bool shortest) {
   std::vector<double> lengths;
   for (int e = 0; e < mesh.num_edges(); ++e) {
     const auto [a, b] = mesh.edge_vertices(e);
@@ -223,8 +227,8 @@ double parting_seam(const CompactMesh& mesh, bool shortest) {
                          : separate_sheets(mesh, part, 1, f, g, {}, centroid, cut);
   EXPECT_GT(marked, 0);
   EXPECT_NE(part[f], part[g]);
-  double length = 0;
-  for (int e = 0; e < mesh.num_edges(); ++e) length += cut[e] ? lengths[e] : 0;
+  Parting p;
+  for (int e = 0; e < mesh.num_edges(); ++e) p.length += cut[e] ? lengths[e] : 0;
   // The seam parts the strip in two: each side is connected across uncut edges.
   for (int side : {0, 1}) {
     std::vector<char> seen(mesh.num_faces(), 0);
@@ -243,22 +247,24 @@ double parting_seam(const CompactMesh& mesh, bool shortest) {
     }
     EXPECT_EQ(count, std::count(part.begin(), part.end(), side));
   }
-  return length;
+  p.f_side = static_cast<double>(std::count(part.begin(), part.end(), part[f])) / mesh.num_faces();
+  return p;
 }
 
 TEST(ChartOverlaps, SheetsArePartedAtANeckNearTheMiddleWhereTheSeamIsShortest) {
-  // The faces nearer one end than the other part across the strip's full width (10); given the
-  // edges' lengths, the separator parts them at the neck (2 wide), a level of the two distances'
-  // difference within the band of the middle.
-  const double apart = 39.4;  // the two faces' distance, about
-  const int inside = static_cast<int>(0.5 * (1 - 0.8 * kSeparationBand) * apart);
-  const CompactMesh near_middle = necked_strip(inside);
-  EXPECT_GE(parting_seam(near_middle, false), 10);
-  EXPECT_NEAR(parting_seam(near_middle, true), 2, 1e-12);
-  // A neck near an end, past the band, is not taken: the pieces stay of like size.
-  const int outside = static_cast<int>(0.5 * (1 - kSeparationBand) * apart) - 5;
-  ASSERT_GE(outside, 1);
-  EXPECT_GE(parting_seam(necked_strip(outside), true), 10);
+  // Faces nearer one end than the other part across the strip's full width (10); given the
+  // edges' lengths, the separator parts the strip at its neck (2 wide) a third of the way along,
+  // within the band of the middle.
+  const CompactMesh near_middle = necked_strip(12);
+  EXPECT_GE(parting_seam(near_middle, false).length, 10);
+  EXPECT_NEAR(parting_seam(near_middle, true).length, 2, 1e-12);
+  // A neck at an end, outside the band, is not taken: the strip parts across its width.
+  EXPECT_GE(parting_seam(necked_strip(1), true).length, 10);
+  // Without a neck the strip parts in its middle, as the nearest share parts it, not where the
+  // zigzag of its edges happens to be a little shorter.
+  const Parting uniform = parting_seam(necked_strip(-1), true);
+  EXPECT_NEAR(uniform.length, parting_seam(necked_strip(-1), false).length, 1e-12);
+  EXPECT_NEAR(uniform.f_side, 0.5, 0.05);
 }
 
 TEST(ChartOverlaps, OverlapDepthIsHowFarTwoFacesReachIntoEachOther) {

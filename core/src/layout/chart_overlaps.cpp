@@ -9,6 +9,7 @@
 
 #include "mesh/plane.h"
 #include "ricci/layout/charts.h"
+#include "ricci/mesh/errors.h"
 #include "ricci/mesh/geometry.h"
 
 namespace ricci {
@@ -318,6 +319,9 @@ SheetSeparator::SheetSeparator(const Triangulation& mesh, std::vector<int>& part
 SheetSeparator::SheetSeparator(const Triangulation& mesh, std::vector<int>& part,
                                const std::vector<double>& lengths)
     : SheetSeparator(mesh, part) {
+  if (static_cast<int>(lengths.size()) != mesh.num_edges()) {
+    throw InvalidArgumentError("sheet separator: a length per edge of the mesh is needed");
+  }
   lengths_ = &lengths;
 }
 
@@ -402,6 +406,12 @@ int SheetSeparator::separate(int new_part, int f, int g, const std::vector<int>&
   return marked;
 }
 
+// A level set's seam replaces the nearest share's where it is at most this share of its length:
+// a narrower place, not the same width a little to one side (on a uniform strip a level near the
+// band's edge can be a few percent shorter by the zigzag of its edges alone, and would part the
+// strip a quarter from its end).
+constexpr double kClearlyShorter = 0.8;
+
 void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
                                    const std::vector<int>& first, const std::vector<int>& group,
                                    const std::vector<Eigen::Vector3d>& centroid, const int seeds[2],
@@ -469,7 +479,9 @@ void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
   }
   std::sort(events.begin(), events.end());
   const double lowest = -kSeparationBand * apart, highest = kSeparationBand * apart;
-  double running = 0, best = kFar, best_t = 0;
+  // The least sum; among sums equal to rounding, the level nearest the middle (a uniform strip
+  // parts in its middle, as the nearest share parts it).
+  double running = 0, best = kFar, best_t = 0, best_off = kFar;
   for (size_t i = 0; i < events.size(); ++i) {
     running += events[i].second;
     // For t just above this level (up to the next): the sides counted so far straddle it.
@@ -477,13 +489,18 @@ void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
     const double t_next = i + 1 < events.size() ? events[i + 1].first : kFar;
     const double t = std::min(t_next, highest);
     if (t <= events[i].first || t < lowest || events[i].first >= highest) continue;
-    if (running < best) best = running, best_t = t;
+    // How far the levels of (events[i], t] come to the middle.
+    const double off = events[i].first >= 0 ? events[i].first : (t < 0 ? -t : 0);
+    const bool tie = std::abs(running - best) <= 1e-12 * best;
+    if ((running < best && !tie) || (tie && off < best_off)) {
+      best = running, best_t = t, best_off = off;
+    }
   }
   if (!(best < kFar)) return;
   // f's side: the groups below the level connected to f; g's: those connected to g among the
   // others; the rest (enclosed by f's side) joins f's.
   std::vector<int> side(groups, -1);
-  const auto flood = [&](int seed, int label, const std::function<bool(int)>& may) {
+  const auto flood = [&](int seed, int label, const auto& may) {
     std::vector<int> stack{seed};
     side[seed] = label;
     while (!stack.empty()) {
@@ -505,7 +522,7 @@ void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
     if (side[e.a] >= 0 && side[e.b] >= 0 && side[e.a] != side[e.b]) shorter += e.length;
     if (share[e.a] >= 0 && share[e.b] >= 0 && share[e.a] != share[e.b]) nearest += e.length;
   }
-  if (!(shorter < nearest)) return;
+  if (!(shorter < kClearlyShorter * nearest)) return;
   for (int a = 0; a < groups; ++a) {
     if (side[a] >= 0) share[a] = side[a];
   }

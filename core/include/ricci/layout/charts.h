@@ -145,11 +145,12 @@ int separate_sheets(const Triangulation& mesh, std::vector<int>& part, int new_p
                     const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
                     std::vector<char>& cut);
 
-//! How far from the middle of two overlapping faces a SheetSeparator given lengths may part them:
-//! levels of d_f - d_g within this share of their distance (each side at least a quarter of the
-//! way). Measured on 453 atlases (the real-mesh set, CGAL's meshes, game assets, furniture), seams
-//! median over sqrt(area): 4.62 with the nearest groups' seam, 4.37 at 0.5, 4.28 at 0.7 (charts
-//! more on 94 files, fewer on 67; utilization median 0.577 to 0.573; at 0.5: 0.581).
+//! How far from the middle of two overlapping faces f and g a SheetSeparator given lengths may
+//! part them: levels of d_f - d_g within this share of d_f(g), each side from a quarter to three
+//! quarters of the way. Measured on 453 atlases (the real-mesh set, CGAL's meshes, game assets,
+//! furniture), seams median over sqrt(area): 4.62 with the nearest groups' seam, 4.37 with a band
+//! of 0.5, 4.28 with one of 0.7 (with 0.7 charts more on 94 files and fewer on 67, utilization
+//! median 0.573 against 0.581 with 0.5).
 inline constexpr double kSeparationBand = 0.5;
 
 //! separate_sheets for many pairs of one layout: the faces of each part are indexed once, so that
@@ -158,14 +159,19 @@ inline constexpr double kSeparationBand = 0.5;
 class SheetSeparator {
  public:
   SheetSeparator(const Triangulation& mesh, std::vector<int>& part);
-  //! Given the edges' lengths (per edge of `mesh`), each pair is parted where the seam is
-  //! shortest (the sum of its edges' lengths) among the level sets of d_f - d_g, the two groups'
-  //! distances as separate_sheets takes them, that lie within kSeparationBand times d_f(g) of 0
-  //! (0: the nearest groups' seam), each side connected; the nearest groups' seam where none is
-  //! shorter. A chart's sheets part at a narrow place near the middle, not across its width.
+  //! Given the edges' lengths (per edge of `mesh`, kept by reference), each pair may be parted
+  //! at another level of d_f - d_g than 0, the two groups' distances as separate_sheets takes
+  //! them, within kSeparationBand times d_f(g) of 0: the level whose edges between groups on its
+  //! two sides are shortest in sum (of equal sums, the one nearest 0); f's share the groups below
+  //! it connected to f, with what they enclose, g's the rest. That seam is taken where it is
+  //! clearly shorter than the nearest groups' (by a fifth): a chart's sheets part at a neck near
+  //! the middle, not across its width.
   SheetSeparator(const Triangulation& mesh, std::vector<int>& part,
                  const std::vector<double>& lengths);
-  //! separate_sheets(mesh, part, new_part, f, g, group, centroid, cut).
+  SheetSeparator(const Triangulation& mesh, std::vector<int>& part,
+                 std::vector<double>&& lengths) = delete;
+  //! separate_sheets(mesh, part, new_part, f, g, group, centroid, cut), or, given lengths, its
+  //! seam moved to a neck as above.
   int separate(int new_part, int f, int g, const std::vector<int>& group,
                const std::vector<Eigen::Vector3d>& centroid, std::vector<char>& cut);
 
@@ -174,8 +180,9 @@ class SheetSeparator {
   std::vector<int>& part_;
   std::vector<std::vector<int>> faces_;  // per part label, in increasing order
   std::vector<int> local_;               // per group, its number in the part at hand (else -1)
-  // Where a level set of the two distances' difference within the band parts f's share from g's
-  // along a shorter seam than the nearest-group one (`share`, by local group), that one instead.
+  // Where a level of the two distances' difference within the band parts f's share from g's
+  // along a clearly shorter seam than the nearest groups' (`share`, by local group), that one
+  // instead.
   void shorter_share(int chart, const std::vector<int>& member, const std::vector<int>& first,
                      const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
                      const int seeds[2], const std::vector<char>& cut, std::vector<int>& share);
