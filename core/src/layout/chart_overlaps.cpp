@@ -440,10 +440,16 @@ void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
       }
     }
   }
-  std::vector<std::vector<std::pair<int, double>>> next(groups);
+  // Each group's neighbours across those sides, in their order, with the step between them (the
+  // distance of their centroids): compressed rows.
+  std::vector<int> start(groups + 1, 0);
+  for (const Side& e : sides) ++start[e.a + 1], ++start[e.b + 1];
+  for (int a = 0; a < groups; ++a) start[a + 1] += start[a];
+  std::vector<std::pair<int, double>> next(start.back());
+  std::vector<int> fill(start.begin(), start.end() - 1);
   for (const Side& e : sides) {
     const double step = (centroid[rep[e.a]] - centroid[rep[e.b]]).norm();
-    next[e.a].push_back({e.b, step}), next[e.b].push_back({e.a, step});
+    next[fill[e.a]++] = {e.b, step}, next[fill[e.b]++] = {e.a, step};
   }
   const auto distances = [&](int seed) {
     std::vector<double> d(groups, kFar);
@@ -455,7 +461,8 @@ void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
       const auto [dist, a] = queue.top();
       queue.pop();
       if (dist > d[a]) continue;
-      for (const auto& [b, step] : next[a]) {
+      for (int k = start[a]; k < start[a + 1]; ++k) {
+        const auto [b, step] = next[k];
         if (dist + step < d[b]) d[b] = dist + step, queue.push({d[b], b});
       }
     }
@@ -506,7 +513,8 @@ void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
     while (!stack.empty()) {
       const int a = stack.back();
       stack.pop_back();
-      for (const auto& [b, step] : next[a]) {
+      for (int k = start[a]; k < start[a + 1]; ++k) {
+        const int b = next[k].first;
         if (side[b] < 0 && may(b)) side[b] = label, stack.push_back(b);
       }
     }
