@@ -102,7 +102,9 @@ void BM_AtlasConePlacement(benchmark::State& state) {
 }
 
 // The cone placement's unit of work: columns R(e_v) of the factored Hessian, solved range(1) at a
-// time (one right-hand side per column); per column, in the counter, against one factorization.
+// time (one right-hand side per column) by CHOLMOD (range(2) 0) or as sparse right-hand sides
+// (range(2) 1: solve_sparse, as the placement solves them); per column, in the counter, against
+// one factorization.
 void BM_AtlasConeColumns(benchmark::State& state) {
   const CompactMesh& mesh = repaired(static_cast<int>(state.range(0))).components.front().mesh;
   const SparseMatrix h = pinned_hessian(mesh);
@@ -112,7 +114,11 @@ void BM_AtlasConeColumns(benchmark::State& state) {
   const long block = state.range(1);
   Eigen::MatrixXd b = Eigen::MatrixXd::Zero(h.rows(), block);
   for (long j = 0; j < block; ++j) b((j * 7919) % h.rows(), j) = 1;
-  for (auto _ : state) benchmark::DoNotOptimize(solver.solve(b).data());
+  const SparseMatrix units = b.sparseView();
+  const bool sparse = state.range(2) == 1;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize((sparse ? solver.solve_sparse(units) : solver.solve(b)).data());
+  }
   state.SetLabel(kMeshes[state.range(0)]);
   state.counters["columns"] = static_cast<double>(block);
   state.counters["per_column"] =
@@ -133,7 +139,7 @@ BENCHMARK(BM_AtlasConePlacement)
     ->Repetitions(3)
     ->ReportAggregatesOnly(true);
 BENCHMARK(BM_AtlasConeColumns)
-    ->ArgsProduct({{0, 2, 3}, {1, 8, 32}})
+    ->ArgsProduct({{0, 2, 3}, {1, 8, 32}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->Repetitions(3)
     ->ReportAggregatesOnly(true);

@@ -1,6 +1,8 @@
 // The linear solver's preconditioning solve: CHOLMOD's factor rounded to single precision, applied
 // in double precision. It must stay close to the exact solve, differ from it by the rounding (so
-// the copy is what runs), and be one symmetric positive definite operator, as MINRES needs.
+// the copy is what runs), and be one symmetric positive definite operator, as MINRES needs. And
+// its solve of sparse right-hand sides with the double-precision factor: CHOLMOD's solve to
+// rounding, on one thread and on two.
 #include "ricci/linear/linear_solver.h"
 
 #include <algorithm>
@@ -12,7 +14,7 @@
 #include "flow/hessian.h"
 #include "flow/metric.h"
 #include "linear/minres.h"
-#include "linear/single_factor.h"
+#include "linear/supernodal_factor.h"
 #include "ricci/flow/scheme.h"
 #include "ricci/linear/vertex_order.h"
 #include "ricci/mesh/errors.h"
@@ -157,6 +159,60 @@ TEST(LinearSolver, TwoThreadsSolveWhatOneSolves) {
       EXPECT_EQ((two.solve(b) - x2).norm(), 0.0);  // whatever the threads' timing
     }
   }
+}
+
+// Unit columns and a column of several nonzeros, as the cone placement solves them: each
+// column's forward solve over the supernodes its rows reach, then one backward solve for all.
+Eigen::SparseMatrix<double> sparse_columns(int n) {
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int j = 0; j < 5; ++j) entries.emplace_back((j * 7919) % n, j, 1.0);
+  for (int row : {3, n / 2, n - 1}) entries.emplace_back(row, 5, 0.5 + row % 3);
+  Eigen::SparseMatrix<double> b(n, 6);
+  b.setFromTriplets(entries.begin(), entries.end());
+  return b;
+}
+
+TEST(LinearSolver, SparseRightHandSidesSolveAsCholmodSolvesThem) {
+  Factored f(LinearSolverKind::Cholmod);
+  ASSERT_TRUE(f.factorized);
+  const Eigen::SparseMatrix<double> b = sparse_columns(static_cast<int>(f.h.rows()));
+  const Eigen::MatrixXd exact = f.solver.solve(Eigen::MatrixXd(b));
+  const Eigen::MatrixXd sparse = f.solver.solve_sparse(b);
+  ASSERT_EQ(sparse.cols(), b.cols());
+  for (long j = 0; j < b.cols(); ++j) {
+    EXPECT_LT((sparse.col(j) - exact.col(j)).norm(), 1e-12 * exact.col(j).norm()) << j;
+    EXPECT_LT((f.h * sparse.col(j) - b.col(j)).norm(), 1e-10) << j;
+  }
+  // The LDL^T kind solves them densely.
+  Factored ldlt(LinearSolverKind::Ldlt);
+  ASSERT_TRUE(ldlt.factorized);
+  EXPECT_LT((ldlt.solver.solve_sparse(b) - exact).norm(), 1e-10 * exact.norm());
+}
+
+TEST(LinearSolver, SparseSolvesReachAFractionOfTheFactorAndRunOnTwoThreads) {
+  const Eigen::SparseMatrix<double> h = lion_head_hessian();
+  const MetisFactor cholmod(h);
+  ASSERT_EQ(cholmod.factor().minor, cholmod.factor().n);
+  const detail::SupernodalFactor<double> one(cholmod.factor()), two(cholmod.factor(), 0);
+  ASSERT_TRUE(one.subtrees(0).empty());
+  ASSERT_FALSE(two.subtrees(0).empty());
+  const int n = static_cast<int>(h.rows());
+  // A unit column's forward solve reads its supernodes' path to the root: on a nested
+  // dissection's tree, far less than the whole factor.
+  std::size_t most = 0;
+  for (int row = 0; row < n; row += 97) most = std::max(most, one.entries_reached(row));
+  EXPECT_LT(static_cast<double>(most), 0.25 * static_cast<double>(cholmod.factor().xsize));
+  const Eigen::SparseMatrix<double> b = sparse_columns(n);
+  const Eigen::MatrixXd x1 = one.solve_sparse(b), x2 = two.solve_sparse(b);
+  for (long j = 0; j < b.cols(); ++j) {
+    EXPECT_LT((h * x1.col(j) - b.col(j)).norm(), 1e-10) << j;
+    EXPECT_LT((x2.col(j) - x1.col(j)).norm(), 1e-12 * x1.col(j).norm()) << j;
+  }
+  EXPECT_EQ((two.solve_sparse(b) - x2).norm(), 0.0);  // whatever the threads' timing
+  // The dense solve of the double factor: CHOLMOD's.
+  std::mt19937 rng(17);
+  const Eigen::VectorXd r = random_vector(n, rng);
+  EXPECT_LT((h * two.solve(r) - r).norm(), 1e-10 * r.norm());
 }
 
 // The ordering an analysis found, given back, is analysed to the same fill, and another

@@ -150,9 +150,13 @@ void LinearConeModel::solve_columns(const std::vector<int>& vertices) {
     }
   }
   if (solved.empty()) return;
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(rows_, static_cast<long>(solved.size()));
-  for (size_t j = 0; j < solved.size(); ++j) b(free_index_[solved[j]], static_cast<long>(j)) = 1;
-  const Eigen::MatrixXd x = solver_.solve(b);
+  std::vector<Eigen::Triplet<double>> units;
+  for (size_t j = 0; j < solved.size(); ++j) {
+    units.emplace_back(free_index_[solved[j]], static_cast<int>(j), 1.0);
+  }
+  SparseMatrix b(rows_, static_cast<long>(solved.size()));
+  b.setFromTriplets(units.begin(), units.end());
+  const Eigen::MatrixXd x = solver_.solve_sparse(b);
   back_solves_ += static_cast<int>(solved.size());
   for (size_t j = 0; j < solved.size(); ++j) store(solved[j], scatter(x.col(static_cast<long>(j))));
 }
@@ -268,10 +272,8 @@ Eigen::VectorXd LinearConeModel::combination(const std::vector<int>& cones,
                                              const Eigen::VectorXd& k) {
   solve_columns(cones);
   if (cones.size() >= by_solve_from_) {  // G k = R(sum_j k_j e_j): one back-solve
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(rows_);
-    add_curvatures(cones, k, b);
     ++back_solves_;
-    return g_ + scatter(solver_.solve(b));
+    return g_ + scatter(solver_.solve_sparse(curvatures({cones}, {&k})).col(0));
   }
   // Four columns a pass over u (u is read and written a quarter as often as column by column):
   // this sum is formed at every step of the greedy and of the sweeps, over all vertices.
@@ -289,11 +291,18 @@ Eigen::VectorXd LinearConeModel::combination(const std::vector<int>& cones,
   return u;
 }
 
-void LinearConeModel::add_curvatures(const std::vector<int>& cones, const Eigen::VectorXd& k,
-                                     Eigen::Ref<Eigen::VectorXd> b) const {
-  for (size_t j = 0; j < cones.size(); ++j) {
-    if (free_index_[cones[j]] >= 0) b[free_index_[cones[j]]] += k[static_cast<long>(j)];
+SparseMatrix LinearConeModel::curvatures(const std::vector<std::vector<int>>& sets,
+                                         const std::vector<const Eigen::VectorXd*>& k) const {
+  std::vector<Eigen::Triplet<double>> entries;
+  for (size_t s = 0; s < sets.size(); ++s) {
+    for (size_t j = 0; j < sets[s].size(); ++j) {
+      const int row = free_index_[sets[s][j]];
+      if (row >= 0) entries.emplace_back(row, static_cast<int>(s), (*k[s])[static_cast<long>(j)]);
+    }
   }
+  SparseMatrix b(rows_, static_cast<long>(sets.size()));
+  b.setFromTriplets(entries.begin(), entries.end());
+  return b;
 }
 
 void LinearConeModel::held_at_cones(const std::vector<int>& cones, const Solution& s,
@@ -314,9 +323,9 @@ Eigen::VectorXd LinearConeModel::u(const std::vector<int>& cones, const Solution
 
 std::vector<Eigen::VectorXd> LinearConeModel::u(const std::vector<std::vector<int>>& sets,
                                                 const std::vector<const Solution*>& solutions) {
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(rows_, static_cast<long>(sets.size()));
-  for (size_t j = 0; j < sets.size(); ++j) add_curvatures(sets[j], solutions[j]->k, b.col(j));
-  const Eigen::MatrixXd x = solver_.solve(b);
+  std::vector<const Eigen::VectorXd*> k;
+  for (const Solution* s : solutions) k.push_back(&s->k);
+  const Eigen::MatrixXd x = solver_.solve_sparse(curvatures(sets, k));
   back_solves_ += static_cast<int>(sets.size());
   std::vector<Eigen::VectorXd> us;
   for (size_t j = 0; j < sets.size(); ++j) {

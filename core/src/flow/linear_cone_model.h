@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "flow/delaunay.h"
+#include "flow/hessian.h"
 #include "ricci/linear/linear_solver.h"
 #include "ricci/mesh/compact_mesh.h"
 
@@ -100,9 +101,9 @@ class LinearConeModel {
 
  private:
   Eigen::VectorXd combination(const std::vector<int>& cones, const Eigen::VectorXd& k);  // g + G k
-  // b += sum_j k_j e_(cones_j) over the free rows: the right-hand side whose solve is G k.
-  void add_curvatures(const std::vector<int>& cones, const Eigen::VectorXd& k,
-                      Eigen::Ref<Eigen::VectorXd> b) const;
+  // Per set, sum_j k_j e_(cones_j) over the free rows: the right-hand sides whose solves are G k.
+  SparseMatrix curvatures(const std::vector<std::vector<int>>& sets,
+                          const std::vector<const Eigen::VectorXd*>& k) const;
   // g + G k made s's u: its constant added (the mean taken out on a closed surface without
   // cones), exactly 0 at the cones.
   void held_at_cones(const std::vector<int>& cones, const Solution& s, Eigen::VectorXd& u) const;

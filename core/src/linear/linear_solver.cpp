@@ -3,7 +3,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
 
-#include "linear/single_factor.h"
+#include "linear/supernodal_factor.h"
 #include "ricci/linear/vertex_order.h"
 #include "ricci/mesh/errors.h"
 
@@ -40,6 +40,9 @@ struct LinearSolver::Impl {
   bool factorized = false;
   // The last factorization in single precision, made at the first precondition() after it.
   mutable std::unique_ptr<detail::SinglePrecisionFactor> single;
+  // The last factorization read in place by our own solve, made at the first solve_sparse() after
+  // it.
+  mutable std::unique_ptr<detail::SupernodalFactor<double>> exact;
   int default_first_ordering = 0;  // CHOLMOD's first method when it chooses the ordering itself
 };
 
@@ -81,6 +84,7 @@ void LinearSolver::analyze(const Matrix& a, const std::vector<int>* order) {
     }
     impl_->factorized = false;
     impl_->single.reset();
+    impl_->exact.reset();
   } else {
     impl_->ldlt.analyzePattern(a);
   }
@@ -92,6 +96,7 @@ bool LinearSolver::factorize(const Matrix& a, double shift) {
   if (!impl_->analyzed) throw SolverError("linear solver: factorize() before analyze()");
   ++num_factorizations_;
   impl_->single.reset();
+  impl_->exact.reset();
   if (kind_ == LinearSolverKind::Cholmod) {
     impl_->cholmod.setShift(shift);
     impl_->cholmod.factorize(a);
@@ -116,6 +121,15 @@ Eigen::VectorXd LinearSolver::precondition(const Eigen::VectorXd& b) const {
     impl_->single = std::make_unique<detail::SinglePrecisionFactor>(impl_->cholmod.factor());
   }
   return impl_->single->solve(b);
+}
+
+Eigen::MatrixXd LinearSolver::solve_sparse(const Eigen::SparseMatrix<double>& b) const {
+  if (kind_ != LinearSolverKind::Cholmod) return impl_->ldlt.solve(Eigen::MatrixXd(b));
+  if (!impl_->factorized) throw SolverError("linear solver: solve_sparse() before factorize()");
+  if (!impl_->exact) {
+    impl_->exact = std::make_unique<detail::SupernodalFactor<double>>(impl_->cholmod.factor());
+  }
+  return impl_->exact->solve_sparse(b);
 }
 
 long LinearSolver::factor_entries() const {

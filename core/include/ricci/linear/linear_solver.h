@@ -34,6 +34,10 @@ class LinearSolver {
   //! Solves with the last successful factorization.
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
+  //! solve() of each column of a sparse b: for CHOLMOD, each column's forward solve visits only
+  //! the part of the factor its nonzero rows reach (a unit column's: the supernodes from its row's
+  //! to the root), and the backward solves run on two threads where the factor is large.
+  Eigen::MatrixXd solve_sparse(const Eigen::SparseMatrix<double>& b) const;
   //! For preconditioning: CHOLMOD's last factorization with its entries rounded to single
   //! precision, applied in double precision, so one fixed symmetric positive definite operator
   //! close to the inverse; a solve reads half the memory of solve(). solve() for the LDL^T kind.
