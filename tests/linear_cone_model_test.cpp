@@ -96,6 +96,31 @@ TEST(LinearConeModel, ManyConesAreSolvedForAsFewAreSummed) {
   }
 }
 
+// A column summed with as many others as a back-solve costs passes has R(A col) solved and kept:
+// the columns solved after it read their sums with it there, and D is still the D of u. Here the
+// solves start at 2 columns: the first set's columns are all kept so, and the next set's new
+// column costs its own back-solve and no other.
+TEST(LinearConeModel, SumsWithAConeAreReadFromItsKeptSolve) {
+  const CompactMesh mesh = cgal_mesh("eight.off");
+  LinearConeModel model(mesh, LinearSolverKind::Cholmod, 2);
+  const std::vector<int> first = {3, 40, 91, 7, 150, 12};
+  ASSERT_TRUE(model.held(first).ok);
+  const int solves = model.back_solves();
+  EXPECT_GE(solves, 6 + 5);  // the columns, and the sums of all but the last one paired
+  std::vector<int> next = first;
+  next.back() = 200;
+  const LinearConeModel::Solution s = model.held(next);
+  ASSERT_TRUE(s.ok);
+  EXPECT_EQ(model.back_solves(), solves + 1);
+  EXPECT_NEAR(s.d, area_weighted_deviation(model.area(), model.u(next, s)), 1e-10);
+  // The sums of a column whose slot was reused are not read from its old solve.
+  model.keep_only({3, 40});
+  const std::vector<int> last = {3, 40, 300, 301};
+  const LinearConeModel::Solution t = model.held(last);
+  ASSERT_TRUE(t.ok);
+  EXPECT_NEAR(t.d, area_weighted_deviation(model.area(), model.u(last, t)), 1e-10);
+}
+
 // u of several sets solved in one block (the sweeps' sets without each cone) is each set's u.
 TEST(LinearConeModel, SetsSolvedTogetherGiveEachSetsU) {
   const CompactMesh mesh = cgal_mesh("eight.off");

@@ -63,6 +63,8 @@ LinearConeModel::LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind,
                   std::max(kSolveOverPass * static_cast<double>(solver_.factor_entries()) / rows_,
                            kCachedColumns / (8.0 * mesh.num_vertices()))));
   }
+  max_weighed_ =
+      static_cast<long>(std::max(1.0, kWeighedBytes / (8.0 * std::max(1, mesh.num_vertices()))));
   g_sum_ = area_.dot(g_);
   g_square_ = area_.dot(g_.cwiseProduct(g_));
 }
@@ -84,6 +86,8 @@ int LinearConeModel::store(int v, const Eigen::VectorXd& column) {
     s = static_cast<int>(vertex_of_slot_.size());
     vertex_of_slot_.push_back(-1);
     row_seen_.push_back(0);
+    weighed_of_slot_.push_back(-1);
+    passes_.push_back(0);
     if (s >= columns_.cols()) {  // room doubles: columns are appended one by one
       const int room = std::max(8, 2 * static_cast<int>(columns_.cols()));
       columns_.conservativeResize(mesh_.num_vertices(), room);
@@ -94,6 +98,7 @@ int LinearConeModel::store(int v, const Eigen::VectorXd& column) {
   }
   columns_.col(s) = column;
   row_seen_[s] = 0;
+  forget_weighed(s);
   vertex_of_slot_[s] = v;
   slot_of_[v] = s;
   const Eigen::VectorXd weighted = area_.cwiseProduct(column);
@@ -111,9 +116,22 @@ int LinearConeModel::store(int v, const Eigen::VectorXd& column) {
 double LinearConeModel::gram(int a, int b) const {
   double& entry = gram_(a, b);
   if (std::isnan(entry)) {
-    // In one order whichever pair is asked first: the same rounding for (a, b) and (b, a).
-    const int first = std::min(a, b), second = std::max(a, b);
-    entry = (columns_.col(first).array() * area_.array() * columns_.col(second).array()).sum();
+    const int wa = weighed_of_slot_[a], wb = weighed_of_slot_[b];
+    if (wa >= 0) {
+      entry = weighed_(vertex_of_slot_[b], wa);
+    } else if (wb >= 0) {
+      entry = weighed_(vertex_of_slot_[a], wb);
+    } else {
+      // In one order whichever pair is asked first: the same rounding for (a, b) and (b, a).
+      const int first = std::min(a, b), second = std::max(a, b);
+      entry = (columns_.col(first).array() * area_.array() * columns_.col(second).array()).sum();
+      // A column summed with this many others has cost what R(A col) costs: that is solved, and
+      // its sums with any column are then read from it.
+      for (int c : {a, b}) {
+        if (++passes_[c] >= by_solve_from_ && weighed_of_slot_[c] < 0) gram_row(c);
+        if (a == b) break;
+      }
+    }
     gram_(b, a) = entry;
   }
   return entry;
@@ -124,14 +142,29 @@ void LinearConeModel::gram_row(int a) const {
   for (int v = 0; v < mesh_.num_vertices(); ++v) {
     if (free_index_[v] >= 0) b[free_index_[v]] = area_[v] * columns_(v, a);
   }
-  const Eigen::VectorXd x = solver_.solve(b);
+  const Eigen::VectorXd x = scatter(solver_.solve_sparse(b.sparseView()).col(0));
   ++back_solves_;
   for (size_t s = 0; s < vertex_of_slot_.size(); ++s) {
     const int v = vertex_of_slot_[s];
     if (v < 0) continue;
-    gram_(a, static_cast<long>(s)) = gram_(static_cast<long>(s), a) =
-        free_index_[v] >= 0 ? x[free_index_[v]] : 0;
+    gram_(a, static_cast<long>(s)) = gram_(static_cast<long>(s), a) = x[v];
   }
+  if (free_weighed_.empty() && weighed_.cols() < max_weighed_) {
+    const long room = std::min(max_weighed_, std::max(8L, 2 * weighed_.cols()));
+    for (long w = room - 1; w >= weighed_.cols(); --w) free_weighed_.push_back(static_cast<int>(w));
+    weighed_.conservativeResize(mesh_.num_vertices(), room);
+  }
+  if (!free_weighed_.empty()) {
+    weighed_of_slot_[a] = free_weighed_.back();
+    free_weighed_.pop_back();
+    weighed_.col(weighed_of_slot_[a]) = x;
+  }
+}
+
+void LinearConeModel::forget_weighed(int s) {
+  if (weighed_of_slot_[s] >= 0) free_weighed_.push_back(weighed_of_slot_[s]);
+  weighed_of_slot_[s] = -1;
+  passes_[s] = 0;
 }
 
 void LinearConeModel::solve_columns(const std::vector<int>& vertices) {
@@ -170,6 +203,7 @@ void LinearConeModel::keep_only(const std::vector<int>& vertices) {
       slot_of_[v] = -1;
       vertex_of_slot_[s] = -1;
       free_slots_.push_back(static_cast<int>(s));
+      forget_weighed(static_cast<int>(s));
     }
   }
 }
@@ -208,7 +242,7 @@ void LinearConeModel::pair(int a, const std::vector<int>& slots) const {
   if (row_seen_[a]) return;
   row_seen_[a] = 1;
   size_t missing = 0;
-  for (int b : slots) missing += std::isnan(gram_(a, b));
+  for (int b : slots) missing += std::isnan(gram_(a, b)) && weighed_of_slot_[b] < 0;
   if (missing >= by_solve_from_) gram_row(a);
 }
 

@@ -121,8 +121,11 @@ class LinearConeModel {
   std::vector<int> slot_of_, vertex_of_slot_, free_slots_;
   // sum A col_a col_b, computed when first asked for (gram_ holds kNotYet until then).
   double gram(int a, int b) const;
-  // Column a's sums with every column kept, from one back-solve.
+  // Column a's sums with every column kept, from one back-solve of R(A col_a), which is kept
+  // (within kWeighedBytes) for its sums with the columns solved later.
   void gram_row(int a) const;
+  // Slot s's R(A col) dropped (its column replaced or dropped).
+  void forget_weighed(int s);
   // Column a's sums with the columns of these slots: by one back-solve (gram_row) where a set
   // first pairs it with many (once per column), else each when first asked for.
   void pair(int a, const std::vector<int>& slots) const;
@@ -139,6 +142,16 @@ class LinearConeModel {
   static constexpr double kCachedColumns = 16.0 * 1024 * 1024;
   size_t by_solve_from_ = std::numeric_limits<size_t>::max();
   mutable std::vector<char> row_seen_;  // per slot: distortion() has looked at its sums
+  // R(A col) of some columns side by side (scattered to the vertices): a cone's, once it has been
+  // summed with about as many columns as a back-solve costs passes (the sweeps try candidates
+  // beside every cone), so that its sum with any other column is a read, sum A col_a col_b =
+  // R(A col_a)[b]. Per slot its column here, -1 without one; passes: its sums formed by a pass.
+  // At most kWeighedBytes of them.
+  static constexpr double kWeighedBytes = 128.0 * 1024 * 1024;
+  long max_weighed_ = 0;
+  mutable Eigen::MatrixXd weighed_;
+  mutable std::vector<int> weighed_of_slot_, free_weighed_;
+  mutable std::vector<size_t> passes_;
   static constexpr double kNotYet = std::numeric_limits<double>::quiet_NaN();
 
   // Area-weighted sums: gram_(i, j) = sum A col_i col_j, sum_(i) = sum A col_i,

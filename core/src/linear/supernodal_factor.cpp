@@ -61,13 +61,13 @@ SupernodalFactor<Value>::SupernodalFactor(const cholmod_factor& factor,
     const int ncols = first_column_[q + 1] - first_column_[q];
     const int nrows = row_start_[q + 1] - row_start_[q];
     max_rows_ = std::max(max_rows_, nrows);
-    std::fill(supernode_of_.begin() + first_column_[q], supernode_of_.begin() + first_column_[q + 1],
-              q);
+    std::fill(supernode_of_.begin() + first_column_[q],
+              supernode_of_.begin() + first_column_[q + 1], q);
     if (nrows > ncols) {
       const int row = rows_[row_start_[q] + ncols];
-      parent_[q] = static_cast<int>(
-          std::upper_bound(first_column_.begin(), first_column_.end(), row) -
-          first_column_.begin() - 1);
+      parent_[q] =
+          static_cast<int>(std::upper_bound(first_column_.begin(), first_column_.end(), row) -
+                           first_column_.begin() - 1);
     }
   }
   choose_subtrees(two_threads_from);
@@ -144,8 +144,8 @@ void SupernodalFactor<Value>::forward(int q, double* y, double* ancestors, int a
 }
 
 template <class Value>
-void SupernodalFactor<Value>::forward(Range range, double* y, double* ancestors,
-                                      int ancestors_from, std::vector<double>& local) const {
+void SupernodalFactor<Value>::forward(Range range, double* y, double* ancestors, int ancestors_from,
+                                      std::vector<double>& local) const {
   for (int q = range.begin; q < range.end; ++q) forward(q, y, ancestors, ancestors_from, local);
 }
 

@@ -69,9 +69,9 @@ class SupernodalFactor {
   std::vector<std::size_t> value_start_;  // per supernode: where its column-major block begins
   std::vector<int> rows_;
   std::vector<int> perm_, inverse_perm_;
-  std::vector<int> parent_;       // per supernode, -1 at a root
+  std::vector<int> parent_;        // per supernode, -1 at a root
   std::vector<int> supernode_of_;  // per column
-  std::vector<Value> own_;        // float's rounded entries
+  std::vector<Value> own_;         // float's rounded entries
   const Value* values_ = nullptr;
   std::vector<Range> subtrees_[2];
   Range top_;
