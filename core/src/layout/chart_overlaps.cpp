@@ -348,37 +348,14 @@ int SheetSeparator::separate(int new_part, int f, int g, const std::vector<int>&
   for (int k = 0; k < groups; ++k) first[k + 1] += first[k];
   std::vector<int> member(faces.size()), fill(first.begin(), first.end() - 1);
   for (int h : faces) member[fill[local[group_of(h)]]++] = h;
-  // Nearest of the two seeds' groups, over the part's groups (ties to the first reached).
-  std::vector<double> distance(groups, std::numeric_limits<double>::infinity());
   std::vector<int> share(groups, -1);
-  using Item = std::pair<double, int>;  // a group by its own number: ties as the mesh orders them
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
   const int seeds[2] = {group_of(f), group_of(g)};
-  for (int s = 0; s < 2; ++s) {
-    distance[local[seeds[s]]] = 0, share[local[seeds[s]]] = s;
-    queue.push({0, seeds[s]});
+  if (lengths_) {
+    // The nearest share and the neck both from the distances to each seed.
+    shares_by_distances(chart, member, first, group, centroid, seeds, cut, share);
+  } else {
+    nearest_share(chart, member, first, group, centroid, seeds, cut, share);
   }
-  while (!queue.empty()) {
-    const auto [d, a] = queue.top();
-    queue.pop();
-    const int la = local[a];
-    if (d > distance[la]) continue;
-    for (int i = first[la]; i < first[la + 1]; ++i) {
-      const int h = member[i];
-      for (int c = 0; c < 3; ++c) {
-        const int t = mesh.twin(3 * h + c);
-        if (t < 0 || cut[mesh.face_edge(h, c)]) continue;
-        const int b = group_of(t / 3);
-        if (b == a || part[t / 3] != chart) continue;
-        const double via = d + (centroid[a] - centroid[b]).norm();
-        if (via < distance[local[b]]) {
-          distance[local[b]] = via, share[local[b]] = share[la];
-          queue.push({via, b});
-        }
-      }
-    }
-  }
-  if (lengths_) shorter_share(chart, member, first, group, centroid, seeds, cut, share);
   const auto share_of = [&](int face) {
     const int k = local[group_of(face)];
     return k >= 0 ? share[k] : -1;
@@ -406,16 +383,55 @@ int SheetSeparator::separate(int new_part, int f, int g, const std::vector<int>&
   return marked;
 }
 
+// Nearest of the two seeds' groups, over the part's groups (ties to the first reached).
+void SheetSeparator::nearest_share(int chart, const std::vector<int>& member,
+                                   const std::vector<int>& first, const std::vector<int>& group,
+                                   const std::vector<Eigen::Vector3d>& centroid, const int seeds[2],
+                                   const std::vector<char>& cut, std::vector<int>& share) const {
+  const Triangulation& mesh = mesh_;
+  const std::vector<int>& local = local_;
+  const auto group_of = [&](int face) { return group.empty() ? face : group[face]; };
+  std::vector<double> distance(share.size(), std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, int>;  // a group by its own number: ties as the mesh orders them
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (int s = 0; s < 2; ++s) {
+    distance[local[seeds[s]]] = 0, share[local[seeds[s]]] = s;
+    queue.push({0, seeds[s]});
+  }
+  while (!queue.empty()) {
+    const auto [d, a] = queue.top();
+    queue.pop();
+    const int la = local[a];
+    if (d > distance[la]) continue;
+    for (int i = first[la]; i < first[la + 1]; ++i) {
+      const int h = member[i];
+      for (int c = 0; c < 3; ++c) {
+        const int t = mesh.twin(3 * h + c);
+        if (t < 0 || cut[mesh.face_edge(h, c)]) continue;
+        const int b = group_of(t / 3);
+        if (b == a || part_[t / 3] != chart) continue;
+        const double via = d + (centroid[a] - centroid[b]).norm();
+        if (via < distance[local[b]]) {
+          distance[local[b]] = via, share[local[b]] = share[la];
+          queue.push({via, b});
+        }
+      }
+    }
+  }
+}
+
 // A level set's seam replaces the nearest share's where it is at most this share of its length:
 // a narrower place, not the same width a little to one side (on a uniform strip a level near the
 // band's edge can be a few percent shorter by the zigzag of its edges alone, and would part the
 // strip a quarter from its end).
 constexpr double kClearlyShorter = 0.8;
 
-void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
-                                   const std::vector<int>& first, const std::vector<int>& group,
-                                   const std::vector<Eigen::Vector3d>& centroid, const int seeds[2],
-                                   const std::vector<char>& cut, std::vector<int>& share) {
+void SheetSeparator::shares_by_distances(int chart, const std::vector<int>& member,
+                                         const std::vector<int>& first,
+                                         const std::vector<int>& group,
+                                         const std::vector<Eigen::Vector3d>& centroid,
+                                         const int seeds[2], const std::vector<char>& cut,
+                                         std::vector<int>& share) const {
   const Triangulation& mesh = mesh_;
   const std::vector<int>& local = local_;
   const auto group_of = [&](int face) { return group.empty() ? face : group[face]; };
@@ -470,6 +486,11 @@ void SheetSeparator::shorter_share(int chart, const std::vector<int>& member,
   };
   const int from = local[seeds[0]], to = local[seeds[1]];
   const std::vector<double> df = distances(from), dg = distances(to);
+  // The nearest share: each group reached to the nearer seed, at equal distances to f's (the one
+  // search from both seeds, nearest_share, gives such a group to the first that reaches it).
+  for (int a = 0; a < groups; ++a) {
+    if (df[a] < kFar || dg[a] < kFar) share[a] = dg[a] < df[a] ? 1 : 0;
+  }
   const double apart = df[to];
   if (!(apart > 0) || !(apart < kFar)) return;
   std::vector<double> level(groups, kFar);

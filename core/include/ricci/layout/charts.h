@@ -181,12 +181,19 @@ class SheetSeparator {
   std::vector<int>& part_;
   std::vector<std::vector<int>> faces_;  // per part label, in increasing order
   std::vector<int> local_;               // per group, its number in the part at hand (else -1)
-  // Where a level of the two distances' difference within the band parts f's share from g's
-  // along a clearly shorter seam than the nearest groups' (`share`, by local group), that one
-  // instead.
-  void shorter_share(int chart, const std::vector<int>& member, const std::vector<int>& first,
+  // The shares of the part's groups (`share`, by local group; the part's groups in `member`
+  // from `first`): each to the nearer of the two seeds' groups, by one search from both.
+  void nearest_share(int chart, const std::vector<int>& member, const std::vector<int>& first,
                      const std::vector<int>& group, const std::vector<Eigen::Vector3d>& centroid,
-                     const int seeds[2], const std::vector<char>& cut, std::vector<int>& share);
+                     const int seeds[2], const std::vector<char>& cut,
+                     std::vector<int>& share) const;
+  // The same from a search from each seed (at equal distances to f's); then, where a level of
+  // the two distances' difference within the band parts f's share from g's along a clearly
+  // shorter seam than the nearest groups', that one instead.
+  void shares_by_distances(int chart, const std::vector<int>& member, const std::vector<int>& first,
+                           const std::vector<int>& group,
+                           const std::vector<Eigen::Vector3d>& centroid, const int seeds[2],
+                           const std::vector<char>& cut, std::vector<int>& share) const;
   const std::vector<double>* lengths_ = nullptr;
 };
 
