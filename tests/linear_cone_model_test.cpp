@@ -121,6 +121,27 @@ TEST(LinearConeModel, SumsWithAConeAreReadFromItsKeptSolve) {
   EXPECT_NEAR(t.d, area_weighted_deviation(model.area(), model.u(last, t)), 1e-10);
 }
 
+// Where no room is left to keep another R(A col), a column summed with many others is not
+// solved again at each further sum. Room for one, solves from 3 sums: the first set's column 91
+// takes the room; then cone 3 beside one new column at a time is summed by a pass with each,
+// past the threshold from the third, and each set costs its new column's solve and no other (it
+// used to cost one more per set from the third on), D still the D of u.
+TEST(LinearConeModel, SumsPastTheKeptSolvesAreFormedByPasses) {
+  const CompactMesh mesh = cgal_mesh("eight.off");
+  LinearConeModel model(mesh, LinearSolverKind::Cholmod, 3, 1);
+  ASSERT_TRUE(model.held({91, 40, 3}).ok);
+  const int solves = model.back_solves();
+  const std::vector<int> others = {7, 12, 150, 200, 300};
+  for (int v : others) {
+    const std::vector<int> cones = {3, v};
+    const LinearConeModel::Solution s = model.held(cones);
+    ASSERT_TRUE(s.ok);
+    EXPECT_NEAR(s.d, area_weighted_deviation(model.area(), model.u(cones, s)), 1e-10);
+    model.keep_only({91, 40, 3});
+  }
+  EXPECT_EQ(model.back_solves(), solves + static_cast<int>(others.size()));
+}
+
 // u of several sets solved in one block (the sweeps' sets without each cone) is each set's u.
 TEST(LinearConeModel, SetsSolvedTogetherGiveEachSetsU) {
   const CompactMesh mesh = cgal_mesh("eight.off");

@@ -27,7 +27,7 @@ double area_weighted_deviation(const Eigen::VectorXd& area, const Eigen::VectorX
 }
 
 LinearConeModel::LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind,
-                                 size_t by_solve_from)
+                                 size_t by_solve_from, long weighed_columns)
     : mesh_(mesh), delaunay_(mesh), solver_(kind), area_(normalized_vertex_areas(mesh)) {
   ConformalStructure structure = initialize_scheme(mesh, Geometry::Euclidean, SchemeOptions());
   make_input_delaunay(delaunay_, structure);
@@ -63,8 +63,10 @@ LinearConeModel::LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind,
                   std::max(kSolveOverPass * static_cast<double>(solver_.factor_entries()) / rows_,
                            kCachedColumns / (8.0 * mesh.num_vertices()))));
   }
-  max_weighed_ =
-      static_cast<long>(std::max(1.0, kWeighedBytes / (8.0 * std::max(1, mesh.num_vertices()))));
+  max_weighed_ = weighed_columns > 0
+                     ? weighed_columns
+                     : static_cast<long>(
+                           std::max(1.0, kWeighedBytes / (8.0 * std::max(1, mesh.num_vertices()))));
   g_sum_ = area_.dot(g_);
   g_square_ = area_.dot(g_.cwiseProduct(g_));
 }
@@ -126,9 +128,12 @@ double LinearConeModel::gram(int a, int b) const {
       const int first = std::min(a, b), second = std::max(a, b);
       entry = (columns_.col(first).array() * area_.array() * columns_.col(second).array()).sum();
       // A column summed with this many others has cost what R(A col) costs: that is solved, and
-      // its sums with any column are then read from it.
+      // its sums with any column are then read from it, where there is room to keep it (else
+      // each later sum would solve it again).
       for (int c : {a, b}) {
-        if (++passes_[c] >= by_solve_from_ && weighed_of_slot_[c] < 0) gram_row(c);
+        if (++passes_[c] >= by_solve_from_ && weighed_of_slot_[c] < 0 && room_to_weigh()) {
+          gram_row(c);
+        }
         if (a == b) break;
       }
     }
@@ -159,6 +164,10 @@ void LinearConeModel::gram_row(int a) const {
     free_weighed_.pop_back();
     weighed_.col(weighed_of_slot_[a]) = x;
   }
+}
+
+bool LinearConeModel::room_to_weigh() const {
+  return !free_weighed_.empty() || weighed_.cols() < max_weighed_;
 }
 
 void LinearConeModel::forget_weighed(int s) {

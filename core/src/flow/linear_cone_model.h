@@ -37,9 +37,10 @@ class LinearConeModel {
  public:
   //! `by_solve_from`: the cones from which u and a column's sums are solved for rather than
   //! summed over the columns (0: where that costs less, from the factor's fill and the columns'
-  //! size).
+  //! size). `weighed_columns`: the most columns' R(A col) kept (0: as many as kWeighedBytes hold).
   //! \throws SolverError when the Laplacian is not positive definite (degenerate triangles).
-  LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind, size_t by_solve_from = 0);
+  LinearConeModel(const CompactMesh& mesh, LinearSolverKind kind, size_t by_solve_from = 0,
+                  long weighed_columns = 0);
 
   //! The input metric's curvature per vertex (its intrinsic Delaunay triangulation's).
   const Eigen::VectorXd& curvature0() const { return k0_; }
@@ -126,6 +127,8 @@ class LinearConeModel {
   void gram_row(int a) const;
   // Slot s's R(A col) dropped (its column replaced or dropped).
   void forget_weighed(int s);
+  // Whether another column's R(A col) can be kept.
+  bool room_to_weigh() const;
   // Column a's sums with the columns of these slots: by one back-solve (gram_row) where a set
   // first pairs it with many (once per column), else each when first asked for.
   void pair(int a, const std::vector<int>& slots) const;
