@@ -176,6 +176,11 @@ class Search {
     score_ = (u.array() - mean).abs();
     for (int v : boundary_) score_[v] = -1;
     for (int c : s.cones) score_[c] = -1;
+    if (count == 1) {  // the largest is a peak: no neighbour to compare (ties to the last vertex)
+      std::pair<double, int> top(-1, -1);
+      for (int v = 0; v < mesh_.num_vertices(); ++v) top = std::max(top, {score_[v], v});
+      return top.first >= 0 ? std::vector<int>{top.second} : std::vector<int>{};
+    }
     std::vector<std::pair<double, int>> found;
     for (int v = 0; v < mesh_.num_vertices(); ++v) {
       const double d = score_[v];
