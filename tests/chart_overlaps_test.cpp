@@ -267,6 +267,31 @@ TEST(ChartOverlaps, SheetsArePartedAtANeckNearTheMiddleWhereTheSeamIsShortest) {
   EXPECT_NEAR(uniform.f_side, 0.5, 0.05);
 }
 
+TEST(ChartOverlaps, GivenLengthsEachFaceKeepsItsOwnShareAtNoDistanceApart) {
+  // Two neighbouring faces whose centroids coincide (degenerate pieces, or centroids a caller
+  // gives): at no distance apart, each is its own share, and the separator parts them as
+  // separate_sheets does.
+  const CompactMesh mesh = necked_strip(-1);
+  std::vector<double> lengths;
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const auto [a, b] = mesh.edge_vertices(e);
+    lengths.push_back((mesh.positions()[a] - mesh.positions()[b]).norm());
+  }
+  std::vector<Eigen::Vector3d> centroid = face_centroids(mesh);
+  const int f = 100, g = mesh.twin(3 * f) / 3;
+  ASSERT_GE(g, 0);
+  centroid[g] = centroid[f];
+  for (bool with_lengths : {false, true}) {
+    std::vector<int> part(mesh.num_faces(), 0);
+    std::vector<char> cut(mesh.num_edges(), 0);
+    const int marked =
+        with_lengths ? SheetSeparator(mesh, part, lengths).separate(1, f, g, {}, centroid, cut)
+                     : separate_sheets(mesh, part, 1, f, g, {}, centroid, cut);
+    EXPECT_GT(marked, 0) << with_lengths;
+    EXPECT_NE(part[f], part[g]) << with_lengths;
+  }
+}
+
 TEST(ChartOverlaps, OverlapDepthIsHowFarTwoFacesReachIntoEachOther) {
   // The unit right triangle and its copy moved by t < 1 along x overlap by (1 - t) / sqrt(2) (in
   // the hypotenuse's direction); over the longest side, sqrt(2).

@@ -155,15 +155,15 @@ void LinearConeModel::gram_row(int a) const {
     gram_(a, static_cast<long>(s)) = gram_(static_cast<long>(s), a) = x[v];
   }
   if (free_weighed_.empty() && weighed_.cols() < max_weighed_) {
-    const long room = std::min(max_weighed_, std::max(8L, 2 * weighed_.cols()));
+    const long room = std::min<long>(max_weighed_, std::max<long>(8, 2 * weighed_.cols()));
     for (long w = room - 1; w >= weighed_.cols(); --w) free_weighed_.push_back(static_cast<int>(w));
     weighed_.conservativeResize(mesh_.num_vertices(), room);
   }
-  if (!free_weighed_.empty()) {
+  if (weighed_of_slot_[a] < 0 && !free_weighed_.empty()) {
     weighed_of_slot_[a] = free_weighed_.back();
     free_weighed_.pop_back();
-    weighed_.col(weighed_of_slot_[a]) = x;
   }
+  if (weighed_of_slot_[a] >= 0) weighed_.col(weighed_of_slot_[a]) = x;
 }
 
 bool LinearConeModel::room_to_weigh() const {
@@ -250,6 +250,7 @@ void LinearConeModel::pair(int a, const std::vector<int>& slots) const {
   // Each column is looked at once, when a set first holds it.
   if (row_seen_[a]) return;
   row_seen_[a] = 1;
+  if (weighed_of_slot_[a] >= 0) return;  // its R(A col) kept: every sum a read
   size_t missing = 0;
   for (int b : slots) missing += std::isnan(gram_(a, b)) && weighed_of_slot_[b] < 0;
   if (missing >= by_solve_from_) gram_row(a);

@@ -93,9 +93,9 @@ class LinearConeModel {
   bool closed() const { return mesh_.is_closed(); }
   int euler_characteristic() const { return mesh_.euler_characteristic(); }
 
-  //! Computes the columns of these vertices that are missing, in one multi-column solve (a block
-  //! of columns costs a fraction of as many single solves: CHOLMOD reads the factor once); 0 for
-  //! a vertex without a row.
+  //! Computes the columns of these vertices that are missing, in one multi-column solve (each
+  //! column's forward solve over the supernodes its row reaches, the backward solves together);
+  //! 0 for a vertex without a row.
   void solve_columns(const std::vector<int>& vertices);
   //! Columns of vertices not in the list are dropped (their room is reused).
   void keep_only(const std::vector<int>& vertices);
@@ -145,11 +145,12 @@ class LinearConeModel {
   static constexpr double kCachedColumns = 16.0 * 1024 * 1024;
   size_t by_solve_from_ = std::numeric_limits<size_t>::max();
   mutable std::vector<char> row_seen_;  // per slot: distortion() has looked at its sums
-  // R(A col) of some columns side by side (scattered to the vertices): a cone's, once it has been
-  // summed with about as many columns as a back-solve costs passes (the sweeps try candidates
-  // beside every cone), so that its sum with any other column is a read, sum A col_a col_b =
-  // R(A col_a)[b]. Per slot its column here, -1 without one; passes: its sums formed by a pass.
-  // At most kWeighedBytes of them.
+  // R(A col) of some columns side by side (scattered to the vertices): a column's whose sums were
+  // solved for at once (pair), or that has been summed with about as many columns as a back-solve
+  // costs passes (a cone: the sweeps try candidates beside every cone), so that its sum with any
+  // other column is a read, sum A col_a col_b = R(A col_a)[b]. Per slot its column here, -1
+  // without one; passes: its sums formed by a pass. At most kWeighedBytes of them, first come
+  // first kept (two parts placed at once hold twice that).
   static constexpr double kWeighedBytes = 128.0 * 1024 * 1024;
   long max_weighed_ = 0;
   mutable Eigen::MatrixXd weighed_;

@@ -491,6 +491,7 @@ void SheetSeparator::shares_by_distances(int chart, const std::vector<int>& memb
   for (int a = 0; a < groups; ++a) {
     if (df[a] < kFar || dg[a] < kFar) share[a] = dg[a] < df[a] ? 1 : 0;
   }
+  if (from != to) share[from] = 0, share[to] = 1;  // each seed its own, at no distance apart too
   const double apart = df[to];
   if (!(apart > 0) || !(apart < kFar)) return;
   std::vector<double> level(groups, kFar);

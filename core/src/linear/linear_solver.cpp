@@ -124,8 +124,15 @@ Eigen::VectorXd LinearSolver::precondition(const Eigen::VectorXd& b) const {
 }
 
 Eigen::MatrixXd LinearSolver::solve_sparse(const Eigen::SparseMatrix<double>& b) const {
-  if (kind_ != LinearSolverKind::Cholmod) return impl_->ldlt.solve(Eigen::MatrixXd(b));
-  if (!impl_->factorized) throw SolverError("linear solver: solve_sparse() before factorize()");
+  const bool cholmod = kind_ == LinearSolverKind::Cholmod;
+  if (cholmod && !impl_->factorized) {
+    throw SolverError("linear solver: solve_sparse() without a successful factorization");
+  }
+  const long rows = cholmod ? static_cast<long>(impl_->cholmod.factor().n) : impl_->ldlt.rows();
+  if (b.rows() != rows) {
+    throw InvalidArgumentError("linear solver: a right-hand side of another size than the matrix");
+  }
+  if (!cholmod) return impl_->ldlt.solve(Eigen::MatrixXd(b));
   if (!impl_->exact) {
     impl_->exact = std::make_unique<detail::SupernodalFactor<double>>(impl_->cholmod.factor());
   }

@@ -30,6 +30,9 @@ class SupernodalFactor {
   //! this and stay unchanged.
   explicit SupernodalFactor(const cholmod_factor& factor,
                             std::size_t two_threads_from = kTwoThreadsFrom);
+  // Not copied: the entries are read through a pointer (into own_ for float).
+  SupernodalFactor(const SupernodalFactor&) = delete;
+  SupernodalFactor& operator=(const SupernodalFactor&) = delete;
 
   //! (P^T L L^T P)^-1 b.
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;

@@ -172,7 +172,8 @@ class SheetSeparator {
   SheetSeparator(const Triangulation& mesh, std::vector<int>& part,
                  std::vector<double>&& lengths) = delete;
   //! separate_sheets(mesh, part, new_part, f, g, group, centroid, cut), or, given lengths, its
-  //! seam moved to a neck as above.
+  //! seam moved to a neck as above (and a group at equal distances from f and g on f's side,
+  //! where separate_sheets gives it to the one that reaches it first).
   int separate(int new_part, int f, int g, const std::vector<int>& group,
                const std::vector<Eigen::Vector3d>& centroid, std::vector<char>& cut);
 

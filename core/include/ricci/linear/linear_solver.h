@@ -37,6 +37,8 @@ class LinearSolver {
   //! solve() of each column of a sparse b: for CHOLMOD, each column's forward solve visits only
   //! the part of the factor its nonzero rows reach (a unit column's: the supernodes from its row's
   //! to the root), and the backward solves run on two threads where the factor is large.
+  //! \throws SolverError without a successful factorization (CHOLMOD); InvalidArgumentError for
+  //! a b of another row count.
   Eigen::MatrixXd solve_sparse(const Eigen::SparseMatrix<double>& b) const;
   //! For preconditioning: CHOLMOD's last factorization with its entries rounded to single
   //! precision, applied in double precision, so one fixed symmetric positive definite operator
