@@ -770,8 +770,7 @@ TEST(Atlas, APlateOfNeedlesDeliversItsPiecesUnturned) {
   const Atlas a = run_atlas(bed, "--max-cones 4");
   expect_valid_atlas(a, bed, 0.2);
   EXPECT_NE(a.summary.find("Atlas: 4 cones"), std::string::npos) << a.summary;
-  EXPECT_NE(a.summary.find("0 of the subdivision's faces flipped"), std::string::npos)
-      << a.summary;
+  EXPECT_NE(a.summary.find("0 of the subdivision's faces flipped"), std::string::npos) << a.summary;
 }
 
 TEST(Atlas, APartWhoseFlowStallsAtEveryBoundIsUnfolded) {
