@@ -13,6 +13,7 @@
 #include "ricci/flow/cone_placement.h"
 #include "ricci/flow/ricci_flow.h"
 #include "ricci/io/mesh_io.h"
+#include "ricci/layout/packing.h"
 #include "ricci/pipeline/atlas.h"
 
 namespace ricci::bench {
@@ -101,6 +102,31 @@ void BM_AtlasConePlacement(benchmark::State& state) {
   state.counters["distortion"] = last.distortion;
 }
 
+// The packing alone: the charts of the mesh's atlas (its default bound), as laid out before
+// packing, packed into the unit square (pack_charts, with the default texture and padding).
+void BM_AtlasPacking(benchmark::State& state) {
+  const RepairedMesh& mesh = repaired(static_cast<int>(state.range(0)));
+  UniformizationOptions options;
+  options.preset = TargetPreset::Atlas;
+  const MeshUniformization atlas = uniformize_mesh(mesh, options);
+  std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> charts;
+  for (size_t f = 0; f < atlas.corners.size(); ++f) {
+    const int k = atlas.face_chart[f];
+    if (k < 0) continue;
+    if (k >= static_cast<int>(charts.size())) charts.resize(k + 1);
+    const auto& c = atlas.corners[f];
+    charts[k].push_back({c[0].head<2>(), c[1].head<2>(), c[2].head<2>()});
+  }
+  Packing last;
+  for (auto _ : state) {
+    last = pack_charts(charts);
+    benchmark::DoNotOptimize(last.offset.data());
+  }
+  state.SetLabel(kMeshes[state.range(0)]);
+  state.counters["charts"] = static_cast<double>(charts.size());
+  state.counters["utilization"] = last.utilization;
+}
+
 // The cone placement's unit of work: columns R(e_v) of the factored Hessian, solved range(1) at a
 // time (one right-hand side per column) by CHOLMOD (range(2) 0) or as sparse right-hand sides
 // (range(2) 1: solve_sparse, as the placement solves them); per column, in the counter, against
@@ -140,6 +166,11 @@ BENCHMARK(BM_AtlasConePlacement)
     ->ReportAggregatesOnly(true);
 BENCHMARK(BM_AtlasConeColumns)
     ->ArgsProduct({{0, 2, 3}, {1, 8, 32}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(3)
+    ->ReportAggregatesOnly(true);
+BENCHMARK(BM_AtlasPacking)
+    ->DenseRange(0, 3)
     ->Unit(benchmark::kMillisecond)
     ->Repetitions(3)
     ->ReportAggregatesOnly(true);

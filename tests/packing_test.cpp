@@ -107,6 +107,43 @@ TEST(Packing, ChartsLandInTheSquareAtOneScaleApartByThePadding) {
   }
 }
 
+// A star of `points` spikes as a fan of thin triangles around the origin, turned and moved: rows
+// of the rasters cross many triangles, most of them wider than a cell and slanted.
+Chart star(int points, double inner, double outer, double angle, Eigen::Vector2d at) {
+  const Eigen::Matrix2d r = Eigen::Rotation2D<double>(angle).toRotationMatrix();
+  std::vector<Eigen::Vector2d> rim;
+  for (int i = 0; i < 2 * points; ++i) {
+    const double a = kPi * i / points, radius = i % 2 ? inner : outer;
+    rim.emplace_back(r * Eigen::Vector2d(radius * std::cos(a), radius * std::sin(a)) + at);
+  }
+  Chart chart;
+  for (size_t i = 0; i < rim.size(); ++i) chart.push_back({at, rim[i], rim[(i + 1) % rim.size()]});
+  return chart;
+}
+
+TEST(Packing, ChartsOfThinSlantedTrianglesKeepThePadding) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> size(0.3, 1.5), angle(0, 2 * kPi);
+  std::vector<Chart> charts;
+  for (int k = 0; k < 16; ++k) {
+    const double outer = size(random);
+    charts.push_back(star(5 + k % 7, 0.3 * outer, outer, angle(random), {3.0 * k, -2.0 * k}));
+  }
+  PackingOptions o;
+  o.texture_size = 256;
+  o.padding = 3;
+  const Packing p = pack_charts(charts, o);
+  std::vector<Chart> packed;
+  for (size_t k = 0; k < charts.size(); ++k) packed.push_back(placed(p, k, charts[k]));
+  EXPECT_EQ(p.padding, o.padding);
+  for (size_t a = 0; a < packed.size(); ++a) {
+    for (size_t b = a + 1; b < packed.size(); ++b) {
+      EXPECT_GE(gap(packed[a], packed[b]), o.padding / double(o.texture_size) * (1 - 1e-9))
+          << a << " " << b;
+    }
+  }
+}
+
 TEST(Packing, SeveralChartsSpanTheSquareWithinHalfThePadding) {
   // The rasters' cells round each chart's box up: the square is the charts' own box, half the
   // padding from its sides, the longer of its sides spanning it (not a cell or two short).

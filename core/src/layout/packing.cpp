@@ -179,13 +179,21 @@ Raster rasterize(const Triangles& chart, const Eigen::Matrix2d& rotation, double
               x1 = std::min(width - 1, static_cast<int>(to.x()));
     const int y0 = std::max(0, static_cast<int>(std::floor(from.y()))),
               y1 = std::min(height - 1, static_cast<int>(to.y()));
+    // A cell's grown box meets the triangle where the cell's corner lies in the triangle grown by
+    // the box (convex): along a row those cells are one run. The cells not yet set that it meets
+    // lie between the first and the last of them, found from the row's two ends.
+    const auto meets = [&](int x, int y) {
+      if (r.mask.get(x, y)) return false;
+      const Eigen::Vector2d c0 = r.origin + cell * Eigen::Vector2d(x, y);
+      return triangle_meets_box(t, c0 - grown, c0 + Eigen::Vector2d::Constant(cell) + grown);
+    };
     for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        if (r.mask.get(x, y)) continue;
-        const Eigen::Vector2d c0 = r.origin + cell * Eigen::Vector2d(x, y);
-        if (triangle_meets_box(t, c0 - grown, c0 + Eigen::Vector2d::Constant(cell) + grown))
-          r.mask.set(x, y);
-      }
+      int first = x0;
+      while (first <= x1 && !meets(first, y)) ++first;
+      if (first > x1) continue;
+      int last = x1;
+      while (last > first && !meets(last, y)) --last;
+      for (int x = first; x <= last; ++x) r.mask.set(x, y);
     }
   }
   return r;
