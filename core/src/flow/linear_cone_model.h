@@ -174,8 +174,9 @@ std::vector<int> cone_set_step(std::vector<int> cones, int v, int moved);
 //! The held system of one cone set (LinearConeModel::held's), kept as its inverse, so that a set
 //! that differs from it by one cone (one added, one left out, one moved elsewhere) is solved in
 //! O(|C|^2) rather than factored in O(|C|^3); the set itself is changed by such steps at that
-//! cost too, and factored afresh every so often against drift. The cones keep their order: a
-//! cone left out leaves the others in theirs, one added comes last, one moved keeps its place.
+//! cost too, its solution refined every so often, and factored afresh where it has drifted. The
+//! cones keep their order: a cone left out leaves the others in theirs, one added comes last, one
+//! moved keeps its place.
 class HeldSystem {
  public:
   explicit HeldSystem(LinearConeModel& model) : model_(model) {}
@@ -224,6 +225,11 @@ class HeldSystem {
                                           const Eigen::VectorXd& k_held, int v, double k_v) const;
   // The quadratic form's rows, sums and sums with g of the set's cones, in their order.
   void reset_sums();
+  // Whether the kept solution has drifted from the set's system (its residual); else it is
+  // refined by a step of iterative refinement.
+  bool drifted();
+  // Every so many steps, whether the set is to be factored afresh (drifted).
+  bool due_for_factorization();
 
   LinearConeModel& model_;
   std::vector<int> cones_;
@@ -234,7 +240,7 @@ class HeldSystem {
   Eigen::MatrixXd gram_;
   Eigen::VectorXd sum_, with_g_;
   bool valid_ = false;
-  int updates_ = 0;  // since the last factorization
+  int updates_ = 0;  // since the last check of the drift
 };
 
 }  // namespace ricci
