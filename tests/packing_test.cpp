@@ -71,6 +71,16 @@ Chart placed(const Packing& p, size_t k, const Chart& chart) {
   return c;
 }
 
+// Every two packed charts at least the padding apart, in the texture's texels.
+void expect_apart(const std::vector<Chart>& packed, const PackingOptions& o) {
+  for (size_t a = 0; a < packed.size(); ++a) {
+    for (size_t b = a + 1; b < packed.size(); ++b) {
+      EXPECT_GE(gap(packed[a], packed[b]), o.padding / double(o.texture_size) * (1 - 1e-9))
+          << a << " " << b;
+    }
+  }
+}
+
 TEST(Packing, ChartsLandInTheSquareAtOneScaleApartByThePadding) {
   std::mt19937 random(7);
   std::uniform_real_distribution<double> size(0.2, 2), angle(0, 2 * kPi);
@@ -99,12 +109,7 @@ TEST(Packing, ChartsLandInTheSquareAtOneScaleApartByThePadding) {
   EXPECT_NEAR(area, p.utilization, 1e-12);
   EXPECT_GT(p.utilization, 0.4);
   EXPECT_EQ(p.padding, o.padding);
-  for (size_t a = 0; a < packed.size(); ++a) {
-    for (size_t b = a + 1; b < packed.size(); ++b) {
-      EXPECT_GE(gap(packed[a], packed[b]), o.padding / double(o.texture_size) * (1 - 1e-9))
-          << a << " " << b;
-    }
-  }
+  expect_apart(packed, o);
 }
 
 // A star of `points` spikes as a fan of thin triangles around the origin, turned and moved: rows
@@ -136,12 +141,7 @@ TEST(Packing, ChartsOfThinSlantedTrianglesKeepThePadding) {
   std::vector<Chart> packed;
   for (size_t k = 0; k < charts.size(); ++k) packed.push_back(placed(p, k, charts[k]));
   EXPECT_EQ(p.padding, o.padding);
-  for (size_t a = 0; a < packed.size(); ++a) {
-    for (size_t b = a + 1; b < packed.size(); ++b) {
-      EXPECT_GE(gap(packed[a], packed[b]), o.padding / double(o.texture_size) * (1 - 1e-9))
-          << a << " " << b;
-    }
-  }
+  expect_apart(packed, o);
 }
 
 TEST(Packing, SeveralChartsSpanTheSquareWithinHalfThePadding) {
@@ -186,12 +186,7 @@ TEST(Packing, APackingAgainForTheMarginSaysThePaddingItMeets) {
     EXPECT_EQ(p.padding, PackingOptions().padding) << count;
     std::vector<Chart> packed;
     for (size_t k = 0; k < charts.size(); ++k) packed.push_back(placed(p, k, charts[k]));
-    for (size_t a = 0; a < packed.size(); ++a) {
-      for (size_t b = a + 1; b < packed.size(); ++b) {
-        EXPECT_GE(gap(packed[a], packed[b]) * PackingOptions().texture_size,
-                  PackingOptions().padding * (1 - 1e-9));
-      }
-    }
+    expect_apart(packed, PackingOptions());
   }
 }
 
