@@ -148,7 +148,7 @@ class Search {
     return state_of(std::move(cones), std::move(solution));
   }
   // The held system follows the search to t, a step from s as `step` took it; t then has the
-  // system's solution (after a fresh factorization, without the steps' rounding).
+  // system's solution (refined at its checks of drift, or after a fresh factorization).
   void follow(const State& s, State& t, int v, int moved = -1) {
     if (s.cones.size() < kIncrementalFrom || !system_.valid() || system_.cones() != s.cones) return;
     if (v < 0) {
