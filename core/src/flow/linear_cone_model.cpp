@@ -449,6 +449,7 @@ bool HeldSystem::reset(const std::vector<int>& cones) {
   if (cones.empty()) return false;
   const auto [a, rhs] = model_.system(cones);
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+  ++factorizations_;
   if (!(lu.rcond() > kSingular)) return false;  // as LinearConeModel::held
   inverse_ = lu.inverse();
   x_ = lu.solve(rhs);

@@ -184,6 +184,8 @@ class HeldSystem {
   bool reset(const std::vector<int>& cones);
   bool valid() const { return valid_; }
   const std::vector<int>& cones() const { return cones_; }
+  //! The sets factored so far (reset, and the steps that factored afresh).
+  int factorizations() const { return factorizations_; }
   LinearConeModel::Solution solution() const;
   //! The set without its i-th cone: O(|C|) (and its D, O(|C|^2)).
   LinearConeModel::Solution without(int i) const;
@@ -241,6 +243,7 @@ class HeldSystem {
   Eigen::VectorXd sum_, with_g_;
   bool valid_ = false;
   int updates_ = 0;  // since the last check of the drift
+  int factorizations_ = 0;
 };
 
 }  // namespace ricci
