@@ -235,11 +235,11 @@ TEST(LinearConeModel, ADiskWithoutConesIsTheFreeBoundaryModel) {
 // Every step of a held system (a cone added, left out, moved) gives the set's solution as
 // LinearConeModel::held factors it afresh, on a closed surface (bordered by the constant) and on
 // one with boundary, over more steps than it takes between checks of its drift.
-// The held system's factorizations in `factorizations`, where given.
+// The held system's factorizations in `factorizations`, where given; `drift` its bound.
 void expect_steps_match_held(const CompactMesh& mesh, int first, int stride, int steps,
-                             int* factorizations = nullptr) {
+                             int* factorizations = nullptr, double drift = HeldSystem::kDrift) {
   LinearConeModel model(mesh, LinearSolverKind::Cholmod);
-  HeldSystem system(model);
+  HeldSystem system(model, drift);
   const int n = mesh.num_vertices();
   const auto interior = [&](int v) {
     while (mesh.is_boundary_vertex(v % n) || (mesh.is_closed() && v % n == 0)) ++v;
@@ -304,7 +304,39 @@ TEST(HeldSystem, StepsGiveTheSetsSolutionAsAFreshFactorizationWithABoundary) {
 TEST(HeldSystem, HundredsOfStepsKeepTheFreshFactorizationsSolution) {
   int factorizations = 0;
   expect_steps_match_held(cgal_mesh("eight.off"), 11, 29, 300, &factorizations);
-  EXPECT_LT(factorizations, 300 / 32);
+  EXPECT_LT(factorizations, 300 / HeldSystem::kStepsBetweenDriftChecks);
+}
+
+// Where every check finds drift (a bound of 0), the set is factored afresh at each check (and
+// where a step's pivot is too small), and the steps still give the fresh factorization's solution.
+TEST(HeldSystem, DriftFoundAtEveryCheckFactorsTheSetAfresh) {
+  int factorizations = 0;
+  const int steps = 300, every = HeldSystem::kStepsBetweenDriftChecks + 1;
+  expect_steps_match_held(cgal_mesh("eight.off"), 11, 29, steps, &factorizations, 0.0);
+  EXPECT_GE(factorizations, 1 + steps / every);
+}
+
+// A system whose held inverse is a nearby system's (as rounding over many steps leaves it): one
+// step of refinement brings its solution nearer the system's own, by about the two systems'
+// relative distance; beyond the bound the solution is left as it was, for a fresh factorization.
+TEST(HeldSystem, RefinementMovesTheHeldSolutionTowardsTheSystemsOwn) {
+  const int m = 40;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Random(m, m);
+  a.diagonal().array() += 2.0 * m;  // diagonally dominant: well conditioned
+  const Eigen::VectorXd rhs = Eigen::VectorXd::Random(m);
+  const Eigen::VectorXd exact = a.partialPivLu().solve(rhs);
+  const Eigen::MatrixXd nearby = a + 1e-7 * Eigen::MatrixXd::Random(m, m);
+  const Eigen::MatrixXd inverse = nearby.inverse();
+  const Eigen::VectorXd held = inverse * rhs;
+  const double before = (held - exact).cwiseAbs().maxCoeff();
+  ASSERT_GT(before, 1e-14);
+  Eigen::VectorXd x = held;
+  ASSERT_TRUE(refine_held_solution(a, rhs, inverse, x, 1e-6));
+  EXPECT_LT((x - exact).cwiseAbs().maxCoeff(), 1e-4 * before);
+  // Its residual, about 1e-9 of the scale, is beyond a bound of 1e-12: x stays.
+  x = held;
+  EXPECT_FALSE(refine_held_solution(a, rhs, inverse, x, 1e-12));
+  EXPECT_EQ(x, held);
 }
 
 }  // namespace

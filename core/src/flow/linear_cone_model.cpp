@@ -400,16 +400,6 @@ std::vector<int> cone_set_step(std::vector<int> cones, int v, int moved) {
 
 namespace {
 
-// Steps a held system takes between checks of its drift: each adds rounding of the order of its
-// condition number times machine epsilon. Its solution's residual is then measured (|C|^2, as a
-// step) and refined, and the set factored afresh (|C|^3, about |C| steps) only where the residual
-// exceeds kDrift of its scale. On CGAL's cheese (about 640 cones, 1,000 steps) 32 steps left
-// residuals of 2e-16 to 4e-15 after a factorization, whose 34 took 2.7 s of a placement of 15 s;
-// refined at each check and never factored again, at most 5e-14 (7e-13 unrefined); on a 117k-face
-// CAD head (353 cones) 4e-16.
-constexpr int kStepsBetweenChecks = 32;
-constexpr double kDrift = 1e-12;
-
 // The indices 0 .. size - 1 but i.
 std::vector<int> all_but(int size, int i) {
   std::vector<int> keep;
@@ -477,18 +467,25 @@ LinearConeModel::Solution HeldSystem::solution() const {
   return step_solution(m, x_, x_.head(m), -1, 0);
 }
 
+bool refine_held_solution(const Eigen::MatrixXd& a, const Eigen::VectorXd& rhs,
+                          const Eigen::MatrixXd& inverse, Eigen::VectorXd& x, double bound) {
+  const double scale =
+      a.cwiseAbs().rowwise().sum().maxCoeff() * x.cwiseAbs().maxCoeff() + rhs.cwiseAbs().maxCoeff();
+  const Eigen::VectorXd residual = rhs - a * x;
+  if (!(residual.cwiseAbs().maxCoeff() <= bound * scale)) return false;
+  const Eigen::VectorXd refined = x + inverse * residual;
+  if (!refined.allFinite()) return false;
+  x = refined;
+  return true;
+}
+
 bool HeldSystem::drifted() {
   const auto [a, rhs] = model_.system(cones_);
-  const double scale = a.cwiseAbs().rowwise().sum().maxCoeff() * x_.cwiseAbs().maxCoeff() +
-                       rhs.cwiseAbs().maxCoeff();
-  const Eigen::VectorXd residual = rhs - a * x_;
-  if (!(residual.cwiseAbs().maxCoeff() <= kDrift * scale)) return true;
-  x_ += inverse_ * residual;  // a step of iterative refinement: the held inverse still serves
-  return !x_.allFinite();
+  return !refine_held_solution(a, rhs, inverse_, x_, drift_);
 }
 
 bool HeldSystem::due_for_factorization() {
-  if (++updates_ <= kStepsBetweenChecks) return false;
+  if (++updates_ <= kStepsBetweenDriftChecks) return false;
   updates_ = 0;
   return drifted();
 }

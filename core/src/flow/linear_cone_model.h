@@ -167,6 +167,13 @@ class LinearConeModel {
   bool factored_ = false;
 };
 
+//! One step of iterative refinement of x, a solution of a x = rhs held through `inverse`, an
+//! inverse of a (up to the rounding of the steps that made it): x += inverse (rhs - a x). False,
+//! x unchanged, where the residual exceeds `bound` times the system's scale (|a| |x| + |rhs|, in
+//! the max norm) or the refined x is not finite: that inverse no longer serves.
+bool refine_held_solution(const Eigen::MatrixXd& a, const Eigen::VectorXd& rhs,
+                          const Eigen::MatrixXd& inverse, Eigen::VectorXd& x, double bound);
+
 //! A cone set one step away: with v added last (v >= 0, moved < 0), with its i-th cone moved to
 //! v (moved = i, v >= 0: it keeps its place), or without its i-th cone (v < 0, moved = i).
 std::vector<int> cone_set_step(std::vector<int> cones, int v, int moved);
@@ -179,7 +186,19 @@ std::vector<int> cone_set_step(std::vector<int> cones, int v, int moved);
 //! moved keeps its place.
 class HeldSystem {
  public:
-  explicit HeldSystem(LinearConeModel& model) : model_(model) {}
+  //! Steps between checks of the solution's drift: each adds rounding of the order of the
+  //! system's condition number times machine epsilon. At a check the solution's residual is
+  //! measured (|C|^2, as a step) and refined (refine_held_solution), and the set factored afresh
+  //! (|C|^3, about |C| steps) only where the residual exceeds kDrift of its scale. On CGAL's
+  //! cheese (about 640 cones, 1,000 steps) 32 steps left residuals of 2e-16 to 4e-15 after a
+  //! factorization, whose 34 took 2.7 s of a placement of 15 s; refined at each check and never
+  //! factored again, at most 5e-14 (7e-13 unrefined); on a 117k-face CAD head (353 cones) 4e-16.
+  static constexpr int kStepsBetweenDriftChecks = 32;
+  static constexpr double kDrift = 1e-12;
+  //! `drift`: the residual, relative to the system's scale, above which the set is factored
+  //! afresh at a check.
+  explicit HeldSystem(LinearConeModel& model, double drift = kDrift)
+      : model_(model), drift_(drift) {}
   //! Factors the set's system; false where it is singular (the set then has no solution).
   bool reset(const std::vector<int>& cones);
   bool valid() const { return valid_; }
@@ -234,6 +253,7 @@ class HeldSystem {
   bool due_for_factorization();
 
   LinearConeModel& model_;
+  double drift_;
   std::vector<int> cones_;
   Eigen::MatrixXd inverse_;  // of the bordered system (cones, then c on a closed surface)
   Eigen::VectorXd x_;        // its solution
