@@ -473,7 +473,8 @@ bool refine_held_solution(const Eigen::MatrixXd& a, const Eigen::VectorXd& rhs,
       a.cwiseAbs().rowwise().sum().maxCoeff() * x.cwiseAbs().maxCoeff() + rhs.cwiseAbs().maxCoeff();
   const Eigen::VectorXd residual = rhs - a * x;
   if (!(residual.cwiseAbs().maxCoeff() <= bound * scale)) return false;
-  const Eigen::VectorXd refined = x + inverse * residual;
+  Eigen::VectorXd refined = x;
+  refined += inverse * residual;  // accumulated onto x, rounded as an update in place
   if (!refined.allFinite()) return false;
   x = refined;
   return true;
