@@ -7,6 +7,7 @@
 #include <numeric>
 #include <utility>
 
+#include "flow/held_system.h"
 #include "flow/linear_cone_model.h"
 #include "mesh/clock.h"
 #include "ricci/mesh/errors.h"
