@@ -8,6 +8,7 @@
 #include <functional>
 #include <sstream>
 
+#include "ricci/layout/packing.h"
 #include "ricci/mesh/errors.h"
 
 namespace ricci::cli {
@@ -24,12 +25,13 @@ double parse_double(const std::string& flag, const std::string& text) {
   return x;
 }
 
-int parse_int(const std::string& flag, const std::string& text) {
+int parse_int(const std::string& flag, const std::string& text, int least = 0) {
   char* end = nullptr;
   errno = 0;
   const long x = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || errno == ERANGE || x < 0 || x > 1000000) {
-    throw InvalidArgumentError(flag + " expects an integer in [0, 1000000], got '" + text + "'");
+  if (text.empty() || *end != '\0' || errno == ERANGE || x < least || x > 1000000) {
+    throw InvalidArgumentError(flag + " expects an integer in [" + std::to_string(least) +
+                               ", 1000000], got '" + text + "'");
   }
   return static_cast<int>(x);
 }
@@ -138,13 +140,16 @@ const std::vector<Flag>& flags() {
        [](const O& o) { return shortest(o.request.cone_placement.distortion_bound); },
        [](O& o, const std::string& f, const std::string& v) {
          o.request.cone_placement.distortion_bound = parse_double(f, v);
+         if (!(o.request.cone_placement.distortion_bound > 0)) {
+           throw InvalidArgumentError(f + " expects a positive number, got '" + v + "'");
+         }
        }},
       {{"--max-cones"},
        "N",
        "atlas: the most cones placed",
        [](const O&) { return std::to_string(kDefaultConeBudget); },
        [](O& o, const std::string& f, const std::string& v) {
-         o.request.cone_placement.max_cones = max_cones_asked(parse_int(f, v));
+         o.request.cone_placement.max_cones = max_cones_asked(parse_int(f, v, 1));
        }},
       {{"--cone-angles"},
        "A",
@@ -162,7 +167,7 @@ const std::vector<Flag>& flags() {
        "atlas: texels per side of the texture the charts are packed for",
        [](const O& o) { return std::to_string(o.request.packing.texture_size); },
        [](O& o, const std::string& f, const std::string& v) {
-         o.request.packing.texture_size = parse_int(f, v);
+         o.request.packing.texture_size = parse_int(f, v, kMinTextureSize);
        }},
       {{"--padding"},
        "N",

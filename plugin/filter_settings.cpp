@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "ricci/layout/packing.h"
 #include "ricci/mesh/errors.h"
 
 namespace ricci::plugin {
@@ -283,11 +284,12 @@ FilterSettings settings_from_values(const ParameterValues& values) {
   s.atlas_distortion = number(values, "atlasDistortion");
   const double cones = number(values, "atlasMaxCones"), size = number(values, "atlasTextureSize"),
                padding = number(values, "atlasPadding");
-  if (!(s.atlas_distortion > 0) || !(cones >= 1 && cones <= 1e6) || !(size >= 16 && size <= 1e6) ||
-      !(padding >= 0 && padding <= 1e4)) {
+  if (!(s.atlas_distortion > 0) || !(cones >= 1 && cones <= 1e6) ||
+      !(size >= kMinTextureSize && size <= 1e6) || !(padding >= 0 && padding <= 1e4)) {
     throw InvalidArgumentError(
         "texture atlas parameters out of range: the distortion bound must be positive, the most "
-        "cones 1..1000000, the texture size 16..1000000 texels, the padding 0..10000 texels");
+        "cones 1..1000000, the texture size " +
+        std::to_string(kMinTextureSize) + "..1000000 texels, the padding 0..10000 texels");
   }
   s.atlas_max_cones = static_cast<int>(cones);
   s.atlas_texture_size = static_cast<int>(size);

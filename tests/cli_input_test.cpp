@@ -48,6 +48,14 @@ TEST(Cli, BadInputGetsAClearError) {
   expect_error(cgal("nefertiti.off") + out + " --angle 120 --scheme thurston", 2,
                {"outside [0, 90]"});
   expect_error(cgal("nefertiti.off") + out + " --solver umfpack", 2, {"unknown linear solver"});
+  // The atlas's options out of range, before the mesh is read (a budget of 0 read as none, a bound
+  // of 0 refused by the placement with its own words, before 2026-12-07).
+  const std::string atlas = cgal("no-such-mesh.off") + out + " --target atlas";
+  expect_error(atlas + " --max-cones 0", 2, {"--max-cones expects an integer in [1, 1000000]"});
+  expect_error(atlas + " --distortion 0", 2, {"--distortion expects a positive number, got '0'"});
+  expect_error(atlas + " --distortion -0.1", 2, {"--distortion expects a positive number"});
+  expect_error(atlas + " --texture-size 8", 2,
+               {"--texture-size expects an integer in [16, 1000000], got '8'"});
   // Topology and geometry
   expect_error(cgal("pipe.off") + out + " --geometry spherical", 1,
                {"spherical geometry needs", "genus 1"});

@@ -6,9 +6,10 @@
     r.layout, r.u, r.quality["quasi_conformal"]
 
 The options are the command line tool's (`ricci-flow --help`), by name with `_` for `-`, with
-the same defaults: geometry, scheme, angle, target, center, axis, tolerance, max_iterations,
-solver, flips, no_flips, keep_input_triangulation, strict, keep_cuts; `eps` (mixed scheme) and a
-`target` of per-vertex values or `cones` as arrays. Dirty meshes are repaired as the tool does
+the same defaults: geometry, scheme, angle, target, distortion, max_cones, cone_angles,
+texture_size, padding (the atlas's), center, axis, tolerance, max_iterations, solver, flips,
+no_flips, keep_input_triangulation, strict, keep_cuts; `eps` (mixed scheme) and a `target` of
+per-vertex values or `cones` as arrays. Dirty meshes are repaired as the tool does
 (several components, a vertex per face corner, duplicate, degenerate and misoriented faces,
 non-manifold edges and vertices); `keep_cuts=True` keeps vertices at one position apart, so that
 a mesh cut open stays cut.
@@ -27,8 +28,9 @@ __all__ = ["uniformize", "read_mesh", "Result", "Solver", "RicciFlowError"]
 __version__ = "0.1.0"
 
 _SWITCHES = ("no_flips", "keep_input_triangulation", "strict", "keep_cuts")
-_VALUES = ("geometry", "scheme", "angle", "target", "center", "axis", "tolerance",
-           "max_iterations", "solver", "flips")
+_VALUES = ("geometry", "scheme", "angle", "target", "distortion", "max_cones", "cone_angles",
+           "texture_size", "padding", "center", "axis", "tolerance", "max_iterations", "solver",
+           "flips")
 _PLANAR = ("plane", "plane-cut", "poincare-disk", "atlas")
 
 
@@ -164,8 +166,9 @@ class Result:
 def uniformize(vertices, faces, **options):
     """The metric of the target curvature conformal to the mesh (vertices (n, 3) float, faces
     (m, 3) int), and its layout. Options as the command line tool's, by name (see the module's
-    help). Raises ValueError for bad input or options, RicciFlowError (with `.report`, the JSON
-    report as a dict) when the flow does not converge or the layout is not a valid map."""
+    help). Raises TypeError for an option of no such name, ValueError for bad input or option
+    values, RicciFlowError (with `.report`, the JSON report as a dict) when the flow does not
+    converge or the layout is not a valid map."""
     v, f = _arrays(vertices, faces)
     with tempfile.TemporaryDirectory(prefix="ricci-flow-") as folder:
         d = _ricci_flow.uniformize(v, f, _flags(options, folder))

@@ -144,6 +144,37 @@ def test_atlas_of_a_closed_genus_two_surface():
     assert r.atlas["overlapping_faces"] == 0 and r.atlas["distortion"] <= 0.2
 
 
+def test_atlas_options_by_name():
+    # The atlas's options as the tool's: a budget of 4 cones, quarter turns, a texture of 256
+    # texels with 2 between charts.
+    V, F = mesh("eight.off")
+    r = ricci_flow.uniformize(V, F, target="atlas", max_cones=4, distortion=0.1,
+                              cone_angles="quarter", texture_size=256, padding=2)
+    assert r.converged and 0 < len(r.cones) <= 4
+    quarters = r.cone_angles / (math.pi / 2)
+    assert np.all(np.abs(quarters - np.round(quarters)) < 1e-6)
+    assert r.atlas["bound"] == 0.1 and r.atlas["padding"] == 2
+    assert np.all(signed_areas(r.texcoord) > 0)
+
+
+def test_every_option_of_the_tool_is_an_option_by_name():
+    # Each option of `ricci-flow --help` that takes a value or is a switch is a keyword of
+    # uniformize (files and output aside): no unknown-option error for any of them.
+    script = os.path.join(os.path.dirname(sys.executable), "ricci-flow")
+    help_text = subprocess.run([script, "--help"], capture_output=True, text=True).stdout
+    names = set(re.findall(r"^  --([a-z-]+)", help_text, re.M))
+    not_keywords = {"report", "picture", "ascii", "quiet", "version", "help"}
+    assert {"max-cones", "distortion", "cone-angles", "texture-size", "padding"} <= names
+    for name in sorted(names - not_keywords):
+        keyword = name.replace("-", "_")
+        try:
+            ricci_flow._flags({keyword: True if keyword in ricci_flow._SWITCHES else "1"}, "/tmp")
+        except TypeError as e:
+            pytest.fail("--%s is no keyword of uniformize: %s" % (name, e))
+        except (ValueError, OSError):
+            pass  # eps, cones: arrays, not "1"
+
+
 def test_atlas_of_two_parts_reports_its_whole_texture():
     # Two copies of a genus-2 surface, apart: one texture packed from both, its D the one
     # measured here from texcoord (s = log(uv area / 3D area) / 2, both scaled to sum 1).

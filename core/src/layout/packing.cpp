@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <string>
 
 #include "mesh/plane.h"
 #include "ricci/mesh/errors.h"
@@ -370,10 +371,10 @@ Placed pack_rasters(const std::vector<std::array<Raster, kTurns>>& rasters,
 }  // namespace
 
 void check_packing_options(const PackingOptions& o) {
-  if (o.texture_size < 16 || o.padding < 0) {
-    throw InvalidArgumentError(
-        "packing: the texture size must be at least 16 texels and the "
-        "padding non-negative");
+  if (o.texture_size < kMinTextureSize || o.padding < 0) {
+    throw InvalidArgumentError("packing: the texture size must be at least " +
+                               std::to_string(kMinTextureSize) +
+                               " texels and the padding non-negative");
   }
 }
 

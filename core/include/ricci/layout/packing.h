@@ -27,14 +27,17 @@ struct Packing {
   double padding = 0;
 };
 
-//! \throws InvalidArgumentError for a texture size below 16 or a negative padding.
+//! The smallest texture size packed for, in texels per side.
+inline constexpr int kMinTextureSize = 16;
+
+//! \throws InvalidArgumentError for a texture size below kMinTextureSize or a negative padding.
 void check_packing_options(const PackingOptions& options);
 
 //! Packs the charts (each a list of triangles, all in one length unit) into [0, 1]^2, keeping
 //! their relative sizes. `expected_utilization` sizes the first packing's margin (the padding in
 //! the charts' units): near what the packing gives (that of a packing of much the same charts),
 //! no second packing is needed for the padding; outside (0, 1] it counts as 0.6, below 0.1 as 0.1.
-//! \throws InvalidArgumentError for a texture size below 16 or a negative padding.
+//! \throws InvalidArgumentError for a texture size below kMinTextureSize or a negative padding.
 Packing pack_charts(const std::vector<std::vector<std::array<Eigen::Vector2d, 3>>>& charts,
                     const PackingOptions& options = {}, double expected_utilization = 0.6);
 
