@@ -157,7 +157,7 @@ def test_atlas_options_by_name():
     assert np.all(signed_areas(r.texcoord) > 0)
 
 
-def test_every_option_of_the_tool_is_an_option_by_name():
+def test_every_option_of_the_tool_is_an_option_by_name(tmp_path):
     # Each option of `ricci-flow --help` that takes a value or is a switch is a keyword of
     # uniformize (files and output aside): no unknown-option error for any of them.
     script = os.path.join(os.path.dirname(sys.executable), "ricci-flow")
@@ -168,7 +168,8 @@ def test_every_option_of_the_tool_is_an_option_by_name():
     for name in sorted(names - not_keywords):
         keyword = name.replace("-", "_")
         try:
-            ricci_flow._flags({keyword: True if keyword in ricci_flow._SWITCHES else "1"}, "/tmp")
+            ricci_flow._flags({keyword: True if keyword in ricci_flow._SWITCHES else "1"},
+                              str(tmp_path))
         except TypeError as e:
             pytest.fail("--%s is no keyword of uniformize: %s" % (name, e))
         except (ValueError, OSError):
