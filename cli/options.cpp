@@ -121,8 +121,9 @@ const std::vector<Flag>& flags() {
        "  atlas: a texture atlas of every topology: cones placed until the area distortion is "
        "within --distortion, the flat metric with u held at them (and on the boundary), seams "
        "through them on the mesh's edges, charts packed into [0, 1]^2\n"
-       "  cones:FILE: lines \"VERTEX ANGLE_DEGREES\": cone angles inside, corner angles on the "
-       "boundary (rectangles, polygons); flat and straight elsewhere\n"
+       "  cones:FILE: lines \"VERTEX ANGLE_DEGREES\": corner angles on the boundary "
+       "(rectangles, polygons); flat and straight elsewhere (cones inside: --target atlas "
+       "--cones FILE)\n"
        "  FILE: Kbar per line, one line per vertex; 'nan' holds that vertex's u fixed",
        [](const O& o) { return o.target; },
        [](O& o, const std::string&, const std::string& v) { set_target(o, v); }},

@@ -197,6 +197,16 @@ TEST(Cli, ConesFileAndDiskNormalization) {
   r = ricci_flow(cgal("pipe.off") + " -o " + out + " --center 3");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("needs the disk target"), std::string::npos) << r.err;
+  // Cones inside the surface: no layout in one piece draws them (a torus with these two came back
+  // as a "flat torus" of closure error 2.3 before 2026-12-07); the atlas cuts seams through them.
+  write_file(cones, "0 270\n80 450\n");
+  r = ricci_flow(cgal("pipe.off") + " -o " + out + " --target cones:" + cones);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("cone at vertex 0: 270 degrees inside the surface"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("--target atlas --cones FILE"), std::string::npos) << r.err;
+  r = ricci_flow(cgal("pipe.off") + " -o " + out + " --target atlas --cones " + cones);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 TEST(Cli, MixedSchemeReadsEpsFileAndTargetFile) {
