@@ -444,6 +444,9 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
                       " of the final triangulation: " + what);
   };
   std::vector<ChordPlane> planes;
+  std::vector<std::vector<Chord>> chords_of(Tb.num_faces());
+  std::vector<std::vector<InputPiece>> input_pieces_in(Tb.num_faces());
+  std::vector<char> made_for(Tb.num_faces(), 0);
   for (int G = 0; G < Tc.num_faces(); ++G) {
     planes.emplace_back(geometry, layout.corners[G]);
     std::array<Eigen::Vector3d, 3> gc;  // G's corners in the plane of its chords
@@ -568,8 +571,16 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
         return q;
       };
       std::vector<CutPolygon> parts = {poly};
-      const std::vector<Chord> chords = chords_in(F, z);
-      const std::vector<InputPiece> input_pieces = input_pieces_of(F, z);
+      // F's chords and input pieces, made once for all the pieces of the faces G that F meets (made
+      // for each, they cost CGAL's cheese at 8 cones most of its subdivision: a face F of Tb can
+      // meet hundreds of G, and hold hundreds of crossings).
+      if (!made_for[F]) {
+        chords_of[F] = chords_in(F, z);
+        input_pieces_in[F] = input_pieces_of(F, z);
+        made_for[F] = 1;
+      }
+      const std::vector<Chord>& chords = chords_of[F];
+      const std::vector<InputPiece>& input_pieces = input_pieces_in[F];
       for (size_t ci = 0; ci < chords.size(); ++ci) {
         const Chord& ch = chords[ci];
         const Eigen::Vector2d a0 = ch.end[0].point.chart, dir = ch.end[1].point.chart - a0;
