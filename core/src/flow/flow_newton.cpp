@@ -138,6 +138,7 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
       result.stalled_at_boundary = true;
     } else if (flipping && step.blocked_by_loop) {
       s << loop_note;
+      result.stalled_for_loops = true;
     } else {
       s << otherwise;
     }

@@ -243,7 +243,7 @@ FlowResult detail::FlowState::run(const Eigen::VectorXd* start) {
         // The step that was not taken is taken again, with flipped trial points.
         s.flip_trial_points = true;
         s.stall = detail::StallWindow();
-        r.stalled_at_boundary = false;
+        r.stalled_at_boundary = r.stalled_for_loops = false;
         r.residual_history.pop_back();
         --it;
         continue;
@@ -253,7 +253,7 @@ FlowResult detail::FlowState::run(const Eigen::VectorXd* start) {
         // way, and Newton again from its end (the flips Newton made are undone; its iterations
         // stay in the histories and count towards the limit).
         s.finish_walk();
-        r.stalled_at_boundary = false;
+        r.stalled_at_boundary = r.stalled_for_loops = false;
         r.residual_history.pop_back();
         --it;
         continue;

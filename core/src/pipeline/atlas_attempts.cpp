@@ -30,6 +30,11 @@ constexpr int kTighterBounds = 2;
 // the 461 for 0.1 and the 739 for 0.05, and flows with the 255 that a budget of 256 leaves for
 // 0.2 (D 0.158 on its faces).
 constexpr int kFewerCones = 256;
+// The attempt with loops (below) gives up where its common subdivision has more than this many
+// faces per input face: CGAL's cheese at 8 cones has 23 (407k pieces, 18 s), the parts of
+// gymnasium's forearm assembly at most 22.5; Cura's ZAV Max Pro at 8 cones, of 25 turns each, 235
+// (3.9M pieces: the run gives up after 27 s, where its layout took 390 s to find 63 turned).
+constexpr int kLoopedPiecesPerFace = 64;
 
 // The cones of an attempt, as the explanations name them: "D <= 0.2 (34 cones)".
 std::string cones_for(const Uniformization& run) {
@@ -145,6 +150,7 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
   if (last) failed.push_back(std::move(*last));
   // None gave an atlas: the surface unfolded, where that keeps to the request.
   std::string unfolded_failure;
+  std::optional<Uniformization> unfolded;  // made, and no atlas
   auto unfolding = may_unfold ? unfolded_run(mesh, request, std::numeric_limits<int>::max())
                               : std::variant<Uniformization, std::string>(std::string());
   if (auto* u = std::get_if<Uniformization>(&unfolding)) {
@@ -154,19 +160,47 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
     }
     unfolded_failure = "; unfolded (" + std::to_string(u->atlas.placement.cones.size()) +
                        " cones): the atlas " + why_not_valid(*u);
-    failed.push_back(std::move(*u));
+    unfolded = std::move(*u);
   } else if (!std::get<std::string>(unfolding).empty()) {
     unfolded_failure = "; " + std::get<std::string>(unfolding);
+  }
+  // Nor that: where a flow stalled for want of an edge from a vertex to itself, the first cones
+  // once more with flips that make such loops (FlowOptions::loops). Last, for where they flow
+  // instead of tighter cones that stalled they leave the faces farther from conformal
+  // (docs/design.md): at BFF's budget of 8 cones 39 of the 169 parts of gymnasium's Adroit
+  // forearm plate assembly stalled so, with no tighter bound to try and an unfolding of some 300
+  // cones.
+  const auto stalled_for_loops = [](const Uniformization& f) { return f.result.stalled_for_loops; };
+  std::optional<Uniformization> looped;  // made, and no atlas
+  if (may_unfold && !request.flow.loops &&
+      (stalled_for_loops(run) || std::any_of(failed.begin(), failed.end(), stalled_for_loops))) {
+    UniformizationOptions with_loops = request;
+    with_loops.flow.loops = true;
+    with_loops.max_pieces_per_face = kLoopedPiecesPerFace;
+    Uniformization again = uniformize_once(mesh, with_loops);
+    again.atlas.loops = true;
+    if (again.valid() || again.result.stop == FlowStop::Cancelled) {
+      instead_of_failed(again);
+      if (unfolded) add_cost_to(again, *unfolded);
+      again.atlas.bound_instead += unfolded_failure;
+      return again;
+    }
+    looped = std::move(again);
   }
   // The first run's failure, and every attempt after it.
   std::string tried;
   for (const Uniformization& f : failed) {
     add_cost_to(run, f);
-    if (f.atlas.unfolded == AtlasResult::Unfolded::No) {
-      tried += "; with the cones placed again for " + attempt(f);
-    }
+    tried += "; with the cones placed again for " + attempt(f);
   }
-  (run.converged() ? run.layout_failure : run.result.failure) += tried + unfolded_failure;
+  if (unfolded) add_cost_to(run, *unfolded);
+  tried += unfolded_failure;
+  if (looped) {
+    add_cost_to(run, *looped);
+    tried += "; with its cones and flips that make edges from a vertex to itself: the atlas " +
+             why_not_valid(*looped);
+  }
+  (run.converged() ? run.layout_failure : run.result.failure) += tried;
   return run;
 }
 

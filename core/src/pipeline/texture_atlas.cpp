@@ -325,6 +325,15 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       run.subdivision_failure = e.what();
       return;
     }
+    const long pieces = static_cast<long>(sub->faces.size());
+    if (o.max_pieces_per_face > 0 &&
+        pieces > static_cast<long>(o.max_pieces_per_face) * mesh.num_faces()) {
+      run.subdivision_failure = "its " + std::to_string(pieces) + " pieces, " +
+                                std::to_string(pieces / mesh.num_faces()) +
+                                " per input face, are more than the " +
+                                std::to_string(o.max_pieces_per_face) + " this attempt may take";
+      return;
+    }
   }
   const std::vector<std::array<int, 3>>& faces = sub ? sub->faces : mesh.faces();
   const std::vector<Eigen::Vector3d>& positions = sub ? sub->positions : mesh.positions();

@@ -316,6 +316,11 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
           "The surface is unfolded, its own metric cut through every vertex of curvature, for D "
           "within the bound: ",
           a.bound_instead);
+    } else if (a.loops) {
+      line(
+          "Warning: the flow's edge flips made edges from a vertex to itself, for which every "
+          "attempt without them stalled: ",
+          a.bound_instead);
     } else if (!a.bound_instead.empty()) {
       line("The cones were placed again, for D <= ", a.bound, ": ", a.bound_instead);
     }

@@ -60,7 +60,8 @@ struct FlowOptions {
   //! that violates the triangle inequality and no flip left to mend it. Not a face with one edge
   //! on two sides (around a vertex of degree 1): flows that need those still stall. The common
   //! subdivision follows loops; the layouts of the flowed triangulation across a cut (plane cut
-  //! open, Poincare disk) do not, and no pipeline asks for loops yet (docs/design.md).
+  //! open, Poincare disk) do not. The atlas asks for loops last, where every attempt without them
+  //! stalled for want of one and the unfolding gave no atlas (docs/design.md).
   bool loops = false;
   //! Called once per iteration; returning false cancels the flow.
   std::function<bool(const FlowProgress&)> progress;
@@ -103,6 +104,9 @@ struct FlowResult {
   std::string failure;  //!< why the flow stopped, when !converged
   //! Stalled with edge flips on, at triangles that only a flip of a boundary edge could repair.
   bool stalled_at_boundary = false;
+  //! Stalled with edge flips on, where a flip to an edge from a vertex to itself was refused
+  //! (FlowOptions::loops off): the same target may be reached with loops.
+  bool stalled_for_loops = false;
 
   Eigen::VectorXd u;                 //!< conformal factor per vertex
   Eigen::VectorXd radius;            //!< circle radius r(u) of the geometry; NaN where undefined

@@ -67,6 +67,10 @@ struct UniformizationOptions {
   //! charts packed alone fill the square fuller by a tenth. uniformize_mesh leaves it off for a
   //! component of less than 1/32 of the mesh's area, whose charts are small among the others'.
   bool halve_long_charts = true;
+  //! The atlas gives up on a common subdivision of more than this many faces per input face (0:
+  //! no bound), before its charts are cut and drawn: its attempt with loops (the last) does not
+  //! spend minutes on cones of many turns whose pieces cross each input face dozens of times.
+  int max_pieces_per_face = 0;
   //! A fill-reducing order of the vertices, found ahead (vertex_order.h; for uniformize_mesh, of
   //! the input's vertices, as read); empty or for another number of vertices: the flow starts its
   //! own (RicciFlowSolver).
@@ -113,6 +117,9 @@ struct AtlasResult {
   double bound = 0;
   std::string bound_instead;
   double bound_asked = 0;  //!< the bound the request asked for
+  //! The flow's flips made edges from a vertex to itself (FlowOptions::loops): every attempt
+  //! without them stalled for want of one, and the unfolding gave no atlas either.
+  bool loops = false;
   //! D of the flow's u (the exact flat metric) at the vertices, on the surface scaled to area 1.
   double flow_distortion = 0;
   //! D of the delivered faces: sqrt(sum A (s - mean s)^2), s = log(a / A) / 2, with A the 3D and
