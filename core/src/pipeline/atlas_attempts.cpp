@@ -164,16 +164,15 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
   } else if (!std::get<std::string>(unfolding).empty()) {
     unfolded_failure = "; " + std::get<std::string>(unfolding);
   }
-  // Nor that: where a flow stalled for want of an edge from a vertex to itself, the first cones
-  // once more with flips that make such loops (FlowOptions::loops). Last, for where they flow
-  // instead of tighter cones that stalled they leave the faces farther from conformal
+  // Nor that: where the first attempt's flow stalled for want of an edge from a vertex to itself,
+  // its cones once more with flips that make such loops (FlowOptions::loops). Last, for where they
+  // flow instead of tighter cones that stalled they leave the faces farther from conformal
   // (docs/design.md): at BFF's budget of 8 cones 39 of the 169 parts of gymnasium's Adroit
   // forearm plate assembly stalled so, with no tighter bound to try and an unfolding of some 300
   // cones.
   const auto stalled_for_loops = [](const Uniformization& f) { return f.result.stalled_for_loops; };
   std::optional<Uniformization> looped;  // made, and no atlas
-  if (may_unfold && !request.flow.loops &&
-      (stalled_for_loops(run) || std::any_of(failed.begin(), failed.end(), stalled_for_loops))) {
+  if (may_unfold && !request.flow.loops && stalled_for_loops(run)) {
     UniformizationOptions with_loops = request;
     with_loops.flow.loops = true;
     with_loops.max_pieces_per_face = kLoopedPiecesPerFace;
@@ -454,10 +453,11 @@ Uniformization nearer_conformal_cones(const CompactMesh& mesh, const Uniformizat
 }  // namespace
 
 Uniformization atlas_or_unfolded(const CompactMesh& mesh, const UniformizationOptions& request) {
-  // A run the unfolding may replace: an atlas of placed cones.
+  // A run the unfolding may replace: an atlas of placed cones (not one that flowed with loops,
+  // delivered where the unfolding gave none).
   const auto placed_atlas = [](const Uniformization& run) {
     return run.preset == TargetPreset::Atlas && run.valid() && !run.atlas.user_cones &&
-           run.atlas.unfolded == AtlasResult::Unfolded::No;
+           run.atlas.unfolded == AtlasResult::Unfolded::No && !run.atlas.loops;
   };
   // The unfolding `unfolded` in place of `replaced`, at the cost of both, and why.
   const auto unfolded_instead = [&](const Uniformization& replaced, Uniformization& unfolded,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -325,13 +326,15 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       run.subdivision_failure = e.what();
       return;
     }
-    const long pieces = static_cast<long>(sub->faces.size());
+    const auto pieces = static_cast<std::int64_t>(sub->faces.size());
     if (o.max_pieces_per_face > 0 &&
-        pieces > static_cast<long>(o.max_pieces_per_face) * mesh.num_faces()) {
-      run.subdivision_failure = "its " + std::to_string(pieces) + " pieces, " +
-                                std::to_string(pieces / mesh.num_faces()) +
-                                " per input face, are more than the " +
-                                std::to_string(o.max_pieces_per_face) + " this attempt may take";
+        pieces > static_cast<std::int64_t>(o.max_pieces_per_face) * mesh.num_faces()) {
+      std::ostringstream why;
+      why.precision(3);
+      why << "its " << pieces << " pieces, " << static_cast<double>(pieces) / mesh.num_faces()
+          << " per input face, are more than the " << o.max_pieces_per_face
+          << " this attempt may take";
+      run.subdivision_failure = why.str();
       return;
     }
   }

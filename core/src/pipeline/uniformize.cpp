@@ -81,12 +81,16 @@ void check_request(const CompactMesh& mesh, TargetPreset preset, Geometry geomet
 // sphere layouts draw the surface around each interior vertex, which a cone's angle does not
 // close (a torus with two cones came back "flat" with a closure error of 2.3, a sphere with eight
 // with 124 faces turned); the atlas cuts its seams through them.
+// An interior vertex whose cone angle is within this of 2 pi (radians) is flat: 359.9999999
+// degrees, or an angle read back from a report's radians.
+constexpr double kFlatCone = 1e-9;
 UniformizationOptions with_cone_values(const CompactMesh& mesh, UniformizationOptions o) {
   if (o.cones.empty() || o.preset == TargetPreset::Atlas) return o;
   const TargetCurvature cones = cone_target(mesh, o.cones);  // checks the vertices and angles
   for (const Cone& c : o.cones) {
-    if (!mesh.is_boundary_vertex(c.vertex) && cones.curvature[c.vertex] != 0) {
+    if (!mesh.is_boundary_vertex(c.vertex) && std::abs(cones.curvature[c.vertex]) > kFlatCone) {
       std::ostringstream s;
+      s.precision(10);
       s << "cone at vertex " << c.vertex << ": " << c.angle * 180 / kPi
         << " degrees inside the surface; a layout in one piece cannot draw a cone inside it: "
            "--target atlas --cones FILE cuts seams through the cones and lays out the charts";
