@@ -552,7 +552,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     } else if (result.sharp_cone) {
       result.why_not = "a cone sharper than the floor remains " + stopped;
     } else {
-      result.why_not = "D is " + std::to_string(state.d) + " " + stopped;
+      result.why_not = "the linear model's D is " + std::to_string(state.d) + " " + stopped;
     }
   }
   Eigen::VectorXd k = state.solution.k;
@@ -576,7 +576,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   result.distortion = area_weighted_deviation(model.area(), result.u);
   if (o.quarter_angles && result.bound_reached && result.distortion > o.distortion_bound) {
     result.bound_reached = false;
-    result.why_not = "rounding the cone angles to quarter turns leaves D at " +
+    result.why_not = "rounding the cone angles to quarter turns leaves the linear model's D at " +
                      std::to_string(result.distortion);
   }
   const double mean = model.area().dot(result.u);
