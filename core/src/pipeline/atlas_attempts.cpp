@@ -170,9 +170,8 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
   // (docs/design.md): at BFF's budget of 8 cones 39 of the 169 parts of gymnasium's Adroit
   // forearm plate assembly stalled so, with no tighter bound to try and an unfolding of some 300
   // cones.
-  const auto stalled_for_loops = [](const Uniformization& f) { return f.result.stalled_for_loops; };
   std::optional<Uniformization> looped;  // made, and no atlas
-  if (may_unfold && !request.flow.loops && stalled_for_loops(run)) {
+  if (may_unfold && !request.flow.loops && run.result.stalled_for_loops) {
     UniformizationOptions with_loops = request;
     with_loops.flow.loops = true;
     with_loops.max_pieces_per_face = kLoopedPiecesPerFace;

@@ -77,13 +77,14 @@ void check_request(const CompactMesh& mesh, TargetPreset preset, Geometry geomet
   }
 }
 
+// An interior vertex whose cone angle is within this of 2 pi (radians) is flat: 359.9999999
+// degrees, or an angle read back from a report's radians.
+constexpr double kFlatCone = 1e-9;
+
 // Cones as the Values preset's per-vertex curvature. Only on the boundary: the plane, disk and
 // sphere layouts draw the surface around each interior vertex, which a cone's angle does not
 // close (a torus with two cones came back "flat" with a closure error of 2.3, a sphere with eight
 // with 124 faces turned); the atlas cuts its seams through them.
-// An interior vertex whose cone angle is within this of 2 pi (radians) is flat: 359.9999999
-// degrees, or an angle read back from a report's radians.
-constexpr double kFlatCone = 1e-9;
 UniformizationOptions with_cone_values(const CompactMesh& mesh, UniformizationOptions o) {
   if (o.cones.empty() || o.preset == TargetPreset::Atlas) return o;
   const TargetCurvature cones = cone_target(mesh, o.cones);  // checks the vertices and angles

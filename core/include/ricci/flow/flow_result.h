@@ -60,8 +60,9 @@ struct FlowOptions {
   //! that violates the triangle inequality and no flip left to mend it. Not a face with one edge
   //! on two sides (around a vertex of degree 1): flows that need those still stall. The common
   //! subdivision follows loops; the layouts of the flowed triangulation across a cut (plane cut
-  //! open, Poincare disk) do not. The atlas asks for loops last, where every attempt without them
-  //! stalled for want of one and the unfolding gave no atlas (docs/design.md).
+  //! open, Poincare disk) do not. The atlas asks for loops last, where its first attempt stalled
+  //! for want of one and neither the other attempts nor the unfolding gave an atlas
+  //! (docs/design.md).
   bool loops = false;
   //! Called once per iteration; returning false cancels the flow.
   std::function<bool(const FlowProgress&)> progress;

@@ -117,8 +117,8 @@ struct AtlasResult {
   double bound = 0;
   std::string bound_instead;
   double bound_asked = 0;  //!< the bound the request asked for
-  //! The flow's flips made edges from a vertex to itself (FlowOptions::loops): every attempt
-  //! without them stalled for want of one, and the unfolding gave no atlas either.
+  //! The flow's flips made edges from a vertex to itself (FlowOptions::loops): the first attempt
+  //! without them stalled for want of one, and no other attempt nor the unfolding gave an atlas.
   bool loops = false;
   //! D of the flow's u (the exact flat metric) at the vertices, on the surface scaled to area 1.
   double flow_distortion = 0;
