@@ -446,6 +446,31 @@ TEST(Atlas, AtABudgetWhereEveryAttemptStallsForALoopItsConesFlowWithLoops) {
   EXPECT_NE(why.find("unfolding it would take"), std::string::npos) << why;
 }
 
+#ifndef RICCI_SANITIZED  // the Release build only (tests/CMakeLists.txt says why)
+TEST(Atlas, AtABudgetWhereTheFlowConvergedRefusingALoopItsConesFlowWithLoops) {
+  // Gymnasium's Adroit shoulder at 8 cones: its genus-7 part's flow converges where the Delaunay
+  // flips refused 6 loops, and the layout of that triangulation turned 2 faces of the subdivision
+  // over; its unfolding takes 5,420 cones. It exited 1 before 2026-12-07; now the same cones flow
+  // with loops.
+  const std::string shoulder =
+      std::string(RICCI_REAL_MESH_DIR) + "/gymrobotics-adroit-shoulder.stl";
+  const std::string report = temp("shoulder.json");
+  const Atlas a = run_atlas(shoulder, "--max-cones 8 --report " + report);
+  // D 0.411 on the file's faces (measured on 2026-12-07; BFF's 8 cones: 0.755, 12 % overlap).
+  expect_valid_atlas(a, shoulder, 0.45);
+  EXPECT_NE(a.summary.find("Warning: the flow's edge flips made edges from a vertex to itself"),
+            std::string::npos)
+      << a.summary;
+  const std::string json = slurp(report);
+  EXPECT_NE(json.find("\"loops\": true"), std::string::npos);
+  const std::string why = bound_instead(json);
+  EXPECT_EQ(why.rfind("with the cones for D <= 0.2 (8 cones): the atlas gave no map: ", 0), 0u)
+      << why;
+  EXPECT_NE(why.find("faces of the delivered subdivision are turned over"), std::string::npos)
+      << why;
+}
+#endif
+
 TEST(Atlas, ASurfaceWhoseBoundaryTrianglesDegenerateFlowsOnItsDouble) {
   // CGAL's locally refined cylinder (an annulus): with u held on the boundary, triangles there
   // degenerate and no flip of this surface removes a boundary edge; on the surface doubled along

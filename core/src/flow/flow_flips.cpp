@@ -45,6 +45,7 @@ void detail::FlowState::keep_delaunay() {
   const FlipReport flips =
       make_delaunay(triangulation, structure, u, metric, 10 * mesh.num_edges(), options.loops);
   result.num_flips += flips.flips;
+  result.loops_refused = flips.loops_refused;
   flip_sequence.insert(flip_sequence.end(), flips.sequence.begin(), flips.sequence.end());
   // A flip that was undone leaves the same triangles in other face slots: the pattern's per-face
   // entries change too.

@@ -36,6 +36,14 @@ constexpr int kFewerCones = 256;
 // (3.9M pieces: the run gives up after 27 s, where its layout took 390 s to find 63 turned).
 constexpr int kLoopedPiecesPerFace = 64;
 
+// Whether flips that make loops (FlowOptions::loops) would change a flow made without them: it
+// stalled for want of one, or converged on a triangulation where the Delaunay flips refused one,
+// whose triangles there are no Delaunay triangulation's and can be slivers (gymnasium's Adroit
+// shoulder at 8 cones converged so with 6 refused, and its layout turned 2 faces over).
+bool wanted_loops(const FlowResult& flow) {
+  return flow.stalled_for_loops || (flow.converged && flow.loops_refused > 0);
+}
+
 // The cones of an attempt, as the explanations name them: "D <= 0.2 (34 cones)".
 std::string cones_for(const Uniformization& run) {
   std::ostringstream s;
@@ -164,14 +172,14 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
   } else if (!std::get<std::string>(unfolding).empty()) {
     unfolded_failure = "; " + std::get<std::string>(unfolding);
   }
-  // Nor that: where the first attempt's flow stalled for want of an edge from a vertex to itself,
-  // its cones once more with flips that make such loops (FlowOptions::loops). Last, for where they
-  // flow instead of tighter cones that stalled they leave the faces farther from conformal
+  // Nor that: where the first attempt's flow wanted an edge from a vertex to itself, its cones
+  // once more with flips that make such loops (FlowOptions::loops). Last, for where they flow
+  // instead of tighter cones that stalled they leave the faces farther from conformal
   // (docs/design.md): at BFF's budget of 8 cones 39 of the 169 parts of gymnasium's Adroit
   // forearm plate assembly stalled so, with no tighter bound to try and an unfolding of some 300
   // cones.
   std::optional<Uniformization> looped;  // made, and no atlas
-  if (may_unfold && !request.flow.loops && run.result.stalled_for_loops) {
+  if (may_unfold && !request.flow.loops && wanted_loops(run.result)) {
     UniformizationOptions with_loops = request;
     with_loops.flow.loops = true;
     with_loops.max_pieces_per_face = kLoopedPiecesPerFace;

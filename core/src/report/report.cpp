@@ -318,8 +318,8 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
           a.bound_instead);
     } else if (a.loops) {
       line(
-          "Warning: the flow's edge flips made edges from a vertex to itself: without them it "
-          "stalled, and no other attempt gave an atlas: ",
+          "Warning: the flow's edge flips made edges from a vertex to itself, which the flow "
+          "without them wanted, and no other attempt gave an atlas: ",
           a.bound_instead);
     } else if (!a.bound_instead.empty()) {
       line("The cones were placed again, for D <= ", a.bound, ": ", a.bound_instead);

@@ -60,9 +60,9 @@ struct FlowOptions {
   //! that violates the triangle inequality and no flip left to mend it. Not a face with one edge
   //! on two sides (around a vertex of degree 1): flows that need those still stall. The common
   //! subdivision follows loops; the layouts of the flowed triangulation across a cut (plane cut
-  //! open, Poincare disk) do not. The atlas asks for loops last, where its first attempt stalled
-  //! for want of one and neither the other attempts nor the unfolding gave an atlas
-  //! (docs/design.md).
+  //! open, Poincare disk) do not. The atlas asks for loops last, where its first attempt's flow
+  //! wanted one (stalled_for_loops, loops_refused) and neither the other attempts nor the
+  //! unfolding gave an atlas (docs/design.md).
   bool loops = false;
   //! Called once per iteration; returning false cancels the flow.
   std::function<bool(const FlowProgress&)> progress;
@@ -108,6 +108,9 @@ struct FlowResult {
   //! Stalled with edge flips on, where a flip to an edge from a vertex to itself was refused
   //! (FlowOptions::loops off): the same target may be reached with loops.
   bool stalled_for_loops = false;
+  //! Flips to an edge from a vertex to itself that the last Delaunay flips refused (FlowOptions::
+  //! loops off): where > 0 the result's triangulation is not Delaunay there, and can hold slivers.
+  int loops_refused = 0;
 
   Eigen::VectorXd u;                 //!< conformal factor per vertex
   Eigen::VectorXd radius;            //!< circle radius r(u) of the geometry; NaN where undefined

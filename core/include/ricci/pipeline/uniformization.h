@@ -118,7 +118,8 @@ struct AtlasResult {
   std::string bound_instead;
   double bound_asked = 0;  //!< the bound the request asked for
   //! The flow's flips made edges from a vertex to itself (FlowOptions::loops): the first attempt
-  //! without them stalled for want of one, and no other attempt nor the unfolding gave an atlas.
+  //! without them wanted one (stalled for it, or ended with one refused), and no other attempt
+  //! nor the unfolding gave an atlas.
   bool loops = false;
   //! D of the flow's u (the exact flat metric) at the vertices, on the surface scaled to area 1.
   double flow_distortion = 0;
