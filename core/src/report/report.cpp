@@ -255,8 +255,12 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
             << (p.factorizations == 1 ? " factorization, " : " factorizations, ") << p.back_solves
             << " back-solves, " << p.seconds << " s), area distortion D " << a.distortion
             << " on the faces (" << a.flow_distortion << " at the vertices, the linear model's "
-            << p.distortion << "; without cones " << p.distortion_without_cones
-            << "), max |u - mean u| " << p.max_deviation;
+            << p.distortion;
+      // A closed surface but a torus has no flat metric without cones: no D to name.
+      if (std::isfinite(p.distortion_without_cones)) {
+        cones << "; without cones " << p.distortion_without_cones;
+      }
+      cones << "), max |u - mean u| " << p.max_deviation;
     }
     std::ostringstream harmonic;
     if (a.on_input_faces || a.input_faces_cut > 0) {
