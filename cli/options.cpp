@@ -296,8 +296,16 @@ const Flag* find_flag(const std::string& name) {
   return nullptr;
 }
 
+// The flags whose help begins "atlas: " set what only --target atlas reads.
+bool only_for_atlas(const Flag& flag) {
+  return flag.help.rfind("atlas: ", 0) == 0;
+}
+
 // Usage errors that need several flags together.
 void check_combination(const Options& o) {
+  if (!o.atlas_flag.empty() && o.request.preset != TargetPreset::Atlas) {
+    throw InvalidArgumentError(o.atlas_flag + " is used only by --target atlas");
+  }
   if (o.request.scheme.scheme == Scheme::Mixed && o.eps_file.empty()) {
     throw InvalidArgumentError("the mixed scheme needs --eps FILE (+1, 0 or -1 per vertex)");
   }
@@ -370,6 +378,7 @@ Options parse_options(int argc, const char* const* argv) {
         value = argv[++i];
       }
       flag->set(o, a, value);
+      if (only_for_atlas(*flag) && o.atlas_flag.empty()) o.atlas_flag = a;
     } else if (!a.empty() && a[0] == '-') {
       throw InvalidArgumentError("unknown option '" + a + "'; see ricci-flow --help");
     } else if (o.input.empty()) {

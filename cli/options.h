@@ -20,6 +20,7 @@ struct Options {
   bool target_is_cones = false;
   std::string cones_file;  //!< --cones FILE: the atlas's cones, or alone the target cones:FILE
   std::string eps_file;    //!< mixed scheme: +1/0/-1 per vertex
+  std::string atlas_flag;  //!< the first flag given that only --target atlas reads
   std::string report;      //!< JSON report path
   std::string picture;     //!< PNG of the layout
   RepairOptions repair;    //!< --strict, --keep-cuts

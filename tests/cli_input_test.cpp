@@ -56,6 +56,13 @@ TEST(Cli, BadInputGetsAClearError) {
   expect_error(atlas + " --distortion -0.1", 2, {"--distortion expects a positive number"});
   expect_error(atlas + " --texture-size 8", 2,
                {"--texture-size expects an integer in [16, 1000000], got '8'"});
+  // The atlas's options where no atlas is asked for, refused as --eps is without the mixed scheme
+  // (ignored before 2026-12-07); after --target atlas in any order they are taken.
+  const std::string disk = cgal("no-such-mesh.off") + out;
+  expect_error(disk + " --distortion 0.1", 2, {"--distortion is used only by --target atlas"});
+  expect_error(disk + " --padding 2 --max-cones 8 --target zero", 2,
+               {"--padding is used only by --target atlas"});
+  expect_error(disk + " --cone-angles quarter --target atlas", 1, {"cannot open"});
   // Topology and geometry
   expect_error(cgal("pipe.off") + out + " --geometry spherical", 1,
                {"spherical geometry needs", "genus 1"});
