@@ -207,6 +207,21 @@ TEST(Cli, ConesFileAndDiskNormalization) {
   EXPECT_NE(r.err.find("--target atlas --cones FILE"), std::string::npos) << r.err;
   r = ricci_flow(cgal("pipe.off") + " -o " + out + " --target atlas --cones " + cones);
   EXPECT_EQ(r.exit_code, 0) << r.err;
+  // Cones of 450 and 270 degrees as --target FILE of curvatures (Kbar = 2 pi - angle: -pi/2 and
+  // pi/2): the same refusal (laid out in one piece before 2026-12-07).
+  std::string values;
+  for (int v = 0; v < ricci::test::cgal_mesh("pipe.off").num_vertices(); ++v) {
+    values += v == 0 ? "-1.5707963267948966\n" : v == 80 ? "1.5707963267948966\n" : "0\n";
+  }
+  const std::string kbar = temp("kbar.txt");
+  write_file(kbar, values);
+  r = ricci_flow(cgal("pipe.off") + " -o " + out + " --target " + kbar);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("target curvature at vertex 0: -1.570796327 (a cone of 450 degrees) inside "
+                       "the surface"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("--target atlas --cones FILE"), std::string::npos) << r.err;
 }
 
 TEST(Cli, MixedSchemeReadsEpsFileAndTargetFile) {

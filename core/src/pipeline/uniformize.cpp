@@ -81,20 +81,28 @@ void check_request(const CompactMesh& mesh, TargetPreset preset, Geometry geomet
 // degrees, or an angle read back from a report's radians.
 constexpr double kFlatCone = 1e-9;
 
-// Cones as the Values preset's per-vertex curvature. Only on the boundary: the plane, disk and
-// sphere layouts draw the surface around each interior vertex, which a cone's angle does not
-// close (a torus with two cones came back "flat" with a closure error of 2.3, a sphere with eight
-// with 124 faces turned); the atlas cuts its seams through them.
+// Curvature prescribed at an interior vertex (a cone) is refused by the Values preset: the plane,
+// disk and sphere layouts draw the surface around each interior vertex in one piece, which a
+// cone's angle does not close (a torus with two cones came back "flat" with a closure error of
+// 2.3, a sphere with eight with 124 faces turned); the atlas cuts its seams through them.
+bool interior_cone(const CompactMesh& mesh, const TargetCurvature& target, int v) {
+  return !mesh.is_boundary_vertex(v) && !target.fixed[v] &&
+         std::abs(target.curvature[v]) > kFlatCone;
+}
+constexpr const char* kNoConeInOnePiece =
+    " inside the surface; a layout in one piece cannot draw a cone inside it: --target atlas "
+    "--cones FILE cuts seams through the cones and lays out the charts";
+
+// Cones as the Values preset's per-vertex curvature, on the boundary only (interior_cone).
 UniformizationOptions with_cone_values(const CompactMesh& mesh, UniformizationOptions o) {
   if (o.cones.empty() || o.preset == TargetPreset::Atlas) return o;
   const TargetCurvature cones = cone_target(mesh, o.cones);  // checks the vertices and angles
   for (const Cone& c : o.cones) {
-    if (!mesh.is_boundary_vertex(c.vertex) && std::abs(cones.curvature[c.vertex]) > kFlatCone) {
+    if (interior_cone(mesh, cones, c.vertex)) {
       std::ostringstream s;
       s.precision(10);
-      s << "cone at vertex " << c.vertex << ": " << c.angle * 180 / kPi
-        << " degrees inside the surface; a layout in one piece cannot draw a cone inside it: "
-           "--target atlas --cones FILE cuts seams through the cones and lays out the charts";
+      s << "cone at vertex " << c.vertex << ": " << c.angle * 180 / kPi << " degrees"
+        << kNoConeInOnePiece;
       throw InvalidTargetError(s.str());
     }
   }
@@ -135,8 +143,18 @@ std::pair<TargetPreset, Geometry> resolve_request(const CompactMesh& mesh,
     preset = automatic.first;
     geometry = o.geometry.value_or(automatic.second);
   } else if (preset == TargetPreset::Values) {
-    geometry = o.geometry.value_or(
-        geometry_for_target(mesh, TargetCurvature::from_values(mesh, o.values)));
+    const TargetCurvature target = TargetCurvature::from_values(mesh, o.values);
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      // (Kbar >= 2 pi is no cone: the target's checks say so.)
+      if (interior_cone(mesh, target, v) && target.curvature[v] < 2 * kPi) {
+        std::ostringstream s;
+        s.precision(10);
+        s << "target curvature at vertex " << v << ": " << target.curvature[v] << " (a cone of "
+          << (2 * kPi - target.curvature[v]) * 180 / kPi << " degrees)" << kNoConeInOnePiece;
+        throw InvalidTargetError(s.str());
+      }
+    }
+    geometry = o.geometry.value_or(geometry_for_target(mesh, target));
   } else {
     geometry = o.geometry.value_or(preset_geometry(mesh, preset));
   }
