@@ -7,6 +7,7 @@ texture coordinates (per vertex or per face corner) or, for layouts on the unit 
 longitude and latitude of the sphere point, interpolated per pixel.
 
 usage: render_pictures.py RESULT.ply MESH.png LAYOUT.png [--view AZIMUTH ELEVATION] [--checks N]
+                          [--seams]
 """
 import argparse
 import math
@@ -63,10 +64,41 @@ def sphere_checker(p, checks):
     return checker(lon, lat * 0.5, checks)
 
 
-def rasterize(points, depth, attributes, shade, size, color_of, edges=False):
+SEAM = np.array([30.0, 50.0, 140.0])
+CONE = np.array([200.0, 20.0, 30.0])
+
+
+def seams_and_cones(faces, uv, curvature):
+    """Per face corner: whether the side opposite it is a seam (a side of the mesh's boundary, or
+    one whose two faces give its ends other texture coordinates), and whether the corner is a
+    cone (an interior vertex whose curvature, ricci_curvature, is beyond 1e-6)."""
+    side_uv = {}
+    for f, t in enumerate(faces):
+        for k in range(3):
+            a, b = t[(k + 1) % 3], t[(k + 2) % 3]
+            side_uv[(a, b)] = (uv[f, (k + 1) % 3], uv[f, (k + 2) % 3])
+    seam = np.zeros(faces.shape, dtype=bool)
+    for f, t in enumerate(faces):
+        for k in range(3):
+            a, b = t[(k + 1) % 3], t[(k + 2) % 3]
+            twin = side_uv.get((b, a))
+            seam[f, k] = twin is None or not (np.allclose(twin[1], uv[f, (k + 1) % 3], atol=1e-9)
+                                              and np.allclose(twin[0], uv[f, (k + 2) % 3],
+                                                              atol=1e-9))
+    curved = np.abs(np.nan_to_num(curvature, nan=0.0)) > 1e-6
+    boundary = set()
+    for (a, b) in side_uv:
+        if (b, a) not in side_uv:
+            boundary.update((a, b))
+    cone = curved[faces] & ~np.isin(faces, list(boundary))
+    return seam, cone
+
+
+def rasterize(points, depth, attributes, shade, size, color_of, edges=False, marks=None):
     """points: per face corner pixel positions (F, 3, 2); depth (F, 3), smaller in front;
     attributes (F, 3, k) interpolated per pixel; shade (F,) brightness; color_of maps interpolated
-    attributes (n, k) to colors (n, 3); edges darkens pixels within half a pixel of a side."""
+    attributes (n, k) to colors (n, 3); edges darkens pixels within half a pixel of a side; marks,
+    (seam, cone) of seams_and_cones, draws the seams as lines and the cones as dots."""
     image = np.tile(BACKGROUND, (size, size, 1)).astype(float)
     zbuffer = np.full((size, size), np.inf)
     for f in range(len(points)):
@@ -100,6 +132,16 @@ def rasterize(points, depth, attributes, shade, size, color_of, edges=False):
             altitude = np.array([abs(d) / max(s, 1e-12) for s in sides])
             near = (bary * altitude).min(axis=1) < 0.5
             color[near] *= 0.55
+        if marks is not None:
+            seam, cone = marks[0][f], marks[1][f]
+            if seam.any() or cone.any():
+                sides = [np.linalg.norm(p[(k + 2) % 3] - p[(k + 1) % 3]) for k in range(3)]
+                altitude = np.array([abs(d) / max(s, 1e-12) for s in sides])
+                to_side = np.where(seam, bary * altitude, np.inf).min(axis=1)
+                color[to_side < 1.0] = SEAM
+                pixel = np.stack([gx + 0.5, gy + 0.5], axis=1)
+                for k in np.nonzero(cone)[0]:
+                    color[np.linalg.norm(pixel - p[k], axis=1) < 4.5] = CONE
         zbuffer[gy, gx] = z[iy, ix]
         image[gy, gx] = color
     return np.clip(image, 0, 255).astype(np.uint8)
@@ -132,13 +174,13 @@ def to_pixels(xy, size, margin=0.06, unit_square=False):
     return out
 
 
-def render_surface(corners_3d, attributes, color_of, size, edges=False):
+def render_surface(corners_3d, attributes, color_of, size, edges=False, marks=None):
     p0, p1, p2 = corners_3d[:, 0], corners_3d[:, 1], corners_3d[:, 2]
     normal = np.cross(p1 - p0, p2 - p0)
     normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
     shade = 0.35 + 0.65 * np.abs(normal @ LIGHT)
     pixels = to_pixels(corners_3d[..., :2], size)
-    return rasterize(pixels, -corners_3d[..., 2], attributes, shade, size, color_of, edges)
+    return rasterize(pixels, -corners_3d[..., 2], attributes, shade, size, color_of, edges, marks)
 
 
 def main():
@@ -152,6 +194,8 @@ def main():
     parser.add_argument("--size", type=int, default=520)
     parser.add_argument("--poincare", action="store_true",
                         help="the texture is the Poincare disk: frame it and draw its circle")
+    parser.add_argument("--seams", action="store_true",
+                        help="draw the seams (blue) and the cones (red) on both pictures")
     args = parser.parse_args()
 
     ply = read_result(args.result)
@@ -181,7 +225,8 @@ def main():
     else:
         attributes = uv
         color_of = lambda a: checker(a[:, 0], a[:, 1], args.checks)  # noqa: E731
-    write_png(args.mesh_png, render_surface(corners, attributes, color_of, args.size))
+    marks = seams_and_cones(faces, uv, v["ricci_curvature"]) if args.seams and uv is not None else None
+    write_png(args.mesh_png, render_surface(corners, attributes, color_of, args.size, marks=marks))
 
     if sphere:
         tilt = view_rotation(20, -60)
@@ -190,7 +235,7 @@ def main():
     else:
         pixels = to_pixels(uv, args.size, unit_square=args.poincare)
         image = rasterize(pixels, np.zeros(uv.shape[:2]), uv, np.ones(len(faces)), args.size,
-                          color_of, edges=len(faces) < 5000)
+                          color_of, edges=len(faces) < 5000 and marks is None, marks=marks)
         if args.poincare:  # the disk's boundary circle
             angle = np.linspace(0, 2 * math.pi, 4 * args.size)
             circle = to_pixels(np.stack([(1 + np.cos(angle)) / 2, (1 + np.sin(angle)) / 2],
