@@ -93,8 +93,7 @@ def process(path, stem, flags=()):
 
 def _run(paths, out_dir, client, workers, table, progress, flags):
     import pandas
-    from dask.distributed import Client, LocalCluster
-    from dask.distributed import progress as show_progress
+    from dask.distributed import Client, LocalCluster, as_completed
 
     paths = [os.path.abspath(os.fspath(p)) for p in paths]
     out_dir = os.path.abspath(os.fspath(out_dir))
@@ -108,7 +107,11 @@ def _run(paths, out_dir, client, workers, table, progress, flags):
         futures = client.map(process, paths, output_stems(paths, out_dir), flags=list(flags),
                              pure=False)
         if progress:
-            show_progress(futures)
+            # Counted here, not by Dask's progress bar: its feed from the scheduler, cancelled when
+            # the cluster closes, logged a CancelledError traceback in about half the runs.
+            for done, _ in enumerate(as_completed(futures), 1):
+                print("\r%d of %d meshes done" % (done, len(futures)), end="", file=sys.stderr,
+                      flush=True)
             print(file=sys.stderr)
         rows = []
         for path, future in zip(paths, futures):

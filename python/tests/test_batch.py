@@ -84,6 +84,8 @@ def test_batch_from_the_shell(meshes, tmp_path):
                           capture_output=True, text=True)
     assert done.returncode == 1, done.stderr  # the missing file failed
     assert "3 of 4 meshes ok" in done.stdout
+    assert "4 of 4 meshes done" in done.stderr
+    assert "Traceback" not in done.stderr, done.stderr  # Dask's progress feed's, at shutdown
     with open(tmp_path / "results.csv") as f:
         rows = list(csv.DictReader(f))
     assert [r["status"] for r in rows] == ["ok", "ok", "ok", "failed"]
