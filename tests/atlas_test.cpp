@@ -422,23 +422,30 @@ TEST(Atlas, ACadPartWhoseFlowStallsWithItsConesGetsThoseOfATighterBound) {
   EXPECT_NE(u_why.find("needs an edge from a vertex to itself"), std::string::npos) << u_why;
 }
 
-TEST(Atlas, AtABudgetWhereEveryAttemptStallsForALoopItsConesFlowWithLoops) {
-  // The same part at 8 cones (BFF's count): the flat metric of its 8 cones needs an edge from a
-  // vertex to itself too, no tighter bound is tried at a budget, and its unfolding would take
-  // hundreds of cones. It exited 1 before 2026-12-07; now the same cones flow with flips that make
-  // such loops, and the summary and the report say so.
-  const std::string part = std::string(RICCI_REAL_MESH_DIR) + "/cura-felixpro2.obj";
+// The atlas of `mesh` at BFF's 8 cones, whose cones flowed again with flips that make loops: valid
+// with D within `bound`, the summary's warning, the report's "loops"; the report's explanation of
+// the attempts before it returned.
+std::string looped_at_eight_cones(const std::string& mesh, double bound) {
   const std::string report = temp("looped.json");
-  const Atlas a = run_atlas(part, "--max-cones 8 --report " + report);
-  // D 0.674 on its faces (measured on 2026-12-07): 8 cones on a genus-3 part.
-  expect_valid_atlas(a, part, 0.7);
+  const Atlas a = run_atlas(mesh, "--max-cones 8 --report " + report);
+  expect_valid_atlas(a, mesh, bound);
   EXPECT_NE(a.summary.find("Warning: the flow's edge flips made edges from a vertex to itself"),
             std::string::npos)
       << a.summary;
   const std::string json = slurp(report);
   EXPECT_NE(json.find("\"loops\": true"), std::string::npos);
   EXPECT_EQ(report_cones(json).size(), 8u);
-  const std::string why = bound_instead(json);
+  return bound_instead(json);
+}
+
+TEST(Atlas, AtABudgetWhereEveryAttemptStallsForALoopItsConesFlowWithLoops) {
+  // The same part at 8 cones (BFF's count): the flat metric of its 8 cones needs an edge from a
+  // vertex to itself too, no tighter bound is tried at a budget, and its unfolding would take
+  // hundreds of cones. It exited 1 before 2026-12-07; now the same cones flow with flips that make
+  // such loops, and the summary and the report say so. D 0.674 on its faces (measured on
+  // 2026-12-07): 8 cones on a genus-3 part.
+  const std::string why =
+      looped_at_eight_cones(std::string(RICCI_REAL_MESH_DIR) + "/cura-felixpro2.obj", 0.7);
   ASSERT_EQ(
       why.rfind("with the cones for D <= 0.2 (8 cones): the atlas was not reached: stalled", 0), 0u)
       << why;
@@ -451,19 +458,10 @@ TEST(Atlas, AtABudgetWhereTheFlowConvergedRefusingALoopItsConesFlowWithLoops) {
   // Gymnasium's Adroit shoulder at 8 cones: its genus-7 part's flow converges where the Delaunay
   // flips refused 6 loops, and the layout of that triangulation turned 2 faces of the subdivision
   // over; its unfolding takes 5,420 cones. It exited 1 before 2026-12-07; now the same cones flow
-  // with loops.
-  const std::string shoulder =
-      std::string(RICCI_REAL_MESH_DIR) + "/gymrobotics-adroit-shoulder.stl";
-  const std::string report = temp("shoulder.json");
-  const Atlas a = run_atlas(shoulder, "--max-cones 8 --report " + report);
-  // D 0.411 on the file's faces (measured on 2026-12-07; BFF's 8 cones: 0.755, 12 % overlap).
-  expect_valid_atlas(a, shoulder, 0.45);
-  EXPECT_NE(a.summary.find("Warning: the flow's edge flips made edges from a vertex to itself"),
-            std::string::npos)
-      << a.summary;
-  const std::string json = slurp(report);
-  EXPECT_NE(json.find("\"loops\": true"), std::string::npos);
-  const std::string why = bound_instead(json);
+  // with loops. D 0.411 on the file's faces (measured on 2026-12-07; BFF's 8 cones: 0.755, 12 %
+  // overlap).
+  const std::string why = looped_at_eight_cones(
+      std::string(RICCI_REAL_MESH_DIR) + "/gymrobotics-adroit-shoulder.stl", 0.45);
   EXPECT_EQ(why.rfind("with the cones for D <= 0.2 (8 cones): the atlas gave no map: ", 0), 0u)
       << why;
   EXPECT_NE(why.find("faces of the delivered subdivision are turned over"), std::string::npos)
