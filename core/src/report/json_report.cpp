@@ -78,7 +78,8 @@ std::string complex_pair(std::complex<double> z) {
   return "[" + number(z.real()) + ", " + number(z.imag()) + "]";
 }
 
-std::string layout_json(const Uniformization& run) {
+// `vertex`: the delivered vertex of each of the component's vertices (null: the same numbers).
+std::string layout_json(const Uniformization& run, const std::vector<int>* vertex) {
   if (run.layout_kind == LayoutKind::None) return "null";
   const LayoutQuality& q = run.quality;
   const Layout& m = run.layout;
@@ -132,7 +133,8 @@ std::string layout_json(const Uniformization& run) {
     const ConePlacement& p = a.placement;
     j << ", \"atlas\": {\"cones\": [";
     for (size_t k = 0; k < p.cones.size(); ++k) {
-      j << (k ? ", " : "") << "{\"vertex\": " << p.cones[k].vertex
+      const int v = p.cones[k].vertex;
+      j << (k ? ", " : "") << "{\"vertex\": " << (vertex ? (*vertex)[static_cast<size_t>(v)] : v)
         << ", \"angle\": " << number(k < a.cone_angles.size() ? a.cone_angles[k] : p.cones[k].angle)
         << ", \"linear_angle\": " << number(p.cones[k].angle) << "}";
     }
@@ -176,9 +178,11 @@ std::string layout_json(const Uniformization& run) {
 
 namespace {
 
-// The keys of one component's report, one per line, without the braces.
+// The keys of one component's report, one per line, without the braces; vertices numbered as
+// delivered (`vertex`, as layout_json's).
 std::string component_json_body(const CompactMesh& mesh, const Uniformization& run,
-                                const RunContext& context) {
+                                const RunContext& context,
+                                const std::vector<int>* vertex = nullptr) {
   const FlowResult& result = run.result;
   const FlowTotals& totals = run.totals;
   const FlowTimes& t = totals.times;
@@ -242,7 +246,7 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
     << ", \"initial_length_error\": " << number(initial_length_error(mesh, run.structure))
     << "},\n";
   j << "  \"area\": " << number(result.area) << ",\n";
-  j << "  \"layout\": " << layout_json(run);
+  j << "  \"layout\": " << layout_json(run, vertex);
   return j.str();
 }
 
@@ -279,7 +283,9 @@ std::string json_report(const CompactMesh& mesh, const Uniformization& run,
 std::string json_report(const MeshUniformization& run, const RunContext& context) {
   const RepairedMesh& m = run.mesh;
   if (run.components.size() == 1) {
-    return "{\n" + component_json_body(m.components[0].mesh, run.components[0], context) +
+    return "{\n" +
+           component_json_body(m.components[0].mesh, run.components[0], context,
+                               &m.components[0].vertex) +
            ",\n  \"repairs\": " + repairs_json(m.report) + "\n}\n";
   }
   std::ostringstream j;
@@ -296,7 +302,9 @@ std::string json_report(const MeshUniformization& run, const RunContext& context
   j << "  \"components\": [";
   for (size_t k = 0; k < run.components.size(); ++k) {
     j << (k ? ", " : "") << "{\n  "
-      << indented(component_json_body(m.components[k].mesh, run.components[k], context)) << "\n  }";
+      << indented(component_json_body(m.components[k].mesh, run.components[k], context,
+                                      &m.components[k].vertex))
+      << "\n  }";
   }
   j << "]\n}\n";
   return j.str();
