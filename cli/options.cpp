@@ -124,7 +124,8 @@ const std::vector<Flag>& flags() {
        "  cones:FILE: lines \"VERTEX ANGLE_DEGREES\": corner angles on the boundary "
        "(rectangles, polygons); flat and straight elsewhere (cones inside: --target atlas "
        "--cones FILE)\n"
-       "  FILE: Kbar per line, one line per vertex; 'nan' holds that vertex's u fixed",
+       "  FILE: Kbar per line, one line per vertex; 'nan' holds that vertex's u fixed; Kbar inside "
+       "the surface (a cone) only where no layout is drawn (S2 on genus >= 1)",
        [](const O& o) { return o.target; },
        [](O& o, const std::string&, const std::string& v) { set_target(o, v); }},
       {{"--cones"},

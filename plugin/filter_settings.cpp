@@ -97,7 +97,8 @@ const std::vector<ParameterSpec>& parameter_specs() {
        "disk: boundary loops on circles, the outer one the unit circle. "
        "Free boundary: u = 0 on the boundary (its lengths kept), flat inside: least area "
        "distortion. Zero: Kbar = 0 at every vertex. Vertex quality: Kbar in radians per vertex; "
-       "NaN holds that vertex's u fixed."},
+       "NaN holds that vertex's u fixed; nonzero inside the surface (a cone) is refused where a "
+       "layout is drawn, which a cone inside would not close."},
       {"centerVertex",
        Kind::Int,
        static_cast<double>(d.center_vertex),

@@ -222,6 +222,51 @@ TEST(Cli, ConesFileAndDiskNormalization) {
             std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("--target atlas --cones FILE"), std::string::npos) << r.err;
+  // Where no layout is drawn the metric alone is given: Kbar -1 at a vertex of the torus asks for
+  // S2 (Gauss-Bonnet), which lays out no surface of genus 1.
+  std::string sphere_values = "-1\n";
+  for (int v = 1; v < ricci::test::cgal_mesh("pipe.off").num_vertices(); ++v)
+    sphere_values += "0\n";
+  write_file(kbar, sphere_values);
+  r = ricci_flow(cgal("pipe.off") + " -o " + out + " --target " + kbar);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("No layout: a closed genus-1 surface in spherical geometry"),
+            std::string::npos)
+      << r.out;
+  // Two tori in one file: the refusal names the vertex as the file numbers it (the second
+  // torus's own vertex 5 is the file's 165; named 5 before 2026-12-07).
+  const ricci::CompactMesh torus = ricci::test::cgal_mesh("pipe.off");
+  std::ostringstream two;
+  two << "OFF\n" << 2 * torus.num_vertices() << " " << 2 * torus.num_faces() << " 0\n";
+  for (int copy = 0; copy < 2; ++copy) {
+    for (const Eigen::Vector3d& p : torus.positions()) {
+      two << p.x() + 10 * copy << " " << p.y() << " " << p.z() << "\n";
+    }
+  }
+  for (int copy = 0; copy < 2; ++copy) {
+    for (const auto& f : torus.faces()) {
+      two << "3";
+      for (int v : f) two << " " << v + copy * torus.num_vertices();
+      two << "\n";
+    }
+  }
+  const std::string tori = temp("two-tori.off");
+  write_file(tori, two.str());
+  const int second = torus.num_vertices() + 5;
+  write_file(cones, std::to_string(second) + " 300\n");
+  r = ricci_flow(tori + " -o " + out + " --target cones:" + cones);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("cone at vertex " + std::to_string(second) + ": 300 degrees"),
+            std::string::npos)
+      << r.err;
+  std::string second_values;
+  for (int v = 0; v < 2 * torus.num_vertices(); ++v) second_values += v == second ? "1\n" : "0\n";
+  write_file(kbar, second_values);
+  r = ricci_flow(tori + " -o " + out + " --target " + kbar);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("target curvature at vertex " + std::to_string(second) + ": 1 "),
+            std::string::npos)
+      << r.err;
 }
 
 TEST(Cli, MixedSchemeReadsEpsFileAndTargetFile) {

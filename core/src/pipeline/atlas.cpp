@@ -87,11 +87,11 @@ UniformizationOptions component_options(const UniformizationOptions& o, const Re
     c.preset = TargetPreset::Values;
     c.values = Eigen::VectorXd::Zero(static_cast<long>(component.vertex.size()));
   }
+  c.input_vertex.clear();
+  c.input_vertex.reserve(component.vertex.size());
+  for (int v : component.vertex) c.input_vertex.push_back(m.original[v]);
   if (o.vertex_order.num_vertices() == m.num_input_vertices) {
-    std::vector<int> input_vertex;
-    input_vertex.reserve(component.vertex.size());
-    for (int v : component.vertex) input_vertex.push_back(m.original[v]);
-    c.vertex_order = o.vertex_order.restricted(std::move(input_vertex));
+    c.vertex_order = o.vertex_order.restricted(c.input_vertex);
   }
   c.center_vertex = component_vertex(o.center_vertex, where, m.num_input_vertices, k, "center");
   c.axis_vertex = component_vertex(o.axis_vertex, where, m.num_input_vertices, k, "axis");

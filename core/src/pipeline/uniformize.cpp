@@ -89,6 +89,10 @@ bool interior_cone(const CompactMesh& mesh, const TargetCurvature& target, int v
   return !mesh.is_boundary_vertex(v) && !target.fixed[v] &&
          std::abs(target.curvature[v]) > kFlatCone;
 }
+// Vertex v as the user numbers it (UniformizationOptions::input_vertex).
+int user_vertex(const UniformizationOptions& o, int v) {
+  return o.input_vertex.empty() ? v : o.input_vertex[static_cast<size_t>(v)];
+}
 constexpr const char* kNoConeInOnePiece =
     " inside the surface; a layout in one piece cannot draw a cone inside it: --target atlas "
     "--cones FILE cuts seams through the cones and lays out the charts";
@@ -101,8 +105,8 @@ UniformizationOptions with_cone_values(const CompactMesh& mesh, UniformizationOp
     if (interior_cone(mesh, cones, c.vertex)) {
       std::ostringstream s;
       s.precision(10);
-      s << "cone at vertex " << c.vertex << ": " << c.angle * 180 / kPi << " degrees"
-        << kNoConeInOnePiece;
+      s << "cone at vertex " << user_vertex(o, c.vertex) << ": " << c.angle * 180 / kPi
+        << " degrees" << kNoConeInOnePiece;
       throw InvalidTargetError(s.str());
     }
   }
@@ -144,17 +148,20 @@ std::pair<TargetPreset, Geometry> resolve_request(const CompactMesh& mesh,
     geometry = o.geometry.value_or(automatic.second);
   } else if (preset == TargetPreset::Values) {
     const TargetCurvature target = TargetCurvature::from_values(mesh, o.values);
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
+    geometry = o.geometry.value_or(geometry_for_target(mesh, target));
+    // (Where no layout is drawn, S2 on a surface of genus > 0, the metric alone is given.)
+    const bool laid_out = planned_layout(mesh, preset, geometry) != LayoutKind::None;
+    for (int v = 0; laid_out && v < mesh.num_vertices(); ++v) {
       // (Kbar >= 2 pi is no cone: the target's checks say so.)
       if (interior_cone(mesh, target, v) && target.curvature[v] < 2 * kPi) {
         std::ostringstream s;
         s.precision(10);
-        s << "target curvature at vertex " << v << ": " << target.curvature[v] << " (a cone of "
-          << (2 * kPi - target.curvature[v]) * 180 / kPi << " degrees)" << kNoConeInOnePiece;
+        s << "target curvature at vertex " << user_vertex(o, v) << ": " << target.curvature[v]
+          << " (a cone of " << (2 * kPi - target.curvature[v]) * 180 / kPi << " degrees)"
+          << kNoConeInOnePiece;
         throw InvalidTargetError(s.str());
       }
     }
-    geometry = o.geometry.value_or(geometry_for_target(mesh, target));
   } else {
     geometry = o.geometry.value_or(preset_geometry(mesh, preset));
   }

@@ -75,6 +75,9 @@ struct UniformizationOptions {
   //! the input's vertices, as read); empty or for another number of vertices: the flow starts its
   //! own (RicciFlowSolver).
   VertexOrder vertex_order;
+  //! Per vertex, its number in the user's mesh, for messages (uniformize_mesh sets it for each
+  //! component); empty: the same numbers.
+  std::vector<int> input_vertex;
 };
 
 //! Sums over the flows of one uniformization (the disk preset runs several).
