@@ -258,6 +258,7 @@ detail::FlowState::UnfinishedWalk detail::FlowState::walk_from_here(const Eigen:
                         flip_sequence.size(),
                         result.num_flips,
                         result.connectivity_changes,
+                        result.loops_refused,
                         eased};
 }
 
@@ -271,6 +272,7 @@ void detail::FlowState::finish_walk() {
   flip_sequence.resize(w.flips_made);
   result.num_flips = w.num_flips;
   result.connectivity_changes = w.connectivity_changes;
+  result.loops_refused = w.loops_refused;
   steps.set_pattern(triangulation, free_index, flip_sequence.empty());
   if (w.eased) result.eased_start_vertices = 0;
   walk_to(w.start, !w.eased, false);

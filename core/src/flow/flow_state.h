@@ -67,6 +67,7 @@ struct FlowState {
     MetricState metric;
     size_t flips_made = 0;  // of flip_sequence
     int num_flips = 0, connectivity_changes = 0;
+    int loops_refused = 0;  // FlowResult::loops_refused of `triangulation`
     bool eased = false;
   };
   std::optional<UnfinishedWalk> unfinished_walk;

@@ -108,8 +108,9 @@ struct FlowResult {
   //! Stalled with edge flips on, where a flip to an edge from a vertex to itself was refused
   //! (FlowOptions::loops off): the same target may be reached with loops.
   bool stalled_for_loops = false;
-  //! Flips to an edge from a vertex to itself that the last Delaunay flips refused (FlowOptions::
-  //! loops off): where > 0 the result's triangulation is not Delaunay there, and can hold slivers.
+  //! Flips to an edge from a vertex to itself that the last Delaunay flips of the result's
+  //! triangulation refused (each time one was tried; with FlowOptions::loops only those no
+  //! Ptolemy flip makes): where > 0 it is not Delaunay there, and can hold slivers.
   int loops_refused = 0;
 
   Eigen::VectorXd u;                 //!< conformal factor per vertex
