@@ -46,21 +46,13 @@ bool is_obj_name(const std::string& path) {
 // --target cones:FILE or FILE, or --cones FILE: the per-vertex target, read once the mesh is
 // known.
 void read_target_file(const cli::Options& o, UniformizationOptions& r) {
-  if (!o.cones_file.empty() && !o.target_file.empty()) {
-    throw InvalidArgumentError("--cones " + o.cones_file + " and --target " + o.target +
-                               ": give the cones once, with --target atlas or alone");
-  }
-  if (!o.cones_file.empty() && r.preset != TargetPreset::Atlas &&
-      r.preset != TargetPreset::Automatic) {
-    throw InvalidArgumentError("--cones " + o.cones_file + " with --target " + o.target +
-                               ": the cones are a target of their own, or the atlas's cones");
-  }
   const std::string& cones =
       o.cones_file.empty() && o.target_is_cones ? o.target_file : o.cones_file;
   if (!cones.empty()) {
     for (const auto& [vertex, degrees] : cli::read_cones(cones)) {
       r.cones.push_back({vertex, degrees * kPi / 180});
     }
+    if (r.cones.empty()) throw IoError(cones + ": no cones in it (lines \"VERTEX ANGLE_DEGREES\")");
     return;
   }
   if (o.target_file.empty()) return;

@@ -58,13 +58,15 @@ void set_target(Options& o, const std::string& spec) {
 }
 
 // One flag: its names, its value's name (empty for a switch), its help (lines after the first
-// are indented under it), the default shown (from a default Options), and what it sets.
+// are indented under it), the default shown (from a default Options), what it sets, and whether
+// only --target atlas reads it (a usage error with any other target; its help begins "atlas: ").
 struct Flag {
   std::vector<std::string> names;
   std::string value;
   std::string help;
   std::function<std::string(const Options&)> shown_default;
   std::function<void(Options&, const std::string& flag, const std::string& value)> set;
+  bool atlas_only = false;
 };
 
 const std::vector<Flag>& flags() {
@@ -131,13 +133,14 @@ const std::vector<Flag>& flags() {
       {{"--cones"},
        "FILE",
        "lines \"VERTEX ANGLE_DEGREES\" as for --target cones:FILE; with --target atlas the "
-       "atlas's cones, with these angles, instead of placed ones (--distortion and --max-cones "
-       "then do not apply); alone the same as --target cones:FILE",
+       "atlas's cones, with these angles, instead of placed ones (--distortion, --max-cones and "
+       "--cone-angles then apply only to the parts of the mesh with none of them); alone the same "
+       "as --target cones:FILE",
        nullptr,
        [](O& o, const std::string&, const std::string& v) { o.cones_file = v; }},
       {{"--distortion"},
        "D",
-       "atlas: the area distortion to reach, sqrt(sum A (u - mean u)^2) on the surface scaled "
+       "the area distortion to reach, sqrt(sum A (u - mean u)^2) on the surface scaled "
        "to area 1",
        [](const O& o) { return shortest(o.request.cone_placement.distortion_bound); },
        [](O& o, const std::string& f, const std::string& v) {
@@ -145,17 +148,19 @@ const std::vector<Flag>& flags() {
          if (!(o.request.cone_placement.distortion_bound > 0)) {
            throw InvalidArgumentError(f + " expects a positive number, got '" + v + "'");
          }
-       }},
+       },
+       true},
       {{"--max-cones"},
        "N",
-       "atlas: the most cones placed",
+       "the most cones placed",
        [](const O&) { return std::to_string(kDefaultConeBudget); },
        [](O& o, const std::string& f, const std::string& v) {
          o.request.cone_placement.max_cones = max_cones_asked(parse_int(f, v, 1));
-       }},
+       },
+       true},
       {{"--cone-angles"},
        "A",
-       "atlas: free (as the flat metric wants them) or quarter (rounded to multiples of 90 "
+       "free (as the flat metric wants them) or quarter (rounded to multiples of 90 "
        "degrees: charts that meet by quarter turns)",
        [](const O& o) { return o.request.cone_placement.quarter_angles ? "quarter" : "free"; },
        [](O& o, const std::string& f, const std::string& v) {
@@ -163,21 +168,24 @@ const std::vector<Flag>& flags() {
            throw InvalidArgumentError(f + " expects free or quarter, got '" + v + "'");
          }
          o.request.cone_placement.quarter_angles = v == "quarter";
-       }},
+       },
+       true},
       {{"--texture-size"},
        "N",
-       "atlas: texels per side of the texture the charts are packed for",
+       "texels per side of the texture the charts are packed for",
        [](const O& o) { return std::to_string(o.request.packing.texture_size); },
        [](O& o, const std::string& f, const std::string& v) {
          o.request.packing.texture_size = parse_int(f, v, kMinTextureSize);
-       }},
+       },
+       true},
       {{"--padding"},
        "N",
-       "atlas: texels between two charts",
+       "texels between two charts",
        [](const O& o) { return std::to_string(o.request.packing.padding); },
        [](O& o, const std::string& f, const std::string& v) {
          o.request.packing.padding = parse_int(f, v);
-       }},
+       },
+       true},
       {{"--center"},
        "VERTEX",
        "disk target: the vertex mapped to the centre of the disk",
@@ -297,15 +305,24 @@ const Flag* find_flag(const std::string& name) {
   return nullptr;
 }
 
-// The flags whose help begins "atlas: " set what only --target atlas reads.
-bool only_for_atlas(const Flag& flag) {
-  return flag.help.rfind("atlas: ", 0) == 0;
-}
-
 // Usage errors that need several flags together.
 void check_combination(const Options& o) {
   if (!o.atlas_flag.empty() && o.request.preset != TargetPreset::Atlas) {
     throw InvalidArgumentError(o.atlas_flag + " is used only by --target atlas");
+  }
+  if (!o.cones_file.empty() && !o.target_file.empty()) {
+    throw InvalidArgumentError("--cones " + o.cones_file + " and --target " + o.target +
+                               ": give the cones once, with --target atlas or alone");
+  }
+  if (!o.cones_file.empty() && o.request.preset != TargetPreset::Atlas &&
+      o.request.preset != TargetPreset::Automatic) {
+    throw InvalidArgumentError("--cones " + o.cones_file + " with --target " + o.target +
+                               ": the cones are a target of their own, or the atlas's cones");
+  }
+  if (!o.picture.empty() && o.request.preset == TargetPreset::Atlas) {
+    throw InvalidArgumentError(
+        "--picture draws a layout in the plane with one position per vertex, not an atlas's "
+        "charts (its texture coordinates are in the output)");
   }
   if (o.request.scheme.scheme == Scheme::Mixed && o.eps_file.empty()) {
     throw InvalidArgumentError("the mixed scheme needs --eps FILE (+1, 0 or -1 per vertex)");
@@ -352,7 +369,7 @@ std::string usage() {
     std::string head;
     for (const std::string& n : f.names) head += (head.empty() ? "" : ", ") + n;
     if (!f.value.empty()) head += " " + f.value;
-    std::string help = f.help;
+    std::string help = (f.atlas_only ? "atlas: " : "") + f.help;
     if (f.shown_default) {
       help.insert(std::min(help.find('\n'), help.size()), "  [" + f.shown_default(defaults) + "]");
     }
@@ -379,7 +396,7 @@ Options parse_options(int argc, const char* const* argv) {
         value = argv[++i];
       }
       flag->set(o, a, value);
-      if (only_for_atlas(*flag) && o.atlas_flag.empty()) o.atlas_flag = a;
+      if (flag->atlas_only && o.atlas_flag.empty()) o.atlas_flag = a;
     } else if (!a.empty() && a[0] == '-') {
       throw InvalidArgumentError("unknown option '" + a + "'; see ricci-flow --help");
     } else if (o.input.empty()) {

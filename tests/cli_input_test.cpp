@@ -63,6 +63,19 @@ TEST(Cli, BadInputGetsAClearError) {
   expect_error(disk + " --padding 2 --max-cones 8 --target zero", 2,
                {"--padding is used only by --target atlas"});
   expect_error(disk + " --cone-angles quarter --target atlas", 1, {"cannot open"});
+  // The cones given twice or to a target that takes none, and a picture of an atlas: usage errors
+  // (exit 1 once the mesh was read, before 2026-12-07).
+  const std::string cones = temp("two-cones.txt");
+  write_file(cones, "0 90\n");
+  expect_error(disk + " --cones " + cones + " --target disk", 2,
+               {"the cones are a target of their own, or the atlas's cones"});
+  expect_error(disk + " --cones " + cones + " --target cones:" + cones, 2, {"give the cones once"});
+  expect_error(disk + " --target atlas --picture " + temp("atlas.png"), 2,
+               {"--picture draws a layout in the plane with one position per vertex, not an "
+                "atlas's charts"});
+  // No cones in the file: refused, not read as "place them".
+  write_file(cones, "# none\n");
+  expect_error(cgal("eight.off") + out + " --target atlas --cones " + cones, 1, {"no cones in it"});
   // Topology and geometry
   expect_error(cgal("pipe.off") + out + " --geometry spherical", 1,
                {"spherical geometry needs", "genus 1"});
