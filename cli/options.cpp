@@ -161,7 +161,7 @@ const std::vector<Flag>& flags() {
       {{"--cone-angles"},
        "A",
        "free (as the flat metric wants them) or quarter (rounded to multiples of 90 "
-       "degrees: charts that meet by quarter turns)",
+       "degrees: charts that meet by quarter turns, but across loops around a handle or a hole)",
        [](const O& o) { return o.request.cone_placement.quarter_angles ? "quarter" : "free"; },
        [](O& o, const std::string& f, const std::string& v) {
          if (v != "free" && v != "quarter") {

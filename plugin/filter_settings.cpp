@@ -216,7 +216,8 @@ const std::vector<ParameterSpec>& parameter_specs() {
        {},
        "Texture atlas: cone angles in quarter turns",
        "Round every cone angle to a multiple of 90 degrees (charts then meet by quarter turns, "
-       "as seamless textures and quad meshing want)."},
+       "as seamless textures and quad meshing want; on a surface of higher genus not across its "
+       "loops around handles)."},
       {"atlasTextureSize",
        Kind::Int,
        static_cast<double>(d.atlas_texture_size),

@@ -395,7 +395,7 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   std::vector<Eigen::Matrix2d> up(n);
   std::vector<Eigen::Vector2d> lo(n, Eigen::Vector2d::Zero()), hi = lo;  // upright boxes
   for (size_t k = 0; k < n; ++k) {
-    up[k] = upright(charts[k]);
+    up[k] = o.quarter_turns_only ? Eigen::Matrix2d::Identity() : upright(charts[k]);
     if (charts[k].empty()) continue;
     lo[k] = Eigen::Vector2d::Constant(INFINITY), hi[k] = -lo[k];
     for (const Triangle& t : charts[k]) {

@@ -409,7 +409,7 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
   }
   gather_vertices(out);
   gather_face_layouts(out);
-  gather_texture(out, options.packing);
+  gather_texture(out, detail::atlas_packing(options));
   for (size_t k = 0; k < out.components.size(); ++k) {
     const AtlasResult& a = out.components[k].atlas;
     for (size_t i = 0; i < a.placement.cones.size(); ++i) {

@@ -137,7 +137,7 @@ void deliver(const Triangulation& delivered, const std::vector<Eigen::Vector3d>&
              const std::vector<std::array<int, 3>>& faces, const std::vector<char>& seam,
              const std::vector<double>& length3d, const Charts& charts,
              const std::vector<std::pair<int, int>>& overlaps, double input_area,
-             Uniformization& run) {
+             bool quarter_turns, Uniformization& run) {
   AtlasResult& atlas = run.atlas;
   std::vector<char> overlapping(delivered.num_faces(), 0);
   for (const auto& [f, g] : overlaps) overlapping[f] = overlapping[g] = 1;
@@ -147,10 +147,16 @@ void deliver(const Triangulation& delivered, const std::vector<Eigen::Vector3d>&
   atlas.seam_length = seam_length / std::sqrt(input_area);
   atlas.seam_edges = static_cast<int>(std::count(seam.begin(), seam.end(), 1));
   atlas.overlapping_faces = static_cast<int>(std::count(overlapping.begin(), overlapping.end(), 1));
+  std::vector<std::array<Eigen::Vector2d, 3>> corners = charts.corners;
+  if (quarter_turns) {
+    Charts turned{std::move(corners), charts.chart, charts.num_charts};
+    turn_charts_to_quarter_turns(faces, turned);
+    corners = std::move(turned.corners);
+  }
   run.corners.resize(delivered.num_faces());
   for (int f = 0; f < delivered.num_faces(); ++f) {
     for (int c = 0; c < 3; ++c) {
-      run.corners[f][c] = Eigen::Vector3d(charts.corners[f][c].x(), charts.corners[f][c].y(), 0);
+      run.corners[f][c] = Eigen::Vector3d(corners[f][c].x(), corners[f][c].y(), 0);
     }
   }
   run.face_chart = charts.chart;
@@ -468,10 +474,11 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
              .empty();
     atlas.seconds.charts += lap(clock);
     if (overlap) break;
-    if (!packing) packing = pack_charts(triangles_by_chart(charts), o.packing);
+    if (!packing) packing = pack_charts(triangles_by_chart(charts), atlas_packing(o));
     // Halved charts pack about as full as whole ones: that packing's utilization sizes the first
     // margin, mostly sparing the packing its second pass.
-    Packing fuller = pack_charts(triangles_by_chart(shorter), o.packing, packing->utilization);
+    Packing fuller =
+        pack_charts(triangles_by_chart(shorter), atlas_packing(o), packing->utilization);
     atlas.seconds.packing += lap(clock);
     if (!(fuller.utilization > 1.1 * packing->utilization)) break;
     seam = std::move(halved);
@@ -503,7 +510,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       atlas.untangled = user->untangled;
       atlas.on_input_faces = true;
       deliver(mesh, mesh.positions(), mesh.faces(), in->seam, lengths_in_3d(mesh, mesh.positions()),
-              user->charts, {}, mesh.input_area(), run);
+              user->charts, {}, mesh.input_area(), o.cone_placement.quarter_angles, run);
       return;
     }
     if (auto partly = in ? partly_cut_drawn(mesh, *sub, delivered, under, seam, charts, *in,
@@ -516,7 +523,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       atlas.input_faces_cut = cut.input_faces_cut;
       deliver(cut.delivered, cut.sub.positions, cut.sub.faces, cut.seam,
               lengths_in_3d(cut.delivered, cut.sub.positions), drawn.charts, {}, mesh.input_area(),
-              run);
+              o.cone_placement.quarter_angles, run);
       run.subdivision = std::move(cut.sub);
       return;
     }
@@ -535,8 +542,15 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     }
     atlas.seconds.harmonic += lap(clock);
   }
-  deliver(delivered, positions, faces, seam, length3d, charts, overlaps, mesh.input_area(), run);
+  deliver(delivered, positions, faces, seam, length3d, charts, overlaps, mesh.input_area(),
+          o.cone_placement.quarter_angles, run);
   if (sub) run.subdivision = std::move(sub);
+}
+
+PackingOptions atlas_packing(const UniformizationOptions& o) {
+  PackingOptions packing = o.packing;
+  packing.quarter_turns_only = o.cone_placement.quarter_angles;
+  return packing;
 }
 
 void pack_atlas(const PackingOptions& o, Uniformization& run) {

@@ -147,6 +147,10 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
 //! padding. Nothing where the run has no atlas layout or is packed already.
 void pack_atlas(const PackingOptions& o, Uniformization& run);
 
+//! The packing a request asks for: with quarter-turn cones (ConePlacementOptions::quarter_angles)
+//! the charts, turned by lay_out_atlas to meet by quarter turns, packed in quarter turns only.
+PackingOptions atlas_packing(const UniformizationOptions& o);
+
 //! The area distortion D of laid-out faces, as an independent check of an atlas measures it: with
 //! A the 3D and a the layout's area of each face, both scaled to sum 1 over the faces where both
 //! are positive (the others have no weight), s = log(a / A) / 2 and D = sqrt(sum A (s - mean

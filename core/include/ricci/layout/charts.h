@@ -43,6 +43,14 @@ Charts lay_out_charts(const Triangulation& mesh,
                       const std::vector<std::array<Eigen::Vector2d, 3>>& drawn,
                       const std::vector<char>& cut);
 
+//! Turns each chart about the origin so that across every seam between two charts the two
+//! drawings of an edge differ by a multiple of a quarter turn, as they do within a chart where
+//! every cone's curvature is one (--cone-angles quarter): outwards from chart 0 over the charts'
+//! seams, each chart turned so that it draws the longest side it shares with the chart it is
+//! reached from along that chart's drawing. Seams across a loop of the surface around a handle or
+//! a hole keep the turn the surface makes there. `faces`: the vertices of the faces drawn.
+void turn_charts_to_quarter_turns(const std::vector<std::array<int, 3>>& faces, Charts& charts);
+
 //! The signed area of a drawn face: positive where its corners run counter-clockwise.
 double signed_area(const std::array<Eigen::Vector2d, 3>& t);
 

@@ -14,6 +14,10 @@ namespace ricci {
 struct PackingOptions {
   int texture_size = 1024;  //!< texels per side of the texture the atlas is for
   int padding = 4;          //!< texels between two charts
+  //! Each chart in the four quarter turns of its drawing only, not first turned upright in its
+  //! smallest box: charts turned to meet by quarter turns (turn_charts_to_quarter_turns) keep to
+  //! them.
+  bool quarter_turns_only = false;
 };
 
 //! Where chart k goes: uv = scale * rotation[k] * p + offset[k].
