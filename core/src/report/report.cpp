@@ -242,16 +242,15 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     // The surface unfolded, the user's cones, or cones placed on the linear model at that cost.
     std::ostringstream cones;
     cones.precision(3);
-    cones << p.cones.size();
+    cones << p.cones.size() << (p.cones.size() == 1 ? " cone" : " cones");
     if (a.unfolded != AtlasResult::Unfolded::No) {
-      cones
-          << " cones, every interior vertex of curvature (the surface unfolded); area distortion D "
-          << a.distortion << " on the faces";
+      cones << ", every interior vertex of curvature (the surface unfolded); area distortion D "
+            << a.distortion << " on the faces";
     } else if (a.user_cones) {
-      cones << " cones, yours; area distortion D " << a.distortion << " on the faces ("
+      cones << ", yours; area distortion D " << a.distortion << " on the faces ("
             << a.flow_distortion << " at the vertices)";
     } else {
-      cones << " cones (" << p.factorizations
+      cones << " (" << p.factorizations
             << (p.factorizations == 1 ? " factorization, " : " factorizations, ") << p.back_solves
             << " back-solves, " << p.seconds << " s), area distortion D " << a.distortion
             << " on the faces (" << a.flow_distortion << " at the vertices, the linear model's "
@@ -293,9 +292,10 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     } else {
       packed << "packed: utilization " << a.utilization;
     }
-    line("Atlas: ", cones.str(), "; ", a.num_charts, " charts (", a.splits,
-         " splits of overlapping ones", harmonic.str(), "), seams ", a.seam_length, " sqrt(area), ",
-         a.overlapping_faces, " overlapping faces; ", packed.str());
+    line("Atlas: ", cones.str(), "; ", a.num_charts, a.num_charts == 1 ? " chart (" : " charts (",
+         a.splits, a.splits == 1 ? " split of an overlapping one" : " splits of overlapping ones",
+         harmonic.str(), "), seams ", a.seam_length, " sqrt(area), ", a.overlapping_faces,
+         " overlapping faces; ", packed.str());
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
     const std::string padding = padding_warning(a.padding, a.padding_asked);
     if (!padding.empty() && !context.packed_together) line(padding);
