@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -540,7 +541,7 @@ TEST(Atlas, PartsWhoseFacesExceedTheBoundGetTheConesOfATighterOne) {
 }
 #endif
 
-TEST(Atlas, TheReportsConesAreTheDeliveredMeshsVertices) {
+TEST(Atlas, ConesAndChartsAreNumberedAcrossTheFilesParts) {
   // CGAL's three blobs, one file: the report named each part's cones by the part's own vertex
   // numbers before 2026-12-07 (597 for the output's vertex 1422, flat there). Every cone named is
   // a vertex of the delivered mesh whose curvature is 2 pi less the cone's angle.
@@ -556,6 +557,20 @@ TEST(Atlas, TheReportsConesAreTheDeliveredMeshsVertices) {
     ASSERT_LT(v, static_cast<int>(curvature.size()));
     EXPECT_NEAR(curvature[v], 2 * M_PI - angle, 1e-8) << "cone at vertex " << v;
   }
+  // One number per chart of the file: each part's charts numbered on from the parts' before (all
+  // three parts' charts were 0 before 2026-12-07).
+  const std::string json = slurp(report);
+  int charts = 0;
+  const std::string key = "\"charts\": ";
+  for (size_t at = json.find(key); at != std::string::npos; at = json.find(key, at + 1)) {
+    charts += std::stoi(json.substr(at + key.size()));
+  }
+  std::set<int> numbers;
+  for (double c : a.ply.face.at("ricci_chart")) numbers.insert(static_cast<int>(c));
+  EXPECT_GE(charts, 3);
+  EXPECT_EQ(static_cast<int>(numbers.size()), charts);
+  EXPECT_EQ(*numbers.begin(), 0);
+  EXPECT_EQ(*numbers.rbegin(), charts - 1);
 }
 
 TEST(Atlas, APartWhoseFacesStayAboveTheBoundIsUnfolded) {

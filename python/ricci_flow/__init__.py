@@ -101,7 +101,7 @@ class Result:
         reaches too far from its centre for one disk in double precision, or the atlas chart
         (target="atlas") (else None): each Poincare chart is a piece of the domain moved near the
         centre of its own disk; 0 for the faces of a component in one piece, -1 for those of a
-        component without a layout.
+        component without a layout; each component's charts numbered on from those before it.
     layout_kinds: per component: "plane", "plane-cut", "poincare-disk", "sphere", "atlas" or
         "none".
     cones, cone_angles: target="atlas": the cones' vertices (int) and angles (radians, in the

@@ -284,9 +284,11 @@ void gather_vertices(MeshUniformization& out) {
   }
 }
 
-// Per delivered face: its component's layout kind, model corners and chart.
+// Per delivered face: its component's layout kind, model corners and chart (numbered on from the
+// charts of the components before it, so that a chart names one piece of the whole file).
 void gather_face_layouts(MeshUniformization& out) {
   const Eigen::Vector3d none = Eigen::Vector3d::Constant(kNaN);
+  int charts_before = 0;
   for (size_t k = 0; k < out.components.size(); ++k) {
     const Uniformization& run = out.components[k];
     const size_t faces =
@@ -296,7 +298,13 @@ void gather_face_layouts(MeshUniformization& out) {
     for (size_t f = 0; f < faces; ++f) {
       out.face_layout.push_back(laid ? run.layout_kind : LayoutKind::None);
       out.corners.push_back(laid ? model[f] : std::array<Eigen::Vector3d, 3>{none, none, none});
-      out.face_chart.push_back(!laid ? -1 : run.face_chart.empty() ? 0 : run.face_chart[f]);
+      out.face_chart.push_back(
+          !laid ? -1 : charts_before + (run.face_chart.empty() ? 0 : run.face_chart[f]));
+    }
+    if (laid) {
+      int charts = 1;
+      for (int c : run.face_chart) charts = std::max(charts, c + 1);
+      charts_before += charts;
     }
   }
 }

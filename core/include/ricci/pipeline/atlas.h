@@ -39,7 +39,8 @@ struct MeshUniformization {
   //! any normalization (the plane in the metric's units, the unit disk for the disk target; the
   //! Poincare disk, in the face's chart, on the geodesics: Uniformization::model_corners where
   //! the texture draws some on straight sides; the unit sphere), NaN where the component has no
-  //! layout; and its chart (Layout::chart, 0 for a layout in one piece, -1 without a layout).
+  //! layout; and its chart (Layout::chart, 0 for a layout in one piece, -1 without a layout),
+  //! numbered on from the charts of the components before its own: one number per piece.
   std::vector<LayoutKind> face_layout;
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
   std::vector<int> face_chart;
