@@ -51,6 +51,10 @@ constexpr int kWideMoveRings = 2;
 // A vertex whose own angle sum (in 3D) is below twice the floor may have a cone down to this share
 // of that sum: its wedge is then its own faces, their corners at least this share of their own.
 constexpr double kOwnAngleShare = 0.5;
+// Quarter-turn cones: the moves of a quarter turn of curvature tried after the rounding, at most,
+// each among this many vertices of lowest and of highest u.
+constexpr int kQuarterMoves = 200;
+constexpr size_t kQuarterCandidates = 8;
 
 // The placement's search: a cone set, its solution and D.
 class Search {
@@ -305,6 +309,90 @@ class Search {
     }
     unmark(s.cones);
     return best;
+  }
+
+  // Quarter-turn cones (k their curvatures) whose rounding left D above the bound: a quarter turn
+  // of curvature moved at a time, from the vertex where u is highest to where it is lowest (a
+  // cone made, grown or dropped there; on a surface with boundary, whose boundary takes up the
+  // difference, one end alone too), the move among the kQuarterCandidates lowest minima and
+  // highest maxima of u
+  // that lowers D most, while D is above the bound and one does; each cone within its floor and
+  // drawable (kDrawableCorner), at most `budget` cones.
+  void move_quarters(std::vector<int>& cones, Eigen::VectorXd& k, int budget) {
+    const double quarter = kPi / 2;
+    const bool closed = mesh_.is_closed();
+    for (int round = 0; round < kQuarterMoves; ++round) {
+      solve_in_blocks(cones, false);
+      const double d = model_.distortion(cones, k);
+      if (d <= bound()) return;
+      const Eigen::VectorXd u = model_.prescribed(cones, k);
+      // The interior vertices where u is lowest of their neighbours, and where highest.
+      std::vector<int> low, high;
+      for (int v = 0; v < mesh_.num_vertices(); ++v) {
+        if (mesh_.is_boundary_vertex(v)) continue;
+        bool lowest = true, highest = true;
+        for (int i = first_neighbour_[v]; i < first_neighbour_[v + 1]; ++i) {
+          lowest = lowest && u[v] <= u[neighbour_[i]];
+          highest = highest && u[v] >= u[neighbour_[i]];
+        }
+        if (lowest) low.push_back(v);
+        if (highest) high.push_back(v);
+      }
+      const auto keep = [&](std::vector<int>& ends, double sign) {
+        const size_t n = std::min(kQuarterCandidates, ends.size());
+        std::partial_sort(ends.begin(), ends.begin() + static_cast<long>(n), ends.end(),
+                          [&](int a, int b) { return sign * u[a] < sign * u[b]; });
+        ends.resize(n);
+      };
+      keep(low, 1);
+      keep(high, -1);
+      if (low.empty() || high.empty()) return;
+      std::vector<int> candidates = low;
+      candidates.insert(candidates.end(), high.begin(), high.end());
+      solve_in_blocks(candidates, false);
+      // The cones with a quarter more at `up` and a quarter less at `down` (-1: none), or none
+      // where a cone would pass its floor or open a corner past kDrawableCorner, or exceed the
+      // budget.
+      const auto moved = [&](int up, int down, std::vector<int>& c, Eigen::VectorXd& kc) {
+        c = cones;
+        std::vector<double> kk(k.data(), k.data() + k.size());
+        for (const auto& [v, change] : {std::pair{up, quarter}, std::pair{down, -quarter}}) {
+          if (v < 0) continue;
+          const auto at = std::find(c.begin(), c.end(), v);
+          const size_t i = static_cast<size_t>(at - c.begin());
+          if (at == c.end()) c.push_back(v), kk.push_back(0);
+          kk[i] += change;
+          const double theta = 2 * kPi - kk[i];
+          if (std::abs(kk[i]) < quarter / 2) {
+            c.erase(c.begin() + static_cast<long>(i)), kk.erase(kk.begin() + static_cast<long>(i));
+          } else if (theta < floor_[v] || opened_corner(v, theta) > kDrawableCorner) {
+            return false;
+          }
+        }
+        if (static_cast<int>(c.size()) > budget) return false;
+        kc = Eigen::Map<Eigen::VectorXd>(kk.data(), static_cast<long>(kk.size()));
+        return true;
+      };
+      double best = d;
+      bool found = false;
+      std::vector<int> best_cones, c;
+      Eigen::VectorXd best_k, kc;
+      const auto consider = [&](int up, int down) {
+        if (!moved(up, down, c, kc)) return;
+        const double dc = model_.distortion(c, kc);
+        if (dc < best) best = dc, best_cones = c, best_k = kc, found = true;
+      };
+      for (int up : low) {
+        for (int down : high) consider(up, down);
+        if (!closed) consider(up, -1);
+      }
+      if (!closed) {
+        for (int down : high) consider(-1, down);
+      }
+      if (!found) return;
+      cones = std::move(best_cones);
+      k = std::move(best_k);
+    }
   }
 
  private:
@@ -569,6 +657,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     }
     cones = kept;
     k = Eigen::Map<Eigen::VectorXd>(kept_k.data(), static_cast<long>(kept_k.size()));
+    search.move_quarters(cones, k, budget);
     u = model.prescribed(cones, k);
   }
   for (size_t i = 0; i < cones.size(); ++i) result.cones.push_back({cones[i], 2 * kPi - k[i]});
