@@ -382,6 +382,8 @@ TEST(Atlas, ACadPartWhoseFlowStallsWithItsConesGetsThoseOfATighterBound) {
   const size_t bound_at = json.find(bound_key);
   ASSERT_NE(bound_at, std::string::npos);
   EXPECT_NEAR(std::stod(json.substr(bound_at + bound_key.size(), 24)), tighter, 1e-3 * tighter);
+  // Beside it the bound asked, which bound_reached is of.
+  EXPECT_NE(json.find("\"bound_asked\": 0.20000000000000001"), std::string::npos);
   const std::string why = bound_instead(json);
   // The 68 cones for D <= 0.1, instead of the 35 whose flow stalled.
   ASSERT_EQ(why.rfind("with the cones for D <= 0.2 (", 0), 0u) << why;

@@ -145,7 +145,7 @@ std::string layout_json(const Uniformization& run, const std::vector<int>* verte
       << ", \"vertex_distortion\": " << number(a.flow_distortion)
       << ", \"linear_distortion\": " << number(p.distortion)
       << ", \"distortion_without_cones\": " << number(p.distortion_without_cones)
-      << ", \"bound\": " << number(a.bound)
+      << ", \"bound\": " << number(a.bound) << ", \"bound_asked\": " << number(a.bound_asked)
       << ", \"bound_instead\": " << (a.bound_instead.empty() ? "null" : quoted(a.bound_instead))
       << ", \"bound_reached\": " << (p.bound_reached ? "true" : "false")
       << ", \"max_deviation\": " << number(p.max_deviation)
