@@ -56,12 +56,6 @@ void read_target_file(const cli::Options& o, UniformizationOptions& r) {
     return;
   }
   if (o.target_file.empty()) return;
-  // A target that is no file: most likely a name mistyped.
-  if (!std::filesystem::exists(o.target_file)) {
-    throw IoError("--target '" + o.target_file +
-                  "' is no target (auto, disk, free-boundary, zero, atlas, cones:FILE) and no "
-                  "file of Kbar values");
-  }
   const std::vector<double> values = cli::read_numbers(o.target_file);
   r.values = Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<long>(values.size()));
 }

@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -55,6 +56,12 @@ void set_target(Options& o, const std::string& spec) {
   o.target_is_cones = spec.rfind("cones:", 0) == 0;
   o.target_file = o.target_is_cones ? spec.substr(6) : spec;
   if (o.target_file.empty()) throw InvalidArgumentError("--target cones: needs a file name");
+  // A target that is no file: most likely a name mistyped (a usage error, as an unknown scheme).
+  if (!o.target_is_cones && !std::filesystem::exists(spec)) {
+    throw InvalidArgumentError("--target '" + spec +
+                               "' is no target (auto, disk, free-boundary, zero, atlas, "
+                               "cones:FILE) and no file of Kbar values");
+  }
 }
 
 // One flag: its names, its value's name (empty for a switch), its help (lines after the first

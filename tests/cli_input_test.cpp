@@ -93,7 +93,7 @@ TEST(Cli, BadInputGetsAClearError) {
                {"3 connected components", "blobby_3cc.off"});
   expect_error(cgal("nefertiti.off") + out + " --target zero", 1, {"Gauss-Bonnet fails"});
   // Targets from a file
-  expect_error(cgal("nefertiti.off") + out + " --target bogus", 1,
+  expect_error(cgal("nefertiti.off") + out + " --target bogus", 2,
                {"--target 'bogus' is no target (auto, disk, free-boundary, zero, atlas"});
   write_file(temp("short.txt"), "0\n0\n");
   expect_error(cgal("nefertiti.off") + out + " --target " + temp("short.txt"), 1,
