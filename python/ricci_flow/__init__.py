@@ -15,6 +15,7 @@ non-manifold edges and vertices); `keep_cuts=True` keeps vertices at one positio
 a mesh cut open stays cut.
 """
 import json
+import re
 import os
 import tempfile
 
@@ -68,6 +69,14 @@ def _flags(options, folder):
             raise TypeError("unknown option %r; the options are %s, eps, cones"
                             % (name, ", ".join(_VALUES + _SWITCHES)))
     return flags
+
+
+def _by_keyword(message):
+    """The tool's message with its flags named as the keywords that gave them (--max-cones as
+    max_cones)."""
+    for name in sorted(_VALUES + _SWITCHES + ("eps", "cones"), key=len, reverse=True):
+        message = re.sub(r"--%s\b" % re.escape(name.replace("_", "-")), name, message)
+    return message
 
 
 def _arrays(vertices, faces):
@@ -171,7 +180,10 @@ def uniformize(vertices, faces, **options):
     converge or the layout is not a valid map."""
     v, f = _arrays(vertices, faces)
     with tempfile.TemporaryDirectory(prefix="ricci-flow-") as folder:
-        d = _ricci_flow.uniformize(v, f, _flags(options, folder))
+        try:
+            d = _ricci_flow.uniformize(v, f, _flags(options, folder))
+        except ValueError as e:
+            raise ValueError(_by_keyword(str(e))) from None
     if d["failure"]:
         error = RicciFlowError(d["failure"])
         error.report = json.loads(d["report"])

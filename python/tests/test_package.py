@@ -157,6 +157,18 @@ def test_atlas_options_by_name():
     assert np.all(signed_areas(r.texcoord) > 0)
 
 
+def test_option_errors_name_the_keywords():
+    # The tool's usage errors, raised as ValueError, name the keyword given, not its flag.
+    V, F = mesh("eight.off")
+    with pytest.raises(ValueError, match=r"max_cones expects an integer") as e:
+        ricci_flow.uniformize(V, F, target="atlas", max_cones=0)
+    assert "--" not in str(e.value)
+    with pytest.raises(ValueError, match=r"distortion is used only by target atlas"):
+        ricci_flow.uniformize(V, F, distortion=0.1)
+    with pytest.raises(ValueError, match=r"target 'ATLAS' is no target"):
+        ricci_flow.uniformize(V, F, target="ATLAS")
+
+
 def test_every_option_of_the_tool_is_an_option_by_name(tmp_path):
     # Each option of `ricci-flow --help` that takes a value or is a switch is a keyword of
     # uniformize (files and output aside): no unknown-option error for any of them.
