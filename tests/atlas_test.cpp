@@ -543,6 +543,33 @@ TEST(Atlas, PartsWhoseFacesExceedTheBoundGetTheConesOfATighterOne) {
 }
 #endif
 
+TEST(Atlas, ChartsPackedIntoLessThanATexelAreWarnedOf) {
+  // Cones of 1 and 1439 degrees on a genus-2 surface (a new user's): 22 charts, most squeezed to
+  // nothing beside the rest (utilization 0.0086), exited 0 without a word before 2026-12-07. The
+  // summary and the report count the charts of less than a texel of the 1024-texel texture, as
+  // the charts' areas in the delivered texture coordinates give them.
+  const std::string cones = temp("extreme-cones.txt");
+  write_file(cones, "10 1\n200 1439\n");
+  const std::string report = temp("extreme.json");
+  const std::string eight = cgal("eight.off");
+  const Atlas a = run_atlas(eight, "--cones " + cones + " --report " + report);
+  ASSERT_NO_FATAL_FAILURE(expect_valid_atlas(a, eight, 10));
+  std::map<int, double> area;
+  const std::vector<double>& chart = a.ply.face.at("ricci_chart");
+  for (size_t f = 0; f < a.uv.size(); ++f) area[static_cast<int>(chart[f])] += signed_area(a.uv[f]);
+  int below = 0;
+  for (const auto& [c, s] : area) below += s < 1.0 / (1024.0 * 1024.0);
+  EXPECT_GT(below, 0);
+  const std::string json = slurp(report);
+  EXPECT_NE(json.find("\"charts_below_a_texel\": " + std::to_string(below)), std::string::npos)
+      << below;
+  EXPECT_NE(
+      a.summary.find("Warning: " + std::to_string(below) + " of the " +
+                     std::to_string(area.size()) + " charts are packed into less than a texel"),
+      std::string::npos)
+      << a.summary;
+}
+
 TEST(Atlas, ConesAndChartsAreNumberedAcrossTheFilesParts) {
   // CGAL's three blobs, one file: the report named each part's cones by the part's own vertex
   // numbers before 2026-12-07 (597 for the output's vertex 1422, flat there). Every cone named is

@@ -504,6 +504,10 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   packing.scale = 1 / extent;
   for (auto& b : packing.offset) b *= packing.scale;
   packing.utilization = total * packing.scale * packing.scale;
+  const double texel = 1 / (static_cast<double>(o.texture_size) * o.texture_size);
+  for (size_t k = 0; k < n; ++k) {
+    packing.below_a_texel += !charts[k].empty() && area[k] * packing.scale * packing.scale < texel;
+  }
   return packing;
 }
 

@@ -179,6 +179,7 @@ void gather_texture(MeshUniformization& out, const PackingOptions& packing) {
   out.packed.utilization = p.utilization;
   out.packed.padding = p.padding;
   out.packed.padding_asked = packing.padding;
+  out.packed.below_a_texel = p.below_a_texel;
   const auto to_atlas = [&](int piece, const Eigen::Vector2d& q) {
     const Eigen::Vector2d uv = p.scale * p.rotation[piece] * q + p.offset[piece];
     return Eigen::Vector2d(std::clamp(uv.x(), 0.0, 1.0), std::clamp(uv.y(), 0.0, 1.0));

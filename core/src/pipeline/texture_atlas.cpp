@@ -568,6 +568,7 @@ void pack_atlas(const PackingOptions& o, Uniformization& run) {
   atlas.utilization = packing.utilization;
   atlas.padding = packing.padding;
   atlas.padding_asked = o.padding;
+  atlas.charts_below_a_texel = packing.below_a_texel;
   atlas.texture.resize(run.corners.size());
   for (size_t f = 0; f < run.corners.size(); ++f) {
     const int k = run.face_chart[f];

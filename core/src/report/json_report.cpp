@@ -160,6 +160,8 @@ std::string layout_json(const Uniformization& run, const std::vector<int>* verte
       << ", \"seam_length\": " << number(a.seam_length) << ", \"seam_edges\": " << a.seam_edges
       << ", \"overlapping_faces\": " << a.overlapping_faces
       << ", \"utilization\": " << number(a.utilization) << ", \"padding\": " << number(a.padding)
+      << ", \"charts_below_a_texel\": "
+      << (std::isfinite(a.utilization) ? std::to_string(a.charts_below_a_texel) : "null")
       << ", \"seconds\": {\"charts\": " << number(a.seconds.charts)
       << ", \"harmonic\": " << number(a.seconds.harmonic)
       << ", \"packing\": " << number(a.seconds.packing) << "}}";
@@ -297,6 +299,7 @@ std::string json_report(const MeshUniformization& run, const RunContext& context
     j << "  \"texture\": {\"pieces\": " << run.packed.pieces
       << ", \"utilization\": " << number(run.packed.utilization)
       << ", \"padding\": " << number(run.packed.padding)
+      << ", \"below_a_texel\": " << run.packed.below_a_texel
       << ", \"distortion\": " << number(run.packed.distortion) << "},\n";
   }
   j << "  \"components\": [";

@@ -38,6 +38,17 @@ std::string padding_warning(double padding, double asked) {
   return s.str();
 }
 
+// Said where charts are packed into less than a texel ("" where none is).
+std::string below_a_texel_warning(int below, int charts, const char* what) {
+  if (below == 0) return "";
+  std::ostringstream s;
+  s << "Warning: " << below << " of the " << charts << " " << what
+    << " are packed into less than a texel each: the texture draws none of their faces (parts "
+       "of the mesh far smaller than the rest, or charts the cones squeeze; a larger texture size "
+       "draws more of them)";
+  return s.str();
+}
+
 }  // namespace
 
 std::vector<std::pair<std::string, double>> result_numbers(const Uniformization& run) {
@@ -83,6 +94,9 @@ std::vector<std::string> summary_lines(const MeshUniformization& run, const RunC
     lines.push_back(l.str());
     const std::string padding = padding_warning(run.packed.padding, run.packed.padding_asked);
     if (!padding.empty()) lines.push_back(padding);
+    const std::string tiny =
+        below_a_texel_warning(run.packed.below_a_texel, run.packed.pieces, "pieces");
+    if (!tiny.empty()) lines.push_back(tiny);
   }
   return lines;
 }
@@ -299,6 +313,8 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
     if (!p.bound_reached) line("Warning: the distortion bound was not reached: ", p.why_not);
     const std::string padding = padding_warning(a.padding, a.padding_asked);
     if (!padding.empty() && !context.packed_together) line(padding);
+    const std::string tiny = below_a_texel_warning(a.charts_below_a_texel, a.num_charts, "charts");
+    if (!tiny.empty() && !context.packed_together) line(tiny);
     // The linear model's D is a model's: the exact flat metric of its cones can exceed the bound.
     if (!a.user_cones && p.bound_reached && a.distortion > a.bound_asked) {
       line("Warning: the delivered faces' area distortion D ", a.distortion,

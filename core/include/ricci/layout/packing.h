@@ -29,6 +29,9 @@ struct Packing {
   //! Texels between two charts at least: the options' padding, or less where no packing gave it
   //! (more charts than the texture holds at that padding).
   double padding = 0;
+  //! Charts packed into less than one texel's area of the texture (drawn in no texel of their
+  //! own): a texture that size draws none of their faces.
+  int below_a_texel = 0;
 };
 
 //! The smallest texture size packed for, in texels per side.

@@ -57,6 +57,7 @@ struct MeshUniformization {
     double utilization = 0;
     double distortion = 0;
     double padding = 0, padding_asked = 0;  //!< as AtlasResult's
+    int below_a_texel = 0;                  //!< pieces packed into less than a texel
   } packed;
   //! The atlas target: its cones, on delivered vertices, with their angles in the exact metric.
   std::vector<Cone> cones;

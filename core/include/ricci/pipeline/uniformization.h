@@ -167,6 +167,7 @@ struct AtlasResult {
   //! Texels between two charts at least, and the padding asked: less only where the charts are
   //! too many for the texture size at that padding (Packing::padding).
   double padding = 0, padding_asked = 0;
+  int charts_below_a_texel = 0;  //!< Packing::below_a_texel
   //! Wall time of the stages after the flow: seams and charts with their overlap splits, the
   //! harmonic redrawing of the charts' insides, the packing (the halvings' packings and the
   //! delivered one; a component of several has only the former: the joint packing is
