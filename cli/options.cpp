@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <system_error>
 
 #include "ricci/layout/packing.h"
 #include "ricci/mesh/errors.h"
@@ -57,7 +58,10 @@ void set_target(Options& o, const std::string& spec) {
   o.target_file = o.target_is_cones ? spec.substr(6) : spec;
   if (o.target_file.empty()) throw InvalidArgumentError("--target cones: needs a file name");
   // A target that is no file: most likely a name mistyped (a usage error, as an unknown scheme).
-  if (!o.target_is_cones && !std::filesystem::exists(spec)) {
+  // (A name the file system cannot answer for, too long or behind a locked folder, is read as a
+  // file, whose reading then says why.)
+  std::error_code unknown;
+  if (!o.target_is_cones && !std::filesystem::exists(spec, unknown) && !unknown) {
     throw InvalidArgumentError("--target '" + spec +
                                "' is no target (auto, disk, free-boundary, zero, atlas, "
                                "cones:FILE) and no file of Kbar values");

@@ -9,8 +9,9 @@
 // in the Poincare disk), or planar charts share the file with a sphere, texcoord for every face,
 // 6 floats (u v per corner, in [0, 1]; 0 for the sphere's faces), which MeshLab reads as wedge
 // texture coordinates, texcoord_double, the same in double precision (thin faces can turn over
-// when rounded to float), ricci_chart (int: the Poincare disk chart the face is drawn in, 0 for a
-// layout in one piece, -1 for a face without one) and layout_corners (6 doubles: x y per corner in
+// when rounded to float), ricci_chart (int: the Poincare disk chart or atlas chart the face is
+// drawn in, a component in one piece one chart, -1 for a face without one; numbered across the
+// components, each one's on from those before it) and layout_corners (6 doubles: x y per corner in
 // the layout's model before any normalization: the plane in the metric's units, the Poincare
 // disk in the face's chart, every vertex at its point of the conformal map, so that the faces are
 // hyperbolic triangles whose copies across the cut are images under the deck transformations,

@@ -999,6 +999,22 @@ TEST(Atlas, ChartsOfQuarterTurnConesMeetByQuarterTurns) {
   // A closed surface but a torus has no flat metric without cones: the summary names no D for it
   // ("without cones nan" before 2026-12-07).
   EXPECT_EQ(a.summary.find("nan"), std::string::npos) << a.summary;
+  // The user's cones keep their angles, and their charts are packed as without quarter turns.
+  const std::string report = temp("bull.json");
+  const Atlas placed = run_atlas(bull, "--report " + report);
+  std::ostringstream lines;
+  lines.precision(17);
+  for (const auto& [v, angle] : report_cones(slurp(report))) {
+    lines << v << " " << angle * 180 / M_PI << "\n";
+  }
+  const std::string cones = temp("bull-cones.txt");
+  write_file(cones, lines.str());
+  const Atlas free = run_atlas(bull, "--cones " + cones);
+  const Atlas quarter = run_atlas(bull, "--cones " + cones + " --cone-angles quarter");
+  ASSERT_EQ(free.uv.size(), quarter.uv.size());
+  for (size_t f = 0; f < free.uv.size(); ++f) {
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(free.uv[f][c], quarter.uv[f][c]) << "face " << f;
+  }
 }
 
 TEST(Atlas, ABoxTurnedAndInSinglePrecisionMeetsByQuarterTurns) {

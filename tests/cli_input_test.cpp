@@ -93,6 +93,10 @@ TEST(Cli, BadInputGetsAClearError) {
                {"3 connected components", "blobby_3cc.off"});
   expect_error(cgal("nefertiti.off") + out + " --target zero", 1, {"Gauss-Bonnet fails"});
   // Targets from a file
+  // A name the file system will not answer for (too long) is read as a file, and says so (exit
+  // 134 from an exception, before it was caught).
+  expect_error(cgal("nefertiti.off") + out + " --target " + std::string(300, 'a'), 1,
+               {"cannot open"});
   expect_error(cgal("nefertiti.off") + out + " --target bogus", 2,
                {"--target 'bogus' is no target (auto, disk, free-boundary, zero, atlas"});
   write_file(temp("short.txt"), "0\n0\n");

@@ -58,6 +58,8 @@ def _flags(options, folder):
             flags += ["--eps", _write_numbers(folder, "eps.txt", [int(e) for e in value])]
         elif name == "cones":
             rows = [(int(v), float(degrees)) for v, degrees in value]
+            if not rows:
+                raise ValueError("cones: none given; leave the option out for placed cones")
             flags += ["--cones", _write_numbers(folder, "cones.txt", rows)]
         elif name == "target" and not isinstance(value, str):
             values = np.asarray(value, dtype=np.float64).ravel()
@@ -109,8 +111,8 @@ class Result:
     face_chart: per face, the Poincare disk chart its corners are in, where a hyperbolic domain
         reaches too far from its centre for one disk in double precision, or the atlas chart
         (target="atlas") (else None): each Poincare chart is a piece of the domain moved near the
-        centre of its own disk; 0 for the faces of a component in one piece, -1 for those of a
-        component without a layout; each component's charts numbered on from those before it.
+        centre of its own disk; a component in one piece is one chart, and -1 marks the faces of
+        a component without a layout; each component's charts numbered on from those before it.
     layout_kinds: per component: "plane", "plane-cut", "poincare-disk", "sphere", "atlas" or
         "none".
     cones, cone_angles: target="atlas": the cones' vertices (int) and angles (radians, in the
@@ -183,7 +185,10 @@ def uniformize(vertices, faces, **options):
         try:
             d = _ricci_flow.uniformize(v, f, _flags(options, folder))
         except ValueError as e:
-            raise ValueError(_by_keyword(str(e))) from None
+            message = _by_keyword(str(e))
+            for name in ("eps", "cones", "target"):  # the files written for array options
+                message = message.replace(os.path.join(folder, name + ".txt"), "(%s given)" % name)
+            raise ValueError(message) from None
     if d["failure"]:
         error = RicciFlowError(d["failure"])
         error.report = json.loads(d["report"])

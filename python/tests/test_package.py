@@ -167,6 +167,11 @@ def test_option_errors_name_the_keywords():
         ricci_flow.uniformize(V, F, distortion=0.1)
     with pytest.raises(ValueError, match=r"target 'ATLAS' is no target"):
         ricci_flow.uniformize(V, F, target="ATLAS")
+    with pytest.raises(ValueError, match=r"cones: none given"):
+        ricci_flow.uniformize(V, F, target="atlas", cones=[])
+    with pytest.raises(ValueError, match=r"cones \(cones given\) with target zero") as e:
+        ricci_flow.uniformize(V, F, target="zero", cones=[(0, 90)])
+    assert "ricci-flow-" not in str(e.value)
 
 
 def test_every_option_of_the_tool_is_an_option_by_name(tmp_path):

@@ -322,6 +322,7 @@ class Search {
     const double quarter = kPi / 2;
     const bool closed = mesh_.is_closed();
     for (int round = 0; round < kQuarterMoves; ++round) {
+      keep_columns(cones);  // the last round's candidates' dropped: n doubles each
       solve_in_blocks(cones, false);
       const double d = model_.distortion(cones, k);
       if (d <= bound()) return;
@@ -346,7 +347,7 @@ class Search {
       };
       keep(low, 1);
       keep(high, -1);
-      if (low.empty() || high.empty()) return;
+      if (closed ? low.empty() || high.empty() : low.empty() && high.empty()) return;
       std::vector<int> candidates = low;
       candidates.insert(candidates.end(), high.begin(), high.end());
       solve_in_blocks(candidates, false);
@@ -665,7 +666,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   result.distortion = area_weighted_deviation(model.area(), result.u);
   if (o.quarter_angles && result.bound_reached && result.distortion > o.distortion_bound) {
     result.bound_reached = false;
-    result.why_not = "rounding the cone angles to quarter turns leaves the linear model's D at " +
+    result.why_not = "with the cone angles in quarter turns the linear model's D stays at " +
                      std::to_string(result.distortion);
   }
   const double mean = model.area().dot(result.u);

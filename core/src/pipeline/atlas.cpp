@@ -418,7 +418,11 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
   }
   gather_vertices(out);
   gather_face_layouts(out);
-  gather_texture(out, detail::atlas_packing(options));
+  PackingOptions packing = detail::atlas_packing(options);
+  for (const Uniformization& c : out.components) {  // (the user's cones keep their own angles)
+    packing.quarter_turns_only = packing.quarter_turns_only && !c.atlas.user_cones;
+  }
+  gather_texture(out, packing);
   for (size_t k = 0; k < out.components.size(); ++k) {
     const AtlasResult& a = out.components[k].atlas;
     for (size_t i = 0; i < a.placement.cones.size(); ++i) {

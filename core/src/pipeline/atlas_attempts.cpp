@@ -48,7 +48,8 @@ bool wanted_loops(const FlowResult& flow) {
 std::string cones_for(const Uniformization& run) {
   std::ostringstream s;
   s.precision(3);
-  s << "D <= " << run.atlas.bound << " (" << run.atlas.placement.cones.size() << " cones)";
+  const size_t n = run.atlas.placement.cones.size();
+  s << "D <= " << run.atlas.bound << " (" << n << (n == 1 ? " cone)" : " cones)");
   return s.str();
 }
 

@@ -293,6 +293,11 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   AtlasResult& atlas = run.atlas;
   atlas.texture.clear();  // packed by pack_atlas, if at all
   atlas.utilization = atlas.padding = atlas.padding_asked = kNaN;
+  // Charts turned to meet by quarter turns, and packed so: placed cones rounded to them (the
+  // user's cones keep their own angles).
+  const bool quarter = o.cone_placement.quarter_angles && !atlas.user_cones;
+  PackingOptions packing_options = o.packing;
+  packing_options.quarter_turns_only = quarter;
   atlas.on_input_faces = false;
   atlas.untangled = 0;
   atlas.input_faces_cut = 0;
@@ -474,11 +479,17 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
              .empty();
     atlas.seconds.charts += lap(clock);
     if (overlap) break;
-    if (!packing) packing = pack_charts(triangles_by_chart(charts), atlas_packing(o));
+    // (In quarter turns, the charts as delivered: turned to meet so.)
+    const auto as_packed = [&](const Charts& c) {
+      if (!quarter) return triangles_by_chart(c);
+      Charts turned = c;
+      turn_charts_to_quarter_turns(faces, turned);
+      return triangles_by_chart(turned);
+    };
+    if (!packing) packing = pack_charts(as_packed(charts), packing_options);
     // Halved charts pack about as full as whole ones: that packing's utilization sizes the first
     // margin, mostly sparing the packing its second pass.
-    Packing fuller =
-        pack_charts(triangles_by_chart(shorter), atlas_packing(o), packing->utilization);
+    Packing fuller = pack_charts(as_packed(shorter), packing_options, packing->utilization);
     atlas.seconds.packing += lap(clock);
     if (!(fuller.utilization > 1.1 * packing->utilization)) break;
     seam = std::move(halved);
@@ -510,7 +521,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       atlas.untangled = user->untangled;
       atlas.on_input_faces = true;
       deliver(mesh, mesh.positions(), mesh.faces(), in->seam, lengths_in_3d(mesh, mesh.positions()),
-              user->charts, {}, mesh.input_area(), o.cone_placement.quarter_angles, run);
+              user->charts, {}, mesh.input_area(), quarter, run);
       return;
     }
     if (auto partly = in ? partly_cut_drawn(mesh, *sub, delivered, under, seam, charts, *in,
@@ -523,7 +534,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       atlas.input_faces_cut = cut.input_faces_cut;
       deliver(cut.delivered, cut.sub.positions, cut.sub.faces, cut.seam,
               lengths_in_3d(cut.delivered, cut.sub.positions), drawn.charts, {}, mesh.input_area(),
-              o.cone_placement.quarter_angles, run);
+              quarter, run);
       run.subdivision = std::move(cut.sub);
       return;
     }
@@ -542,8 +553,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     }
     atlas.seconds.harmonic += lap(clock);
   }
-  deliver(delivered, positions, faces, seam, length3d, charts, overlaps, mesh.input_area(),
-          o.cone_placement.quarter_angles, run);
+  deliver(delivered, positions, faces, seam, length3d, charts, overlaps, mesh.input_area(), quarter,
+          run);
   if (sub) run.subdivision = std::move(sub);
 }
 
@@ -559,12 +570,14 @@ void pack_atlas(const PackingOptions& o, Uniformization& run) {
   }
   AtlasResult& atlas = run.atlas;
   const auto start = Clock::now();
+  PackingOptions packing_options = o;  // (the user's cones keep their own angles)
+  packing_options.quarter_turns_only = o.quarter_turns_only && !atlas.user_cones;
   std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> by_chart(atlas.num_charts);
   for (size_t f = 0; f < run.corners.size(); ++f) {
     const auto& q = run.corners[f];
     by_chart[run.face_chart[f]].push_back({q[0].head<2>(), q[1].head<2>(), q[2].head<2>()});
   }
-  const Packing packing = pack_charts(by_chart, o);
+  const Packing packing = pack_charts(by_chart, packing_options);
   atlas.utilization = packing.utilization;
   atlas.padding = packing.padding;
   atlas.padding_asked = o.padding;
