@@ -418,10 +418,14 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
   }
   gather_vertices(out);
   gather_face_layouts(out);
-  PackingOptions packing = detail::atlas_packing(options);
-  for (const Uniformization& c : out.components) {  // (the user's cones keep their own angles)
-    packing.quarter_turns_only = packing.quarter_turns_only && !c.atlas.user_cones;
-  }
+  // In quarter turns only where every atlas part's charts meet so (AtlasResult::quarter_turns).
+  PackingOptions packing = options.packing;
+  const auto& parts = out.components;
+  const auto atlas = [](const Uniformization& c) { return c.layout_kind == LayoutKind::Atlas; };
+  packing.quarter_turns_only =
+      std::any_of(parts.begin(), parts.end(), atlas) &&
+      std::all_of(parts.begin(), parts.end(),
+                  [&](const Uniformization& c) { return !atlas(c) || c.atlas.quarter_turns; });
   gather_texture(out, packing);
   for (size_t k = 0; k < out.components.size(); ++k) {
     const AtlasResult& a = out.components[k].atlas;

@@ -293,9 +293,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   AtlasResult& atlas = run.atlas;
   atlas.texture.clear();  // packed by pack_atlas, if at all
   atlas.utilization = atlas.padding = atlas.padding_asked = kNaN;
-  // Charts turned to meet by quarter turns, and packed so: placed cones rounded to them (the
-  // user's cones keep their own angles).
-  const bool quarter = o.cone_placement.quarter_angles && !atlas.user_cones;
+  atlas.quarter_turns = o.cone_placement.quarter_angles && !atlas.user_cones;
+  const bool quarter = atlas.quarter_turns;
   PackingOptions packing_options = o.packing;
   packing_options.quarter_turns_only = quarter;
   atlas.on_input_faces = false;
@@ -558,20 +557,14 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   if (sub) run.subdivision = std::move(sub);
 }
 
-PackingOptions atlas_packing(const UniformizationOptions& o) {
-  PackingOptions packing = o.packing;
-  packing.quarter_turns_only = o.cone_placement.quarter_angles;
-  return packing;
-}
-
 void pack_atlas(const PackingOptions& o, Uniformization& run) {
   if (run.layout_kind != LayoutKind::Atlas || run.corners.empty() || !run.atlas.texture.empty()) {
     return;
   }
   AtlasResult& atlas = run.atlas;
   const auto start = Clock::now();
-  PackingOptions packing_options = o;  // (the user's cones keep their own angles)
-  packing_options.quarter_turns_only = o.quarter_turns_only && !atlas.user_cones;
+  PackingOptions packing_options = o;
+  packing_options.quarter_turns_only = atlas.quarter_turns;
   std::vector<std::vector<std::array<Eigen::Vector2d, 3>>> by_chart(atlas.num_charts);
   for (size_t f = 0; f < run.corners.size(); ++f) {
     const auto& q = run.corners[f];

@@ -143,13 +143,10 @@ std::vector<double> lengths_in_3d(const Triangulation& delivered,
 //! utilization and padding NaN until pack_atlas.
 void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Uniformization& run);
 
-//! An atlas run's charts packed into [0, 1]^2 (pack_charts): run.atlas.texture, utilization,
-//! padding. Nothing where the run has no atlas layout or is packed already.
+//! An atlas run's charts packed into [0, 1]^2 (pack_charts; in quarter turns only where its
+//! charts meet so, AtlasResult::quarter_turns): run.atlas.texture, utilization, padding. Nothing
+//! where the run has no atlas layout or is packed already.
 void pack_atlas(const PackingOptions& o, Uniformization& run);
-
-//! The packing a request asks for: with quarter-turn cones (ConePlacementOptions::quarter_angles)
-//! the charts, turned by lay_out_atlas to meet by quarter turns, packed in quarter turns only.
-PackingOptions atlas_packing(const UniformizationOptions& o);
 
 //! The area distortion D of laid-out faces, as an independent check of an atlas measures it: with
 //! A the 3D and a the layout's area of each face, both scaled to sum 1 over the faces where both

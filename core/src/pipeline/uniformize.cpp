@@ -481,7 +481,7 @@ Uniformization detail::uniformize_unpacked(const CompactMesh& mesh,
 Uniformization uniformize(const CompactMesh& mesh, const UniformizationOptions& request) {
   const auto start = detail::Clock::now();
   Uniformization run = detail::uniformize_unpacked(mesh, request);
-  detail::pack_atlas(detail::atlas_packing(request), run);
+  detail::pack_atlas(request.packing, run);
   run.seconds = detail::seconds_since(start);
   return run;
 }

@@ -124,6 +124,10 @@ struct AtlasResult {
   //! without them wanted one (stalled for it, or ended with one refused), and no other attempt
   //! nor the unfolding gave an atlas.
   bool loops = false;
+  //! The charts are turned to meet by quarter turns (turn_charts_to_quarter_turns) and are packed
+  //! in quarter turns only: placed cones rounded to them (--cone-angles quarter; the user's cones
+  //! keep their own angles).
+  bool quarter_turns = false;
   //! D of the flow's u (the exact flat metric) at the vertices, on the surface scaled to area 1.
   double flow_distortion = 0;
   //! D of the delivered faces: sqrt(sum A (s - mean s)^2), s = log(a / A) / 2, with A the 3D and
