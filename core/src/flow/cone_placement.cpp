@@ -315,9 +315,8 @@ class Search {
   // of curvature moved at a time, from the vertex where u is highest to where it is lowest (a
   // cone made, grown or dropped there; on a surface with boundary, whose boundary takes up the
   // difference, one end alone too), the move among the kQuarterCandidates lowest minima and
-  // highest maxima of u
-  // that lowers D most, while D is above the bound and one does; each cone within its floor and
-  // drawable (kDrawableCorner), at most `budget` cones.
+  // highest maxima of u that lowers D most, while D is above the bound and one does; each cone
+  // within its floor and drawable (kDrawableCorner), at most `budget` cones.
   void move_quarters(std::vector<int>& cones, Eigen::VectorXd& k, int budget) {
     const double quarter = kPi / 2;
     const bool closed = mesh_.is_closed();
