@@ -142,6 +142,80 @@ TEST(ConePlacement, ABudgetStopsThePlacementAndSaysSo) {
   EXPECT_NE(p.why_not.find("budget"), std::string::npos) << p.why_not;
 }
 
+// Where the budget stops the placement above the bound, the cones' curvatures are those of least
+// D: below the held model's (u = 0 at the cones) at the same cones, no curvature moved between
+// two cones lowers it further, and the floors, Gauss-Bonnet and the held u's range hold.
+TEST(ConePlacement, AtTheBudgetTheConesCurvaturesAreThoseOfLeastDistortion) {
+  const CompactMesh mesh = cgal_mesh("bull.off");
+  ConePlacementOptions o;
+  o.max_cones = 8;
+  const ConePlacement p = place_cones(mesh, o);
+  ASSERT_FALSE(p.bound_reached);
+  ASSERT_EQ(p.cones.size(), 8u);
+  EXPECT_TRUE(p.least_distortion);
+  o.least_distortion_angles = false;
+  const ConePlacement held = place_cones(mesh, o);
+  EXPECT_FALSE(held.least_distortion);
+  LinearConeModel model(mesh, LinearSolverKind::Cholmod);
+  std::vector<int> cones;
+  for (size_t j = 0; j < p.cones.size(); ++j) {
+    cones.push_back(p.cones[j].vertex);
+    EXPECT_EQ(held.cones[j].vertex, p.cones[j].vertex);
+  }
+  const LinearConeModel::Solution s = model.held(cones);
+  ASSERT_TRUE(s.ok);
+  EXPECT_NEAR(held.distortion, s.d, 1e-9);
+  EXPECT_LT(p.distortion, 0.95 * s.d);
+  EXPECT_NEAR(curvature_sum(p), 2 * kPi * mesh.euler_characteristic(), 1e-8);
+  Eigen::VectorXd k(8);
+  for (long j = 0; j < 8; ++j) {
+    k[j] = 2 * kPi - p.cones[static_cast<size_t>(j)].angle;
+    EXPECT_GE(p.cones[static_cast<size_t>(j)].angle, kPi / 4);
+  }
+  EXPECT_NEAR(model.distortion(cones, k), p.distortion, 1e-9);
+  EXPECT_NEAR(area_distortion(mesh, p.u), p.distortion, 1e-9);
+  std::vector<double> widest(mesh.num_vertices(), 0), angle_sum(mesh.num_vertices(), 0);
+  for (const auto& t : mesh.faces()) {
+    for (int c = 0; c < 3; ++c) {
+      const auto& x = mesh.positions();
+      const Eigen::Vector3d a = x[t[(c + 1) % 3]] - x[t[c]], b = x[t[(c + 2) % 3]] - x[t[c]];
+      const double corner = std::atan2(a.cross(b).norm(), a.dot(b));
+      widest[t[c]] = std::max(widest[t[c]], corner);
+      angle_sum[t[c]] += corner;
+    }
+  }
+  const Eigen::VectorXd u = model.u(cones, s);
+  const double mean = model.area().dot(u), p_mean = model.area().dot(p.u);
+  for (int c : cones) {
+    EXPECT_LE(p.u[c] - p_mean, u.maxCoeff() - mean + 1e-9);
+    EXPECT_GE(p.u[c] - p_mean, u.minCoeff() - mean - 1e-9);
+  }
+  // A small curvature moved from one cone to another, both kept off their constraints' reach:
+  // D does not fall (to second order it rises) wherever the move keeps every constraint.
+  int moves = 0;
+  for (long i = 0; i < 8; ++i) {
+    for (long j = 0; j < 8; ++j) {
+      if (i == j) continue;
+      Eigen::VectorXd moved = k;
+      moved[i] += 1e-4, moved[j] -= 1e-4;
+      const Eigen::VectorXd v = model.prescribed(cones, moved);
+      const double v_mean = model.area().dot(v);
+      bool kept = true;
+      for (int c : cones) {
+        kept = kept && v[c] - v_mean <= u.maxCoeff() - mean && v[c] - v_mean >= u.minCoeff() - mean;
+      }
+      // The cone that loses curvature opens its corners wider: it must stay drawable (its
+      // widest corner opened at most 0.9 pi), or as the held model's was.
+      const int w = cones[static_cast<size_t>(j)];
+      const double drawable = 2 * kPi - 0.9 * kPi * angle_sum[w] / widest[w];
+      if (!kept || 2 * kPi - moved[i] < kPi / 4 || moved[j] < std::min(s.k[j], drawable)) continue;
+      ++moves;
+      EXPECT_GE(model.distortion(cones, moved), p.distortion - 1e-12) << i << " to " << j;
+    }
+  }
+  EXPECT_GT(moves, 0);
+}
+
 TEST(ConePlacement, NoConeOpensACornerOfItsFacesNearAHalfTurn) {
   // CGAL's bull at 8 cones: the peaks of |u| put two cones of about 12 rad (a little less than two
   // turns) at vertices of five faces, whose corners of 115 and 102 degrees the flat metric opened

@@ -244,6 +244,26 @@ double LinearConeModel::distortion(double quadratic, double with_g, double sum) 
   return std::sqrt(std::max(0.0, d2));
 }
 
+std::pair<Eigen::MatrixXd, Eigen::VectorXd> LinearConeModel::distortion_form(
+    const std::vector<int>& cones) const {
+  const long m = static_cast<long>(cones.size());
+  std::vector<int> slot(cones.size());
+  Eigen::VectorXd sum(m), b(m);
+  for (long i = 0; i < m; ++i) {
+    slot[static_cast<size_t>(i)] = slot_of_[cones[static_cast<size_t>(i)]];
+    sum[i] = sum_[slot[static_cast<size_t>(i)]];
+    b[i] = with_g_[slot[static_cast<size_t>(i)]] - sum[i] * g_sum_;
+  }
+  for (int a : slot) pair(a, slot);
+  Eigen::MatrixXd q(m, m);
+  for (long j = 0; j < m; ++j) {
+    for (long i = 0; i < m; ++i) {
+      q(i, j) = gram(slot[static_cast<size_t>(i)], slot[static_cast<size_t>(j)]) - sum[i] * sum[j];
+    }
+  }
+  return {q, b};
+}
+
 void LinearConeModel::pair(int a, const std::vector<int>& slots) const {
   // A column paired with many of the set for the first time: its sums with every column at once,
   // R(A col) read at their vertices (sum A col_a col_b = e_b^T R(A col_a), H symmetric).

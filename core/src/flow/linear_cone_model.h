@@ -75,6 +75,9 @@ class LinearConeModel {
   //! D from the sums a set's k makes: sum_ij k_i k_j (A col_i . col_j), sum_i k_i (A col_i . g)
   //! and sum_i k_i (A . col_i).
   double distortion(double quadratic, double with_g, double sum) const;
+  //! D^2 of a cone set's curvatures k as k^T q k + 2 b^T k + (D^2 of g): the pair (q, b), q
+  //! positive definite (on the plane sum k = 2 pi chi of a closed surface).
+  std::pair<Eigen::MatrixXd, Eigen::VectorXd> distortion_form(const std::vector<int>& cones) const;
   //! v's column's area-weighted sums with each of these cones' columns (all solved), and with
   //! itself last: a row of the quadratic form.
   Eigen::VectorXd gram_with(int v, const std::vector<int>& cones) const;

@@ -248,13 +248,13 @@ double face_distortion(const std::vector<Eigen::Vector3d>& positions,
 }
 
 TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& placement,
-                             bool quarter_angles) {
+                             bool curvatures) {
+  curvatures = curvatures || placement.least_distortion;
   Eigen::VectorXd values = Eigen::VectorXd::Zero(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     if (mesh.is_boundary_vertex(v)) values[v] = kNaN;
   }
-  for (const Cone& c : placement.cones)
-    values[c.vertex] = quarter_angles ? 2 * kPi - c.angle : kNaN;
+  for (const Cone& c : placement.cones) values[c.vertex] = curvatures ? 2 * kPi - c.angle : kNaN;
   return TargetCurvature::from_values(mesh, values);
 }
 

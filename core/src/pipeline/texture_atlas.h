@@ -40,10 +40,11 @@
 
 namespace ricci::detail {
 
-//! The flow's target for placed cones: u held at the cones (or, with quarter angles, their
-//! rounded curvature) and on the boundary, Kbar = 0 at every other vertex.
+//! The flow's target for placed cones: u held at the cones at 0 (or their curvature, where
+//! `curvatures` asks for it or the placement's are those of least D, u free at the cones) and on
+//! the boundary, Kbar = 0 at every other vertex.
 TargetCurvature atlas_target(const CompactMesh& mesh, const ConePlacement& placement,
-                             bool quarter_angles);
+                             bool curvatures);
 
 //! The cones that unfold the surface: every interior vertex whose angle sum in the input metric is
 //! off 2 pi by more than `flat` (radians), at that angle sum, with u = 0. Their flat cone metric is

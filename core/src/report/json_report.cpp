@@ -151,7 +151,9 @@ std::string layout_json(const Uniformization& run, const std::vector<int>* verte
       << ", \"max_deviation\": " << number(p.max_deviation)
       << ", \"placement\": {\"factorizations\": " << p.factorizations
       << ", \"back_solves\": " << p.back_solves << ", \"relocations\": " << p.relocations
-      << ", \"dropped\": " << p.dropped << ", \"seconds\": " << number(p.seconds) << "}"
+      << ", \"dropped\": " << p.dropped
+      << ", \"least_distortion\": " << (p.least_distortion ? "true" : "false")
+      << ", \"seconds\": " << number(p.seconds) << "}"
       << ", \"charts\": " << a.num_charts << ", \"splits\": " << a.splits
       << ", \"harmonic_charts\": " << a.harmonic_charts
       << ", \"on_input_faces\": " << (a.on_input_faces ? "true" : "false")

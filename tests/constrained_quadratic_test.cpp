@@ -1,0 +1,114 @@
+// The least of a convex quadratic under linear inequalities, against every choice of the
+// constraints that hold with equality, tried one by one on small problems.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include "flow/constrained_quadratic.h"
+
+namespace ricci::test {
+namespace {
+
+double value(const ConstrainedQuadratic& p, const Eigen::VectorXd& x) {
+  return 0.5 * x.dot(p.q * x) + p.b.dot(x);
+}
+
+bool feasible(const ConstrainedQuadratic& p, const Eigen::VectorXd& x, double sum, double slack) {
+  if (p.sum_fixed && std::abs(x.sum() - sum) > slack) return false;
+  return ((p.a * x - p.limit).array() <= slack).all();
+}
+
+// The minimum by enumeration: for every subset of the constraints held as equalities, the
+// stationary point of f on them (and the sum's plane); the least feasible one.
+double enumerated_minimum(const ConstrainedQuadratic& p, double sum) {
+  const long n = p.q.rows(), rows = p.a.rows();
+  double best = std::numeric_limits<double>::infinity();
+  for (long subset = 0; subset < (1L << rows); ++subset) {
+    std::vector<long> held;
+    for (long i = 0; i < rows; ++i) {
+      if (subset & (1L << i)) held.push_back(i);
+    }
+    const long extra = p.sum_fixed ? 1 : 0, size = n + static_cast<long>(held.size()) + extra;
+    Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(size, size);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(size);
+    kkt.topLeftCorner(n, n) = p.q;
+    rhs.head(n) = -p.b;
+    for (size_t j = 0; j < held.size(); ++j) {
+      const long r = n + static_cast<long>(j);
+      kkt.block(r, 0, 1, n) = p.a.row(held[j]);
+      kkt.block(0, r, n, 1) = p.a.row(held[j]).transpose();
+      rhs[r] = p.limit[held[j]];
+    }
+    if (p.sum_fixed) {
+      kkt.block(size - 1, 0, 1, n).setOnes();
+      kkt.block(0, size - 1, n, 1).setOnes();
+      rhs[size - 1] = sum;
+    }
+    const Eigen::FullPivLU<Eigen::MatrixXd> lu(kkt);
+    if (!lu.isInvertible()) continue;
+    const Eigen::VectorXd x = lu.solve(rhs).head(n);
+    if (feasible(p, x, sum, 1e-9)) best = std::min(best, value(p, x));
+  }
+  return best;
+}
+
+TEST(ConstrainedQuadratic, AnUpperBoundThatCutsTheMinimumHoldsIt) {
+  ConstrainedQuadratic p;
+  p.q = Eigen::Matrix2d::Identity();
+  p.b = Eigen::Vector2d(-3, -0.5);
+  p.a = Eigen::RowVector2d(1, 0);
+  p.limit = Eigen::VectorXd::Constant(1, 1);
+  const Eigen::VectorXd x = minimize_constrained(p, Eigen::Vector2d(0, 0));
+  EXPECT_NEAR(x[0], 1, 1e-12);
+  EXPECT_NEAR(x[1], 0.5, 1e-12);
+  // With the sum fixed at 2 (the start's): the plane's minimum (2.25, -0.25) is cut at x0 = 1.
+  p.sum_fixed = true;
+  const Eigen::VectorXd y = minimize_constrained(p, Eigen::Vector2d(0.5, 1.5));
+  EXPECT_NEAR(y[0], 1, 1e-12);
+  EXPECT_NEAR(y[1], 1, 1e-12);
+}
+
+TEST(ConstrainedQuadratic, RandomProblemsReachTheEnumeratedMinimumFromAFeasibleStart) {
+  std::mt19937 random(7);
+  std::normal_distribution<double> normal;
+  int cut = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const long n = 2 + trial % 3, rows = 2 + trial % 5;
+    ConstrainedQuadratic p;
+    Eigen::MatrixXd m(n, n);
+    for (long i = 0; i < n * n; ++i) m.data()[i] = normal(random);
+    p.q = m * m.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
+    p.b.resize(n);
+    for (long i = 0; i < n; ++i) p.b[i] = 3 * normal(random);
+    // Constraints that the start x = 0 meets: a x <= limit with limit >= 0.
+    p.a.resize(rows, n);
+    p.limit.resize(rows);
+    for (long i = 0; i < rows; ++i) {
+      for (long j = 0; j < n; ++j) p.a(i, j) = normal(random);
+      p.limit[i] = std::abs(normal(random));
+    }
+    p.sum_fixed = trial % 2 == 1;
+    const Eigen::VectorXd start = Eigen::VectorXd::Zero(n);
+    const Eigen::VectorXd x = minimize_constrained(p, start);
+    SCOPED_TRACE(trial);
+    EXPECT_TRUE(feasible(p, x, 0, 1e-9));
+    const double expected = enumerated_minimum(p, 0);
+    EXPECT_NEAR(value(p, x), expected, 1e-9 * (1 + std::abs(expected)));
+    // How many minima the constraints move (a test of the constraints, not of chance).
+    Eigen::VectorXd free_minimum;
+    if (!p.sum_fixed) {
+      free_minimum = p.q.ldlt().solve(-p.b);
+      cut += !feasible(p, free_minimum, 0, 0);
+    }
+  }
+  EXPECT_GT(cut, 50);
+}
+
+}  // namespace
+}  // namespace ricci::test
