@@ -209,7 +209,8 @@ const std::vector<ParameterSpec>& parameter_specs() {
        static_cast<double>(d.atlas_max_cones),
        {},
        "Texture atlas: most cones",
-       "The cone budget; the log warns when it stops the placement before the bound."},
+       "The cone budget; the log warns when it stops the placement before the bound, and the "
+       "cones then take the angles of least distortion."},
       {"atlasQuarterAngles",
        Kind::Bool,
        d.atlas_quarter_angles ? 1.0 : 0.0,
