@@ -133,7 +133,7 @@ const std::vector<Flag>& flags() {
        "  zero: Kbar = 0 at every vertex\n"
        "  atlas: a texture atlas of every topology: cones placed until the area distortion is "
        "within --distortion, the flat metric with u held at them (and on the boundary; at a "
-       "--max-cones that stops them above it, their curvatures of least distortion), seams "
+       "cone budget that stops them above it, their curvatures of least distortion), seams "
        "through them on the mesh's edges, charts packed into [0, 1]^2\n"
        "  cones:FILE: lines \"VERTEX ANGLE_DEGREES\": corner angles on the boundary "
        "(rectangles, polygons); flat and straight elsewhere (cones inside: --target atlas "

@@ -457,6 +457,10 @@ TEST(Atlas, AtABudgetWhereEveryAttemptStallsForALoopItsConesFlowWithLoops) {
       << why;
   EXPECT_NE(why.find("needs an edge from a vertex to itself"), std::string::npos) << why;
   EXPECT_NE(why.find("unfolding it would take"), std::string::npos) << why;
+  // The cones' curvatures of least D were flowed first, and stalled too.
+  EXPECT_NE(why.find("; with the cones' curvatures of least D the atlas was not reached: stalled"),
+            std::string::npos)
+      << why;
 }
 
 TEST(Atlas, AtABudgetTheConesCurvaturesOfLeastDistortionLowerTheFacesD) {
@@ -485,6 +489,10 @@ TEST(Atlas, WhereTheCurvaturesOfLeastDistortionGiveNoAtlasOrAFarFromConformalOne
   EXPECT_NE(json.find("\"least_distortion\": false"), std::string::npos);
   const std::string stalled = "with the cones' curvatures of least D the atlas was not reached";
   EXPECT_EQ(bound_instead(json).rfind(stalled, 0), 0u) << bound_instead(json);
+  EXPECT_NE(json.find("\"held_curvatures\": true"), std::string::npos);
+  EXPECT_NE(t.summary.find("The cones keep u = 0 at them, not their curvatures of least D"),
+            std::string::npos)
+      << t.summary;
   const std::string cross = cgal("cross.off");
   const Atlas c = run_atlas(cross, "--max-cones 8 --report " + report);
   expect_valid_atlas(c, cross, 0.4);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <vector>
@@ -108,6 +109,65 @@ TEST(ConstrainedQuadratic, RandomProblemsReachTheEnumeratedMinimumFromAFeasibleS
     }
   }
   EXPECT_GT(cut, 50);
+}
+
+// Starts on constraints (some rows tight at x = 0), rows dependent on others, and problems of
+// one variable with the sum fixed: the result meets every constraint, never rises above the start,
+// and reaches the enumerated minimum.
+TEST(ConstrainedQuadratic, DegenerateProblemsKeepTheConstraintsAndNeverRise) {
+  std::mt19937 random(11);
+  std::normal_distribution<double> normal;
+  int reached = 0, trials = 0;
+  for (int trial = 0; trial < 300; ++trial, ++trials) {
+    const long n = 1 + trial % 4, rows = 2 + trial % 6;
+    ConstrainedQuadratic p;
+    Eigen::MatrixXd m(n, n);
+    for (long i = 0; i < n * n; ++i) m.data()[i] = normal(random);
+    p.q = m * m.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
+    p.b.resize(n);
+    for (long i = 0; i < n; ++i) p.b[i] = 3 * normal(random);
+    p.a.resize(rows, n);
+    p.limit.resize(rows);
+    for (long i = 0; i < rows; ++i) {
+      for (long j = 0; j < n; ++j) p.a(i, j) = normal(random);
+      // Every third row tight at the start; every fourth the opposite of the one before, the two
+      // an equality in turns (rows 3, 11, ...).
+      p.limit[i] = i % 3 == 0 ? 0 : std::abs(normal(random));
+      if (i % 4 == 3) {
+        p.a.row(i) = -p.a.row(i - 1);
+        if ((i / 4) % 2 == 0) p.limit[i - 1] = 0;  // a x = 0, met by the start
+        p.limit[i] = (i / 4) % 2 == 0 ? 0 : p.limit[i - 1] + 0.1;
+      }
+    }
+    p.sum_fixed = trial % 2 == 1;
+    const Eigen::VectorXd start = Eigen::VectorXd::Zero(n);
+    const Eigen::VectorXd x = minimize_constrained(p, start);
+    SCOPED_TRACE(trial);
+    EXPECT_TRUE(feasible(p, x, 0, 1e-9));
+    EXPECT_LE(value(p, x), value(p, start) + 1e-12);
+    const double expected = enumerated_minimum(p, 0);
+    EXPECT_GE(value(p, x), expected - 1e-9 * (1 + std::abs(expected)));
+    reached += value(p, x) <= expected + 1e-9 * (1 + std::abs(expected));
+  }
+  EXPECT_EQ(reached, trials);  // 286 of 300 before rows the step runs along stopped blocking it
+  std::printf("[ reached  ] %d of %d degenerate problems at the enumerated minimum\n", reached,
+              trials);
+}
+
+// A problem whose working set turns singular (an equal pair of bounds on x0 and tight bounds on
+// the others): the result keeps 0 <= x0 <= 0 (it went to x0 = -0.33 without the check).
+TEST(ConstrainedQuadratic, ASingularWorkingSetLeavesNoConstraintBroken) {
+  ConstrainedQuadratic p;
+  p.q.resize(3, 3);
+  p.q << 6, 2, 0, 2, 13, 8, 0, 8, 7;
+  p.b = Eigen::Vector3d(0, 3, -2);
+  p.a.resize(6, 3);
+  p.a << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  p.limit.resize(6);
+  p.limit << 0, 0, 1, 1, 1, 1;
+  const Eigen::VectorXd x = minimize_constrained(p, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(feasible(p, x, 0, 1e-12)) << x.transpose();
+  EXPECT_NEAR(value(p, x), enumerated_minimum(p, 0), 1e-9);
 }
 
 }  // namespace

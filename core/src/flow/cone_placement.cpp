@@ -135,11 +135,15 @@ class Search {
     s.solution = std::move(solution);
     if (!s.solution.ok) return s;
     s.d = s.solution.d;
-    s.angles_ok = true;
-    for (size_t i = 0; i < s.cones.size() && s.angles_ok; ++i) {
-      s.angles_ok = s.solution.k[static_cast<long>(i)] <= 2 * kPi - floor_[s.cones[i]];
-    }
+    s.angles_ok = angles_ok(s.cones, s.solution.k);
     return s;
+  }
+  // Whether every cone of curvature k is within its floor.
+  bool angles_ok(const std::vector<int>& cones, const Eigen::VectorXd& k) const {
+    for (size_t i = 0; i < cones.size(); ++i) {
+      if (!(k[static_cast<long>(i)] <= 2 * kPi - floor_[cones[i]])) return false;
+    }
+    return true;
   }
   // The set s with v added last, with its i-th cone moved to v (moved = i), or without its i-th
   // cone (v < 0): from s's held system where s has many cones.
@@ -680,6 +684,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     const double d = model.distortion(state.cones, least);
     if (d < state.d * (1 - 1e-9)) {
       k = least, state.d = d;
+      state.angles_ok = search.angles_ok(state.cones, k);
       result.least_distortion = true;
     }
   }

@@ -1,6 +1,7 @@
 #include "flow/constrained_quadratic.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <Eigen/LU>
@@ -53,8 +54,12 @@ Eigen::VectorXd minimize_constrained(const ConstrainedQuadratic& p, const Eigen:
     double length = 1;
     long blocking = -1;
     const Eigen::VectorXd ad = p.a * d, ax = p.a * x;
+    const double length_d = d.norm();
     for (long i = 0; i < rows; ++i) {
-      if (in_working[static_cast<size_t>(i)] || !(ad[i] > 0)) continue;
+      // A row the step runs along (within rounding) does not block it.
+      if (in_working[static_cast<size_t>(i)] || !(ad[i] > 1e-12 * p.a.row(i).norm() * length_d)) {
+        continue;
+      }
       const double reach = std::max(0.0, (p.limit[i] - ax[i]) / ad[i]);
       if (reach < length) length = reach, blocking = i;
     }
@@ -64,8 +69,13 @@ Eigen::VectorXd minimize_constrained(const ConstrainedQuadratic& p, const Eigen:
       in_working[static_cast<size_t>(blocking)] = 1;
     }
   }
+  // The result meets the constraints (and the sum) to rounding, or the start stands: on a
+  // degenerate working set (rows dependent within rounding) the steps can leave them.
+  const double slack = 1e-9 * scale;
+  const bool meets = ((p.a * x - p.limit).array() <= slack).all() &&
+                     (!p.sum_fixed || std::abs(x.sum() - start.sum()) <= slack);
   const auto f = [&](const Eigen::VectorXd& y) { return 0.5 * y.dot(p.q * y) + p.b.dot(y); };
-  return f(x) <= f(start) ? x : start;
+  return meets && f(x) <= f(start) ? x : start;
 }
 
 }  // namespace ricci

@@ -21,7 +21,8 @@ struct ConstrainedQuadratic {
 //! the constraints: each step solves the problem with the constraints of its working set as
 //! equalities, stops at the first other constraint it meets and adds it, or where it stays,
 //! drops the constraint whose multiplier is most negative. Costs O((n + working set)^3) a step;
-//! f never rises from the start's, and the start is returned where a step's system is singular.
+//! f never rises from the start's, and the start is returned where a step's system is singular or
+//! the result would break a constraint by more than rounding (a degenerate working set).
 Eigen::VectorXd minimize_constrained(const ConstrainedQuadratic& p, const Eigen::VectorXd& start);
 
 }  // namespace ricci

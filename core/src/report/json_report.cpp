@@ -141,6 +141,7 @@ std::string layout_json(const Uniformization& run, const std::vector<int>* verte
     j << "], \"user_cones\": " << (a.user_cones ? "true" : "false") << ", \"unfolded\": "
       << (a.unfolded == AtlasResult::Unfolded::No ? "null" : quoted(to_string(a.unfolded)))
       << ", \"loops\": " << (a.loops ? "true" : "false")
+      << ", \"held_curvatures\": " << (a.held_curvatures ? "true" : "false")
       << ", \"distortion\": " << number(a.distortion)
       << ", \"vertex_distortion\": " << number(a.flow_distortion)
       << ", \"linear_distortion\": " << number(p.distortion)

@@ -341,6 +341,8 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
           "Warning: the flow's edge flips made edges from a vertex to itself, which the flow "
           "without them wanted, and no other attempt gave an atlas: ",
           a.bound_instead);
+    } else if (a.held_curvatures) {
+      line("The cones keep u = 0 at them, not their curvatures of least D: ", a.bound_instead);
     } else if (!a.bound_instead.empty()) {
       line("The cones were placed again, for D <= ", a.bound, ": ", a.bound_instead);
     }

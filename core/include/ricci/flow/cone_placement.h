@@ -62,7 +62,7 @@ struct ConePlacementOptions {
   //! Where the placement stops above the bound (at the budget, or with no vertex left) with at
   //! most kLeastDistortionCones cones: their curvatures of least D, u free at the cones (within
   //! the floors, drawable, and u at the cones within the range the held model's u spans), instead
-  //! of those with u held at 0 there. At BFF's 8 cones D on the delivered faces fell on 50 of the
+  //! of those with u held at 0 there. At BFF's 8 cones D on the delivered faces fell on 54 of the
   //! 188 one-part files of the real set and CGAL's, by a median of 16 % (docs/atlas.md).
   bool least_distortion_angles = true;
   LinearSolverKind linear_solver = LinearSolverKind::Cholmod;

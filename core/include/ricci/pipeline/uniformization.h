@@ -124,6 +124,10 @@ struct AtlasResult {
   //! without them wanted one (stalled for it, or ended with one refused), and no other attempt
   //! nor the unfolding gave an atlas.
   bool loops = false;
+  //! The cones' curvatures are those of u = 0 at them where the budget stopped the placement above
+  //! its bound: their curvatures of least D (ConePlacement::least_distortion) gave no atlas, or one
+  //! far less conformal (bound_instead says which).
+  bool held_curvatures = false;
   //! The charts are turned to meet by quarter turns (turn_charts_to_quarter_turns) and are packed
   //! in quarter turns only: placed cones rounded to them (--cone-angles quarter; the user's cones
   //! keep their own angles).
