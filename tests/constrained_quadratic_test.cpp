@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <random>
 #include <vector>
@@ -75,70 +74,45 @@ TEST(ConstrainedQuadratic, AnUpperBoundThatCutsTheMinimumHoldsIt) {
   EXPECT_NEAR(y[1], 1, 1e-12);
 }
 
-TEST(ConstrainedQuadratic, RandomProblemsReachTheEnumeratedMinimumFromAFeasibleStart) {
-  std::mt19937 random(7);
+// A random problem of n variables and `rows` constraints that x = 0 meets: q positive definite,
+// every row's limit positive, or where `degenerate`, every third row tight at 0 and every fourth
+// the opposite of the one before, the two an equality in turns (rows 3, 11, ...).
+ConstrainedQuadratic random_problem(std::mt19937& random, long n, long rows, bool degenerate) {
   std::normal_distribution<double> normal;
-  int cut = 0;
-  for (int trial = 0; trial < 200; ++trial) {
-    const long n = 2 + trial % 3, rows = 2 + trial % 5;
-    ConstrainedQuadratic p;
-    Eigen::MatrixXd m(n, n);
-    for (long i = 0; i < n * n; ++i) m.data()[i] = normal(random);
-    p.q = m * m.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
-    p.b.resize(n);
-    for (long i = 0; i < n; ++i) p.b[i] = 3 * normal(random);
-    // Constraints that the start x = 0 meets: a x <= limit with limit >= 0.
-    p.a.resize(rows, n);
-    p.limit.resize(rows);
-    for (long i = 0; i < rows; ++i) {
-      for (long j = 0; j < n; ++j) p.a(i, j) = normal(random);
-      p.limit[i] = std::abs(normal(random));
-    }
-    p.sum_fixed = trial % 2 == 1;
-    const Eigen::VectorXd start = Eigen::VectorXd::Zero(n);
-    const Eigen::VectorXd x = minimize_constrained(p, start);
-    SCOPED_TRACE(trial);
-    EXPECT_TRUE(feasible(p, x, 0, 1e-9));
-    const double expected = enumerated_minimum(p, 0);
-    EXPECT_NEAR(value(p, x), expected, 1e-9 * (1 + std::abs(expected)));
-    // How many minima the constraints move (a test of the constraints, not of chance).
-    Eigen::VectorXd free_minimum;
-    if (!p.sum_fixed) {
-      free_minimum = p.q.ldlt().solve(-p.b);
-      cut += !feasible(p, free_minimum, 0, 0);
+  ConstrainedQuadratic p;
+  Eigen::MatrixXd m(n, n);
+  for (long i = 0; i < n * n; ++i) m.data()[i] = normal(random);
+  p.q = m * m.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
+  p.b.resize(n);
+  for (long i = 0; i < n; ++i) p.b[i] = 3 * normal(random);
+  p.a.resize(rows, n);
+  p.limit.resize(rows);
+  for (long i = 0; i < rows; ++i) {
+    for (long j = 0; j < n; ++j) p.a(i, j) = normal(random);
+    p.limit[i] = degenerate && i % 3 == 0 ? 0 : std::abs(normal(random));
+    if (degenerate && i % 4 == 3) {
+      p.a.row(i) = -p.a.row(i - 1);
+      if ((i / 4) % 2 == 0) p.limit[i - 1] = 0;  // a x = 0, met by the start
+      p.limit[i] = (i / 4) % 2 == 0 ? 0 : p.limit[i - 1] + 0.1;
     }
   }
-  EXPECT_GT(cut, 50);
+  return p;
 }
 
-// Starts on constraints (some rows tight at x = 0), rows dependent on others, and problems of
-// one variable with the sum fixed: the result meets every constraint, never rises above the start,
-// and reaches the enumerated minimum.
-TEST(ConstrainedQuadratic, DegenerateProblemsKeepTheConstraintsAndNeverRise) {
-  std::mt19937 random(11);
-  std::normal_distribution<double> normal;
-  int reached = 0, trials = 0;
-  for (int trial = 0; trial < 300; ++trial, ++trials) {
-    const long n = 1 + trial % 4, rows = 2 + trial % 6;
-    ConstrainedQuadratic p;
-    Eigen::MatrixXd m(n, n);
-    for (long i = 0; i < n * n; ++i) m.data()[i] = normal(random);
-    p.q = m * m.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n);
-    p.b.resize(n);
-    for (long i = 0; i < n; ++i) p.b[i] = 3 * normal(random);
-    p.a.resize(rows, n);
-    p.limit.resize(rows);
-    for (long i = 0; i < rows; ++i) {
-      for (long j = 0; j < n; ++j) p.a(i, j) = normal(random);
-      // Every third row tight at the start; every fourth the opposite of the one before, the two
-      // an equality in turns (rows 3, 11, ...).
-      p.limit[i] = i % 3 == 0 ? 0 : std::abs(normal(random));
-      if (i % 4 == 3) {
-        p.a.row(i) = -p.a.row(i - 1);
-        if ((i / 4) % 2 == 0) p.limit[i - 1] = 0;  // a x = 0, met by the start
-        p.limit[i] = (i / 4) % 2 == 0 ? 0 : p.limit[i - 1] + 0.1;
-      }
-    }
+// Random problems (random_problem), every other one with the sum fixed, minimized from x = 0:
+// each result meets the constraints, never rises above the start and is no lower than the
+// enumerated minimum. Counts those at that minimum, and those whose minimum without the
+// constraints would break one (a test of the constraints, not of chance).
+struct Solved {
+  int trials = 0, reached = 0, cut = 0;
+};
+Solved solve_random_problems(unsigned seed, int trials, bool degenerate) {
+  std::mt19937 random(seed);
+  Solved s;
+  for (int trial = 0; trial < trials; ++trial, ++s.trials) {
+    const long n = (degenerate ? 1 : 2) + trial % (degenerate ? 4 : 3);
+    const long rows = 2 + trial % (degenerate ? 6 : 5);
+    ConstrainedQuadratic p = random_problem(random, n, rows, degenerate);
     p.sum_fixed = trial % 2 == 1;
     const Eigen::VectorXd start = Eigen::VectorXd::Zero(n);
     const Eigen::VectorXd x = minimize_constrained(p, start);
@@ -146,12 +120,25 @@ TEST(ConstrainedQuadratic, DegenerateProblemsKeepTheConstraintsAndNeverRise) {
     EXPECT_TRUE(feasible(p, x, 0, 1e-9));
     EXPECT_LE(value(p, x), value(p, start) + 1e-12);
     const double expected = enumerated_minimum(p, 0);
-    EXPECT_GE(value(p, x), expected - 1e-9 * (1 + std::abs(expected)));
-    reached += value(p, x) <= expected + 1e-9 * (1 + std::abs(expected));
+    const double tolerance = 1e-9 * (1 + std::abs(expected));
+    EXPECT_GE(value(p, x), expected - tolerance);
+    s.reached += value(p, x) <= expected + tolerance;
+    if (!p.sum_fixed) s.cut += !feasible(p, p.q.ldlt().solve(-p.b), 0, 0);
   }
-  EXPECT_EQ(reached, trials);  // 286 of 300 before rows the step runs along stopped blocking it
-  std::printf("[ reached  ] %d of %d degenerate problems at the enumerated minimum\n", reached,
-              trials);
+  return s;
+}
+
+TEST(ConstrainedQuadratic, RandomProblemsReachTheEnumeratedMinimumFromAFeasibleStart) {
+  const Solved s = solve_random_problems(7, 200, false);
+  EXPECT_EQ(s.reached, s.trials);
+  EXPECT_GT(s.cut, 50);
+}
+
+// Starts on constraints (some rows tight at x = 0), rows dependent on others, and problems of
+// one variable with the sum fixed: the enumerated minimum all the same.
+TEST(ConstrainedQuadratic, DegenerateProblemsKeepTheConstraintsAndNeverRise) {
+  const Solved s = solve_random_problems(11, 300, true);
+  EXPECT_EQ(s.reached, s.trials);  // 292 of 300 before rows the step runs along stopped blocking it
 }
 
 // A problem whose working set turns singular (an equal pair of bounds on x0 and tight bounds on
