@@ -164,7 +164,7 @@ const std::vector<Flag>& flags() {
        true},
       {{"--max-cones"},
        "N",
-       "the most cones placed",
+       "the most cones placed on each part (a closed genus-0 part takes at least 3)",
        [](const O&) { return std::to_string(kDefaultConeBudget); },
        [](O& o, const std::string& f, const std::string& v) {
          o.request.cone_placement.max_cones = max_cones_asked(parse_int(f, v, 1));

@@ -705,6 +705,39 @@ TEST(Atlas, AConeBudgetBelowTheBoundIsWarnedOf) {
   EXPECT_EQ(overlapping_pairs(a.uv), 0);
 }
 
+TEST(Atlas, ABudgetBelowWhatAClosedGenusZeroSurfaceTakesIsRefused) {
+  // Each cone's curvature is below 2 pi and theirs sum to 4 pi: 3 cones at least. With 2 the flow
+  // stalled after 3.8 s and advised another scheme.
+  const CliRun r =
+      ricci_flow(cgal("camel.off") + " --target atlas --max-cones 2 -o " + temp("refused.obj"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("a closed surface of genus 0 takes at least 3 cones"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("the cone budget is 2"), std::string::npos) << r.err;
+  EXPECT_EQ(ricci_flow(cgal("camel.off") + " --target atlas --max-cones 3 -o " + temp("three.obj"))
+                .exit_code,
+            0);
+}
+
+TEST(Atlas, ATorusAtABudgetOfOneConeHasNone) {
+  // Gauss-Bonnet leaves a torus's one cone flat (360 degrees): no cone, reported as none.
+  const std::string report = temp("torus.json");
+  const Atlas a = run_atlas(cgal("elk.off"), "--max-cones 1 --report " + report);
+  expect_valid_atlas(a, cgal("elk.off"), 2);
+  EXPECT_TRUE(report_cones(slurp(report)).empty());
+  EXPECT_NE(a.summary.find("Atlas: 0 cones"), std::string::npos) << a.summary;
+}
+
+TEST(Atlas, DeliveredFacesWithinTheBoundAskedReachIt) {
+  // CGAL's cow for 0.1 at 64 cones: D 0.0987 on its faces, the linear model's 0.114. It warned
+  // that the bound was not reached; now the report says it was.
+  const std::string report = temp("within.json");
+  const Atlas a = run_atlas(cgal("cow.off"), "--distortion 0.1 --max-cones 64 --report " + report);
+  expect_valid_atlas(a, cgal("cow.off"), 0.1);
+  EXPECT_EQ(a.summary.find("bound was not reached"), std::string::npos) << a.summary;
+  EXPECT_NE(slurp(report).find("\"bound_reached\": true"), std::string::npos);
+}
+
 TEST(Atlas, TheUsersConesStayWithTheirAngles) {
   // The cones the placement finds on CGAL's knot, given back as the user's (--cones): the same
   // cones and angles in the exact metric, no placement, a valid atlas.

@@ -689,22 +689,6 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     }
   }
 
-  result.bound_reached = search.done(state);
-  result.sharp_cone = state.solution.ok && !state.angles_ok;
-  if (!result.bound_reached) {
-    // The greedy stops at the budget, or where no vertex is left for a cone (a small part).
-    const std::string stopped = static_cast<int>(state.cones.size()) < budget
-                                    ? "with no vertex left for another cone"
-                                    : "at the budget of " + std::to_string(budget) + " cones";
-    if (!state.solution.ok) {
-      result.why_not =
-          "no cone set of at most " + std::to_string(budget) + " cones gives a flat metric";
-    } else if (result.sharp_cone) {
-      result.why_not = "a cone sharper than the floor remains " + stopped;
-    } else {
-      result.why_not = "the linear model's D is " + std::to_string(state.d) + " " + stopped;
-    }
-  }
   Eigen::VectorXd u;
   if (result.least_distortion) {
     u = model.prescribed(state.cones, k);
@@ -726,13 +710,39 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
     search.move_quarters(cones, k, budget);
     u = model.prescribed(cones, k);
   }
-  for (size_t i = 0; i < cones.size(); ++i) result.cones.push_back({cones[i], 2 * kPi - k[i]});
+  // A cone of no curvature is none (a torus's one cone at a budget of one: Gauss-Bonnet leaves it
+  // flat); u is the same without it.
+  for (size_t i = 0; i < cones.size(); ++i) {
+    if (std::abs(k[static_cast<long>(i)]) > 1e-9)
+      result.cones.push_back({cones[i], 2 * kPi - k[i]});
+  }
   result.u = u.size() ? u : Eigen::VectorXd::Zero(mesh.num_vertices());
   result.distortion = area_weighted_deviation(model.area(), result.u);
-  if (o.quarter_angles && result.bound_reached && result.distortion > o.distortion_bound) {
-    result.bound_reached = false;
-    result.why_not = "with the cone angles in quarter turns the linear model's D stays at " +
-                     std::to_string(result.distortion);
+  result.sharp_cone = state.solution.ok && !search.angles_ok(cones, k);
+  // With quarter turns, the rounded cones' D decides.
+  result.bound_reached = o.quarter_angles ? state.solution.ok && !result.sharp_cone &&
+                                                result.distortion <= o.distortion_bound
+                                          : search.done(state);
+  if (!result.bound_reached) {
+    // The greedy stops at the budget, or where no vertex is left for a cone (a small part).
+    const std::string stopped =
+        static_cast<int>(state.cones.size()) < budget
+            ? "with no vertex left for another cone"
+            : "at the budget of " + std::to_string(budget) + (budget == 1 ? " cone" : " cones");
+    const std::string d =
+        "the linear model's D " +
+        std::string(o.quarter_angles ? "with the cone angles in quarter turns " : "") + "is " +
+        std::to_string(result.distortion);
+    if (!state.solution.ok) {
+      result.why_not =
+          "no cone set of at most " + std::to_string(budget) + " cones gives a flat metric";
+    } else if (result.sharp_cone) {
+      result.why_not = "a cone sharper than the floor remains " + stopped + " (" + d + ")";
+    } else if (o.quarter_angles && search.done(state)) {
+      result.why_not = d;  // the bound was reached before the rounding
+    } else {
+      result.why_not = d + " " + stopped;
+    }
   }
   const double mean = model.area().dot(result.u);
   result.max_deviation = (result.u.array() - mean).abs().maxCoeff();
