@@ -461,6 +461,11 @@ Uniformization nearer_conformal_cones(const CompactMesh& mesh, const Uniformizat
     UniformizationOptions tighter = request;
     tighter.cone_placement.distortion_bound = bound / kQcTighter;
     tighter.cone_placement.max_cones = cap;
+    // These cones are for a map nearer conformal, not a lower D: u = 0 at them, whose faces are
+    // nearer their own shapes (with their curvatures of least D, the attempt for Dart's WAM
+    // part, 68 cones, QC p95 1.47, no longer lowered it enough, and its 17 cones for 0.2, 1.63,
+    // were delivered).
+    tighter.cone_placement.least_distortion_angles = false;
     Uniformization run = atlas_within_bounds(mesh, tighter, false);
     if (run.result.stop != FlowStop::Cancelled) within_bound_asked(request, run.atlas.placement);
     return run;
