@@ -320,8 +320,8 @@ class Search {
   // The curvatures of s's cones that minimize D, u free at the cones: within each cone's floor,
   // opening no corner past kDrawableCorner, and u - mean u at each cone within the range s's u
   // spans (freed of its range, D would fall further by squeezing small protrusions: a camel's
-  // hoof to e^-13 at 8 cones, D 1.68 to 1.41, a chart below a texel); where s's own curvatures
-  // (u held at 0 at the cones) pass these, up to them.
+  // hoof to e^-13 at 8 cones, D 1.68 to 1.41); where s's own curvatures (u held at 0 at the
+  // cones) pass these, up to them.
   Eigen::VectorXd least_distortion(const State& s) {
     const Eigen::VectorXd& k = s.solution.k;
     const long m = k.size();
@@ -675,8 +675,7 @@ ConePlacement place_cones(const CompactMesh& mesh, const ConePlacementOptions& o
   // === Where the bound was not reached: the curvatures of least D for these cones. u is then
   // free at them (held at 0 there, the greedy's model, it is not the least D the cones allow),
   // each cone within its floor and drawable where the held one was. Not where the bound was
-  // reached: those atlases keep the held model's cones, which the flow has met on every mesh of
-  // the sets.
+  // reached: there the held model's curvatures stand (the default atlases are as before).
   Eigen::VectorXd k = state.solution.k;
   if (o.least_distortion_angles && state.solution.ok && !search.done(state) &&
       !state.cones.empty() && static_cast<int>(state.cones.size()) <= kLeastDistortionCones) {
