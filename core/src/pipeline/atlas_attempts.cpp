@@ -148,10 +148,8 @@ Uniformization atlas_within_bounds(const CompactMesh& mesh, const Uniformization
       add_cost(run.totals, run.atlas.placement, held);
       return run;
     }
-    const FlowTotals own = held.totals;
-    held.totals = FlowTotals();
-    add_cost(held.totals, held.atlas.placement, run);
-    held.totals.add(own);
+    held = delivered_instead(run, std::move(held));
+    add_placement_cost(held.atlas.placement, run.atlas.placement);
     std::ostringstream gave;
     gave.precision(3);
     gave << "with the cones' curvatures of least D ";
