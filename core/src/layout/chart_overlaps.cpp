@@ -18,33 +18,42 @@ using detail::cross;
 
 namespace {
 
+// How far the interiors of two counter-clockwise triangles reach past the line of side i of
+// triangle t towards the other, o (<= 0: that side separates them; infinite: a side of no
+// length).
+double reach_past(const std::array<Eigen::Vector2d, 3>& t, int i,
+                  const std::array<Eigen::Vector2d, 3>& o) {
+  const Eigen::Vector2d e = t[(i + 1) % 3] - t[i];
+  const double length = e.norm();
+  if (!(length > 0)) return std::numeric_limits<double>::infinity();
+  const Eigen::Vector2d n(e.y() / length, -e.x() / length);  // outward for a ccw triangle
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const auto& q : o) nearest = std::min(nearest, n.dot(q));
+  return n.dot(t[i]) - nearest;
+}
+
 // How far the interiors of two counter-clockwise triangles reach into each other: the least, over
-// the sides of both, of how far the other triangle reaches past the side's line (<= 0: that side
-// separates them).
+// the sides of both, of how far the other triangle reaches past the side's line.
 double penetration(const std::array<Eigen::Vector2d, 3>& a,
                    const std::array<Eigen::Vector2d, 3>& b) {
   double least = std::numeric_limits<double>::infinity();
-  for (const auto* t : {&a, &b}) {
-    for (int i = 0; i < 3; ++i) {
-      const Eigen::Vector2d e = (*t)[(i + 1) % 3] - (*t)[i];
-      const double length = e.norm();
-      if (!(length > 0)) continue;
-      const Eigen::Vector2d n(e.y() / length, -e.x() / length);  // outward for a ccw triangle
-      const double edge = n.dot((*t)[i]);
-      const auto& other = t == &a ? b : a;
-      double nearest = std::numeric_limits<double>::infinity();
-      for (const auto& q : other) nearest = std::min(nearest, n.dot(q));
-      least = std::min(least, edge - nearest);
-    }
-  }
+  for (int i = 0; i < 3; ++i) least = std::min(least, reach_past(a, i, b));
+  for (int i = 0; i < 3; ++i) least = std::min(least, reach_past(b, i, a));
   return least;
 }
 
-// The interiors of two counter-clockwise triangles overlap: no edge direction of either separates
-// them by more than `tolerance`.
+// The interiors of two counter-clockwise triangles overlap: no side of either separates them by
+// more than `tolerance` (penetration above it, ending at the first side that does: most pairs
+// tested are neighbours, which the first sides part).
 bool interiors_overlap(const std::array<Eigen::Vector2d, 3>& a,
                        const std::array<Eigen::Vector2d, 3>& b, double tolerance) {
-  return penetration(a, b) > tolerance;
+  for (int i = 0; i < 3; ++i) {
+    if (!(reach_past(a, i, b) > tolerance)) return false;
+  }
+  for (int i = 0; i < 3; ++i) {
+    if (!(reach_past(b, i, a) > tolerance)) return false;
+  }
+  return true;
 }
 
 struct Box {
