@@ -1,9 +1,10 @@
 // Seams through cones: the cut surface is a set of disks (Euler characteristic 1 each, counted
-// here from wedges, edges and faces), every cone is on the cut with the branches asked for, and
-// the cut runs only on the allowed edges.
+// here from wedges, edges and faces), every cone is on the cut, a wide one in wedges narrow enough,
+// and the cut runs only on the allowed edges.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "ricci/flow/cone_placement.h"
@@ -113,19 +114,69 @@ TEST(Seams, ASurfaceWithHandlesAndBoundaryIsCutIntoOneDisk) {
   }
 }
 
-TEST(Seams, AConeAskingForBranchesGetsThem) {
+// The angles of vertex v's wedges: its corners joined across the uncut edges at v, each group's
+// corner angles summed.
+std::vector<double> wedge_angles(const Triangulation& mesh, const std::vector<char>& cut, int v,
+                                 const std::vector<double>& corner_angles) {
+  std::vector<int> corners;
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      if (mesh.face_vertex(f, c) == v) corners.push_back(3 * f + c);
+    }
+  }
+  std::vector<int> group(corners.size());
+  std::iota(group.begin(), group.end(), 0);
+  for (bool joined = true; joined;) {  // the least index over corners joined across an edge
+    joined = false;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      for (size_t j = 0; j < corners.size(); ++j) {
+        const int f = corners[i] / 3, g = corners[j] / 3;
+        for (int c = 0; c < 3; ++c) {
+          const int t = mesh.twin(3 * f + c);
+          if (t < 0 || t / 3 != g || cut[mesh.face_edge(f, c)]) continue;
+          if (mesh.halfedge_tail(3 * f + c) != v && mesh.halfedge_head(3 * f + c) != v) continue;
+          if (group[j] > group[i]) group[j] = group[i], joined = true;
+        }
+      }
+    }
+  }
+  std::vector<double> sum(corners.size(), 0.0);
+  for (size_t i = 0; i < corners.size(); ++i) sum[group[i]] += corner_angles[corners[i]];
+  std::vector<double> wedges;
+  for (size_t i = 0; i < corners.size(); ++i) {
+    if (group[i] == static_cast<int>(i)) wedges.push_back(sum[i]);
+  }
+  return wedges;
+}
+
+TEST(Seams, AWideConesWedgesAreNarrowed) {
+  // The 3D corner angles, three times as wide at the first cone: a cone of about 6 pi, which the
+  // cut must leave in wedges of at most 1.9 pi each (one wedge would overlap itself thrice).
   const CompactMesh mesh = cgal_mesh("eight.off");
   const std::vector<int> cones = cone_vertices(place_cones(mesh));
-  std::vector<int> branches(cones.size(), 1);
-  branches[0] = 3;
-  const CutGraph g = cut_through_cones(mesh, mesh.input_lengths(), cones, branches);
-  int degree = 0;
-  for (int e = 0; e < mesh.num_edges(); ++e) {
-    const auto ends = mesh.edge_vertices(e);
-    degree += g.cut[e] && (ends[0] == cones[0] || ends[1] == cones[0]);
+  ConeWedges wedges{std::vector<double>(3 * static_cast<size_t>(mesh.num_faces())), 1.9 * kPi};
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const std::array<int, 3>& t = mesh.faces()[f];
+      const Eigen::Vector3d u = mesh.positions()[t[(c + 1) % 3]] - mesh.positions()[t[c]];
+      const Eigen::Vector3d w = mesh.positions()[t[(c + 2) % 3]] - mesh.positions()[t[c]];
+      wedges.corner_angles[3 * f + c] =
+          std::atan2(u.cross(w).norm(), u.dot(w)) * (t[c] == cones[0] ? 3 : 1);
+    }
   }
-  EXPECT_GE(degree, 3);
+  const CutGraph g = cut_through_cones(mesh, mesh.input_lengths(), cones, wedges);
+  const std::vector<double> at_cone = wedge_angles(mesh, g.cut, cones[0], wedges.corner_angles);
+  EXPECT_GE(at_cone.size(), 4u);  // about 6 pi in wedges of at most 1.9 pi
+  for (double a : at_cone) EXPECT_LE(a, 1.9 * kPi);
+  double whole = 0;  // the cone's angle: its wedges part it
+  for (int k = 0; k < 3 * mesh.num_faces(); ++k) {
+    if (mesh.faces()[k / 3][k % 3] == cones[0]) whole += wedges.corner_angles[k];
+  }
+  EXPECT_NEAR(std::accumulate(at_cone.begin(), at_cone.end(), 0.0), whole, 1e-12);
   for (int chi : cut_open(mesh, g.cut).euler) EXPECT_EQ(chi, 1);
+  // Without the corner angles, one branch is enough.
+  const CutGraph plain = cut_through_cones(mesh, mesh.input_lengths(), cones);
+  EXPECT_LT(wedge_angles(mesh, plain.cut, cones[0], wedges.corner_angles).size(), at_cone.size());
 }
 
 TEST(Seams, TheCutRunsOnlyOnAllowedEdges) {

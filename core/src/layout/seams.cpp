@@ -260,29 +260,132 @@ std::vector<int> cut_degree(const Triangulation& mesh, const std::vector<char>& 
   return degree;
 }
 
+// The edges at an interior vertex in their turn around it from halfedge `first` into it, each with
+// its angle from the first (the sum of the vertex's corner angles between them), and its whole
+// angle.
+struct Spokes {
+  std::vector<int> edge;
+  std::vector<double> at;
+  double angle = 0;
+};
+
+Spokes spokes_around(const Triangulation& mesh, int first,
+                     const std::vector<double>& corner_angles) {
+  Spokes s;
+  // Halfedge 3 f + k runs from corner k + 1 to corner k + 2: into c at corner k + 2; the next face
+  // around c is across f's side from c, whose twin comes into c.
+  for (int h = first;;) {
+    const int f = h / 3, k = h % 3, at_c = (k + 2) % 3;
+    s.edge.push_back(mesh.face_edge(f, k));
+    s.at.push_back(s.angle);
+    s.angle += corner_angles[3 * f + at_c];
+    const int out = 3 * f + (k + 1) % 3;  // from c to corner k: f's other side at c
+    const int across = mesh.twin(out);
+    if (across < 0) return {};  // c on the boundary
+    h = across;
+    if (h == first) break;
+  }
+  return s;
+}
+
+// A cone's further branch ends on the cut at least this many cut edges away from the cone (or,
+// where no such vertex is reached, at the nearest other than its cut neighbours). Ended at the
+// nearest, two cut edges along, it closed a loop around a few faces by the cone: a chart of 2 faces
+// below a texel on CGAL's diplodocus at 8 cones, and about man's cone of 1.7 turns loops that left
+// its chart overlapping (3 splits, 5 charts); 10 edges away: no split, 2 charts, neither below a
+// texel (the camel's two below a texel gone too).
+constexpr int kBranchEndHops = 10;
+
 // Cone c gets another branch: the shortest path, off the cut, to a vertex of the cut or the
-// boundary that is not c nor a cut neighbour of c.
-void add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, std::vector<char>& cut) {
+// boundary that is more than `hops` cut edges from c, leaving c by an edge of `leave` (empty: any).
+// False where none is reached.
+bool add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, int hops,
+                std::vector<char>& cut, const std::vector<int>& leave = {}) {
   const std::vector<int> degree = cut_degree(mesh, cut);
   std::vector<char> near(mesh.num_vertices(), 0);
   near[c] = 1;
-  for (int e : graph.edges_at(c)) {
-    if (cut[e]) near[graph.other(e, c)] = 1;
+  std::vector<int> ring{c};
+  for (int h = 0; h < hops; ++h) {
+    std::vector<int> next;
+    for (int v : ring) {
+      for (int e : graph.edges_at(v)) {
+        const int w = graph.other(e, v);
+        if (cut[e] && !near[w]) near[w] = 1, next.push_back(w);
+      }
+    }
+    ring = std::move(next);
   }
   std::vector<char> on_cut(mesh.num_vertices(), 0);
   for (int v = 0; v < mesh.num_vertices(); ++v) on_cut[v] = degree[v] > 0;
+  std::vector<char> blocked = cut;
+  if (!leave.empty()) {
+    for (int e : graph.edges_at(c)) blocked[e] = 1;
+    for (int e : leave) blocked[e] = cut[e];
+  }
   // The path ends at the first cut vertex it meets: it never runs along the cut or the boundary.
   // The search stops at the nearest vertex of the cut that may end it.
   int end = -1;
   const ShortestPaths p = graph.from(
-      {c}, cut, on_cut, [&](int v) { return degree[v] > 0 && !near[v]; }, &end);
-  if (end >= 0) graph.mark_path(p, end, cut);
+      {c}, blocked, on_cut, [&](int v) { return degree[v] > 0 && !near[v]; }, &end);
+  if (end < 0) return false;
+  graph.mark_path(p, end, cut);
+  return true;
+}
+
+// Cone c's widest wedge (between cut edges that follow each other around it) while it is wider
+// than `widest` gets a branch that leaves c within its middle half (the shortest such), else by
+// the edge nearest its middle.
+void narrow_wedges(const Triangulation& mesh, const EdgeGraph& graph, int into_c,
+                   const std::vector<double>& corner_angles, double widest,
+                   std::vector<char>& cut) {
+  const int c = mesh.halfedge_head(into_c);
+  const Spokes s = spokes_around(mesh, into_c, corner_angles);
+  if (!(s.angle > widest)) return;
+  const int n = static_cast<int>(s.edge.size());
+  std::vector<char> usable(n, 0);
+  for (int i = 0; i < n; ++i) {
+    const auto& at_c = graph.edges_at(c);
+    usable[i] = std::find(at_c.begin(), at_c.end(), s.edge[i]) != at_c.end();
+  }
+  for (int round = 0; round < n; ++round) {
+    std::vector<int> cuts;
+    for (int i = 0; i < n; ++i) {
+      if (cut[s.edge[i]]) cuts.push_back(i);
+    }
+    if (cuts.empty()) return;
+    // The widest wedge: from cut spoke `from`, `width` around.
+    int from = -1;
+    double width = -1;
+    for (size_t j = 0; j < cuts.size(); ++j) {
+      const int a = cuts[j], b = cuts[(j + 1) % cuts.size()];
+      const double w = b > a ? s.at[b] - s.at[a] : s.angle - s.at[a] + s.at[b];
+      if (w > width) from = a, width = w;
+    }
+    if (!(width > widest)) return;
+    std::vector<int> middle;
+    int nearest = -1;
+    double nearest_off = kInfinity;
+    for (int step = 1; step < n; ++step) {
+      const int i = (from + step) % n;
+      if (cut[s.edge[i]]) break;
+      if (!usable[i]) continue;
+      const double t = i > from ? s.at[i] - s.at[from] : s.angle - s.at[from] + s.at[i];
+      if (t >= width / 4 && t <= 3 * width / 4) middle.push_back(s.edge[i]);
+      if (std::abs(t - width / 2) < nearest_off) nearest = i, nearest_off = std::abs(t - width / 2);
+    }
+    if (nearest < 0) return;  // no edge inside the wedge to leave by
+    if (middle.empty()) middle.push_back(s.edge[nearest]);
+    if (!add_branch(mesh, graph, c, kBranchEndHops, cut, middle) &&
+        !add_branch(mesh, graph, c, 1, cut, middle)) {
+      return;
+    }
+  }
 }
 
 }  // namespace
 
 CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>& lengths,
-                           const std::vector<int>& cones, const std::vector<int>& branches,
+                           const std::vector<int>& cones, const ConeWedges& wedges,
                            const std::vector<char>& allowed) {
   CutGraph g;
   g.num_generators = 2 * mesh.genus() + std::max(0, mesh.num_boundary_loops() - 1);
@@ -294,9 +397,15 @@ CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>&
   std::vector<char> is_cone(mesh.num_vertices(), 0);
   for (int c : cones) is_cone[c] = 1;
   detail::prune_cut(mesh, g.cut, is_cone);
-  for (size_t i = 0; i < cones.size() && i < branches.size(); ++i) {
-    for (int more = branches[i] - cut_degree(mesh, g.cut)[cones[i]]; more > 0; --more) {
-      add_branch(mesh, graph, cones[i], g.cut);
+  if (!wedges.corner_angles.empty() && !cones.empty()) {
+    std::vector<int> into(mesh.num_vertices(), -1);  // at each cone, a halfedge into it
+    for (int c : cones) into[c] = -2;
+    for (int h = 0; h < mesh.num_halfedges(); ++h) {
+      if (into[mesh.halfedge_head(h)] == -2) into[mesh.halfedge_head(h)] = h;
+    }
+    for (int c : cones) {
+      if (into[c] >= 0)
+        narrow_wedges(mesh, graph, into[c], wedges.corner_angles, wedges.widest, g.cut);
     }
   }
   for (int e = 0; e < mesh.num_edges(); ++e) {

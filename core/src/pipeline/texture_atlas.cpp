@@ -116,10 +116,14 @@ double lap(Clock::time_point& from) {
   return s;
 }
 
-// Branches a cone of angle theta needs so that no wedge of it reaches a full turn.
-int branches_for(double theta) {
-  return std::max(1, static_cast<int>(std::floor(theta / (2 * kPi))) + 1);
-}
+// The widest wedge that the seams leave a cone (ConeWedges). A wedge of a full turn overlaps itself
+// at the cone's vertex. Before, a cone of angle theta had floor(theta / 2 pi) + 1 branches, each
+// the shortest path to the cut, which can leave one wedge past a full turn: CGAL's man at 8 cones,
+// a cone of 10.87 in wedges of 2.86, 1.58 and 6.42, its chart split 5 times; the camel's cone of
+// 14.74 in 1.62, 10.90 and 2.22. At most 1.9 pi each (10.87 in 2.86, 1.58, 3.23 and 3.19), on the
+// 234 files of the real set and CGAL's at 8 cones (docs/atlas-measurements.md): fewer splits,
+// shorter seams.
+constexpr double kWidestWedge = 1.9 * kPi;
 
 // Per face, its side lengths as `corners` draw it (`[f][c]`: the side opposite corner c).
 std::vector<std::array<double, 3>> drawn_sides(
@@ -302,7 +306,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   atlas.input_faces_cut = 0;
   atlas.flow_distortion = area_distortion(mesh, run.result.u);
   atlas.cone_angles.clear();
-  std::vector<int> cones, branches;
+  std::vector<int> cones;
   // On a closed surface the cones' angles as the flow left them, with the curvature that the
   // other vertices keep within the tolerance shared out among the cones: so they satisfy
   // Gauss-Bonnet exactly, and given back as the user's cones they are a valid target (the flow
@@ -322,7 +326,6 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
                          run.result.curvature[c.vertex] - kept_elsewhere;
     atlas.cone_angles.push_back(theta);
     cones.push_back(c.vertex);
-    branches.push_back(branches_for(theta));
   }
 
   // === The delivered mesh, its edges' 3D and flat lengths, and which lie on the user's edges
@@ -381,7 +384,13 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   // === Seams and charts; charts whose faces overlap split between the sheets, until none does
   atlas.seconds = {};
   auto clock = Clock::now();
-  std::vector<char> seam = cut_through_cones(delivered, length3d, cones, branches, allowed).cut;
+  ConeWedges wedges{std::vector<double>(3 * static_cast<size_t>(delivered.num_faces())),
+                    kWidestWedge};
+  for (int f = 0; f < delivered.num_faces(); ++f) {
+    const TriangleAngles a = corner_angles(Geometry::Euclidean, flat[f]);
+    for (int c = 0; c < 3; ++c) wedges.corner_angles[3 * f + c] = a.angle[c];
+  }
+  std::vector<char> seam = cut_through_cones(delivered, length3d, cones, wedges, allowed).cut;
   Charts charts = lay_out_charts(delivered, flat, seam);
   std::vector<std::pair<int, int>> overlaps =
       overlapping_faces(delivered, seam, charts, {}, kPairsPerChart);

@@ -11,7 +11,8 @@
 //                shortest paths (Mehlhorn's 2-approximation: nearest-terminal regions, the
 //                cheapest bridges between them in Kruskal's order);
 //   wide cones   a cone of angle above 2 pi laid out on one branch would overlap itself around
-//                its vertex: it gets as many branches as asked (each a shortest path to the cut);
+//                its vertex: its wedges wider than asked are split near their middles (each
+//                new branch a shortest path to the cut, ending some cut edges away);
 //   pruning      branches that end at no cone glued back.
 #pragma once
 
@@ -22,13 +23,23 @@
 
 namespace ricci {
 
-//! A cut through the cones (`cones`, each with at least `branches[i]` cut edges at it; empty:
-//! one each) on the edges marked in `allowed` (per edge; empty: every edge), with `lengths` per
-//! edge the weights of shortest paths (3D lengths: seams short on the surface the user sees).
+//! How wide a cone's wedges (its angle between two cut edges that follow each other around it)
+//! may be: a cone of angle above 2 pi laid out as one wedge overlaps itself around its vertex,
+//! and a wedge near a full turn can overlap the far side of its own chart.
+struct ConeWedges {
+  std::vector<double> corner_angles;  //!< the flat metric's, per corner 3 f + c (empty: no limit)
+  double widest = 0;
+};
+
+//! A cut through the cones (`cones`) on the edges marked in `allowed` (per edge; empty: every
+//! edge), with `lengths` per edge the weights of shortest paths (3D lengths: seams short on the
+//! surface the user sees). Each cone's widest wedge, while wider than `wedges.widest`, gets a
+//! branch that leaves the cone within the wedge's middle half, the shortest such path to a cut
+//! vertex some cut edges away from the cone (not closing a loop around a few faces by it).
 //! Cones are nodes of the cut's paths, so every path's two sides are related by one isometry.
 //! \pre the allowed edges connect every vertex; cones are interior vertices.
 CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>& lengths,
-                           const std::vector<int>& cones, const std::vector<int>& branches = {},
+                           const std::vector<int>& cones, const ConeWedges& wedges = {},
                            const std::vector<char>& allowed = {});
 
 //! Joins the pieces of the cut-and-boundary graph (`cut` per edge) into one by shortest paths on
