@@ -8,7 +8,9 @@ a client is given.
 Each mesh is one task: the command line tool's run on the file with the options (same names as
 ricci_flow.uniformize), writing out/NAME.ply and out/NAME.json (the report). A mesh that fails
 never stops the others: its row says `failed` and why. The table (one row per mesh: status,
-message, topology, iterations, edge flips, seconds, quality) is returned as a pandas DataFrame and
+message, topology, iterations, edge flips, seconds, quality; with target="atlas" the atlas's
+cones, charts, D, whether the bound was reached, utilization, charts below a texel and
+overlapping faces) is returned as a pandas DataFrame and
 written to out/results.csv (or .parquet). On a cluster, out_dir must be a folder every worker can
 write (a shared file system); Slurm, PBS or Kubernetes clusters come from dask-jobqueue or
 dask-kubernetes, whose Client is passed as `client`.
@@ -26,7 +28,9 @@ from . import _flags, _ricci_flow
 
 COLUMNS = ["mesh", "status", "message", "topology", "components", "vertices", "faces",
            "iterations", "edge_flips", "seconds", "max_curvature_error", "flipped_faces",
-           "quasi_conformal_median", "quasi_conformal_p95", "output"]
+           "quasi_conformal_median", "quasi_conformal_p95", "atlas_cones", "atlas_charts",
+           "atlas_distortion", "atlas_bound_reached", "atlas_utilization",
+           "atlas_charts_below_a_texel", "atlas_overlapping_faces", "output"]
 
 
 def output_stems(paths, out_dir):
@@ -62,6 +66,17 @@ def _summarize(report, row):
     p95 = [q["p95"] for q in qc if q.get("p95") is not None]
     row["quasi_conformal_median"] = max(medians) if medians else None
     row["quasi_conformal_p95"] = max(p95) if p95 else None
+    atlases = [lay["atlas"] for lay in layouts if lay.get("atlas")]
+    if atlases:  # --target atlas: the texture of all the parts, else the one part's
+        texture = report.get("texture") or atlases[0]
+        row["atlas_cones"] = sum(len(a.get("cones") or []) for a in atlases)
+        row["atlas_charts"] = sum(a.get("charts") or 0 for a in atlases)
+        row["atlas_distortion"] = texture.get("distortion")
+        row["atlas_bound_reached"] = all(a.get("bound_reached") for a in atlases)
+        row["atlas_utilization"] = texture.get("utilization")
+        row["atlas_charts_below_a_texel"] = texture.get(
+            "below_a_texel", texture.get("charts_below_a_texel"))
+        row["atlas_overlapping_faces"] = sum(a.get("overlapping_faces") or 0 for a in atlases)
 
 
 def process(path, stem, flags=()):

@@ -1,7 +1,10 @@
 """Batches of real mesh files on a distributed.LocalCluster with two workers, broken files among
 them: one row per mesh in the order given, each row agreeing with the command line tool run on
-that file alone, failures that never stop the others, and the table written as CSV."""
+that file alone, failures that never stop the others, the table written as CSV, and an atlas's
+columns as its report gives them."""
 import csv
+import json
+import math
 import os
 import subprocess
 import sys
@@ -63,6 +66,9 @@ def test_batch_on_a_local_cluster_with_two_workers(meshes, tmp_path):
         if code == 0:
             assert os.path.getsize(row["output"]) > 0
             assert row["flipped_faces"] == 0 and row["iterations"] >= 0
+        for column in batch.COLUMNS:  # no atlas asked for
+            if column.startswith("atlas_"):
+                assert row[column] is None or math.isnan(row[column]), (path, column)
         else:
             assert row["message"] == message, path
     by_name = {r["mesh"]: r for r in table.to_dict("records")}
@@ -89,3 +95,30 @@ def test_batch_from_the_shell(meshes, tmp_path):
     with open(tmp_path / "results.csv") as f:
         rows = list(csv.DictReader(f))
     assert [r["status"] for r in rows] == ["ok", "ok", "ok", "failed"]
+
+
+def test_an_atlas_batch_has_the_atlas_columns_of_each_report(tmp_path):
+    # A part alone (the farmer) and a file of 9 parts in one texture (the rabbit).
+    from ricci_flow import batch
+    chosen = [os.path.join(REAL, m) for m in ("bouncy-farmer.obj", "bouncy-rabbit.obj")]
+    table = batch.run(chosen, tmp_path, workers=1, progress=False, target="atlas")
+    assert list(table["status"]) == ["ok", "ok"], list(table["message"])
+    for row in table.to_dict("records"):
+        with open(os.path.splitext(row["output"])[0] + ".json") as f:
+            report = json.load(f)
+        parts = report.get("components") or [report]
+        atlases = [p["layout"]["atlas"] for p in parts]
+        texture = report.get("texture")
+        assert (texture is not None) == (len(parts) > 1), row["mesh"]
+        assert row["atlas_cones"] == sum(len(a["cones"]) for a in atlases)
+        assert row["atlas_charts"] == sum(a["charts"] for a in atlases) >= len(parts)
+        whole = texture or atlases[0]
+        assert row["atlas_distortion"] == whole["distortion"] <= 0.2
+        assert row["atlas_utilization"] == whole["utilization"]
+        assert 0 < row["atlas_utilization"] <= 1
+        assert row["atlas_bound_reached"]
+        assert row["atlas_charts_below_a_texel"] == 0
+        assert row["atlas_overlapping_faces"] == 0
+    with open(tmp_path / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [float(r["atlas_distortion"]) for r in rows] == list(table["atlas_distortion"])
