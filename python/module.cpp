@@ -117,12 +117,14 @@ nb::dict uniformize_arrays(const Points& v, const Triangles& f, std::vector<std:
   std::vector<std::array<int, 3>> faces = to_triangles(f);
   MeshUniformization run;
   std::string report, failure;
+  std::vector<std::string> summary;
   {
     nb::gil_scoped_release released;
     RepairedMesh repaired = repair_mesh(positions, faces, o.repair);
     const UniformizationOptions request = cli::request_for(o, repaired.num_input_vertices);
     run = uniformize_mesh(std::move(repaired), request);
     report = json_report(run, RunContext{"<arrays>", o.target, 0});
+    summary = summary_lines(run, RunContext{"<arrays>", o.target, 0});
     try {
       run.require_valid();
     } catch (const Error& e) {
@@ -132,6 +134,7 @@ nb::dict uniformize_arrays(const Points& v, const Triangles& f, std::vector<std:
   nb::dict d;
   d["failure"] = failure;
   d["report"] = report;
+  d["summary"] = summary;
   d["vertices"] = points(run.positions);
   d["faces"] = triangles(run.faces);
   d["input_face"] = indices(run.input_face);

@@ -12,12 +12,15 @@ no_flips, keep_input_triangulation, strict, keep_cuts; `eps` (mixed scheme) and 
 per-vertex values or `cones` as arrays. Dirty meshes are repaired as the tool does
 (several components, a vertex per face corner, duplicate, degenerate and misoriented faces,
 non-manifold edges and vertices); `keep_cuts=True` keeps vertices at one position apart, so that
-a mesh cut open stays cut.
+a mesh cut open stays cut. What the tool's summary warns of (a distortion bound not reached at a
+cone budget, charts packed below a texel, another scheme or target delivered as best effort) is
+a RicciFlowWarning; the summary's lines are `Result.summary`.
 """
 import json
 import re
 import os
 import tempfile
+import warnings
 
 import numpy as np
 
@@ -25,7 +28,13 @@ from . import _ricci_flow
 from . import meshlab  # noqa: F401  (ricci_flow.meshlab.load_plugin() after import ricci_flow)
 from ._ricci_flow import RicciFlowError
 
-__all__ = ["uniformize", "read_mesh", "Result", "Solver", "RicciFlowError"]
+__all__ = ["uniformize", "read_mesh", "Result", "Solver", "RicciFlowError", "RicciFlowWarning"]
+
+
+class RicciFlowWarning(UserWarning):
+    """A result delivered with a caveat, as the command line tool's summary warns of it."""
+
+
 __version__ = "0.1.0"
 
 _SWITCHES = ("no_flips", "keep_input_triangulation", "strict", "keep_cuts")
@@ -132,10 +141,12 @@ class Result:
         are several.
     deck_transformations: the layout's deck transformations (cut-open layouts), likewise.
     report: the JSON report as a dict.
+    summary: the command line tool's summary of the run, as a list of lines.
     """
 
     def __init__(self, d):
         self.report = json.loads(d["report"])
+        self.summary = list(d["summary"])
         self.vertices = d["vertices"]
         self.faces = d["faces"]
         self.input_face = d["input_face"]
@@ -193,6 +204,9 @@ def uniformize(vertices, faces, **options):
         error = RicciFlowError(d["failure"])
         error.report = json.loads(d["report"])
         raise error
+    for line in d["summary"]:  # what the command line tool warns of, as Python warnings
+        if line.lstrip().startswith("Warning: "):
+            warnings.warn(line.lstrip()[len("Warning: "):], RicciFlowWarning, stacklevel=2)
     return Result(d)
 
 

@@ -148,13 +148,31 @@ def test_atlas_options_by_name():
     # The atlas's options as the tool's: a budget of 4 cones, quarter turns, a texture of 256
     # texels with 2 between charts.
     V, F = mesh("eight.off")
-    r = ricci_flow.uniformize(V, F, target="atlas", max_cones=4, distortion=0.1,
-                              cone_angles="quarter", texture_size=256, padding=2)
+    with pytest.warns(ricci_flow.RicciFlowWarning, match=r"budget of 4 cones"):
+        r = ricci_flow.uniformize(V, F, target="atlas", max_cones=4, distortion=0.1,
+                                  cone_angles="quarter", texture_size=256, padding=2)
     assert r.converged and 0 < len(r.cones) <= 4
     quarters = r.cone_angles / (math.pi / 2)
     assert np.all(np.abs(quarters - np.round(quarters)) < 1e-6)
     assert r.atlas["bound"] == 0.1 and r.atlas["padding"] == 2
     assert np.all(signed_areas(r.texcoord) > 0)
+
+
+def test_a_bound_missed_at_a_cone_budget_is_a_warning():
+    # The tool's summary warns when a cone budget stops the placement above the bound: Python
+    # gets that warning, and the report agrees that the bound was not reached; the default atlas
+    # of the same surface reaches its bound without a warning.
+    V, F = mesh("eight.off")
+    with pytest.warns(ricci_flow.RicciFlowWarning, match=r"distortion bound was not reached"):
+        r = ricci_flow.uniformize(V, F, target="atlas", max_cones=2, distortion=0.05)
+    assert not r.atlas["bound_reached"] and r.atlas["distortion"] > 0.05
+    assert any(line.startswith("Warning: the distortion bound") for line in r.summary)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ricci_flow.RicciFlowWarning)
+        r = ricci_flow.uniformize(V, F, target="atlas")
+    assert r.atlas["bound_reached"]
+    assert not any("Warning" in line for line in r.summary)
 
 
 def test_option_errors_name_the_keywords():
