@@ -86,6 +86,7 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
   };
   FaceCut out;
   std::vector<BoundaryPoint>& points = out.points;
+  points.reserve(8);
   std::array<int, 3> corner_index{};
   for (int i = 0; i < 3; ++i) {
     corner_index[i] = static_cast<int>(points.size());
@@ -144,7 +145,10 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
   for (int start = 0; start < m; ++start) {
     if (arc_used[start]) continue;
     FacePiece piece;
-    piece.points = {start};
+    piece.points.reserve(m);  // a piece's points are at most the face's, and as many sides
+    piece.along.reserve(m);
+    piece.arc.reserve(m);
+    piece.points.push_back(start);
     auto note_step = [&](int E, bool forward) {
       const int f = face_left_of(input, E, forward);
       if (f < 0 || (piece.input_face >= 0 && piece.input_face != f)) {
