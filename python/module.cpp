@@ -124,12 +124,13 @@ nb::dict uniformize_arrays(const Points& v, const Triangles& f, std::vector<std:
     const UniformizationOptions request = cli::request_for(o, repaired.num_input_vertices);
     run = uniformize_mesh(std::move(repaired), request);
     report = json_report(run, RunContext{"<arrays>", o.target, 0});
-    summary = summary_lines(run, RunContext{"<arrays>", o.target, 0});
     try {
       run.require_valid();
     } catch (const Error& e) {
       failure = e.what();
     }
+    // As the command line tool, the summary of a valid run only.
+    if (failure.empty()) summary = summary_lines(run, RunContext{"<arrays>", o.target, 0});
   }
   nb::dict d;
   d["failure"] = failure;

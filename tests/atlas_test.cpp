@@ -487,9 +487,9 @@ TEST(Atlas, AtABudgetTheConesCurvaturesOfLeastDistortionLowerTheFacesD) {
   const std::string report = temp("least.json");
   const Atlas a = run_atlas(camel, "--max-cones 8 --report " + report);
   expect_valid_atlas(a, camel, 1.5);
-  // Its two cones of about 2.1 and 2.3 turns (negative curvature) have their seams' wedges below
-  // 1.9 pi each, whose branches end away from them: no chart below a texel (before, a wedge of
-  // 10.90 overlapped itself, and the charts split off it were 2 below a texel).
+  // Its two cones of about 2.1 and 2.3 turns (negative curvature) have their seams' wedges within
+  // a full turn each, whose branches end away from them: no chart below a texel (before, a wedge
+  // of 10.90 overlapped itself, and the charts split off it were 2 below a texel).
   EXPECT_EQ(charts_below_a_texel(a), 0);
   const std::string json = slurp(report);
   EXPECT_NE(json.find("\"least_distortion\": true"), std::string::npos);

@@ -66,11 +66,11 @@ def test_batch_on_a_local_cluster_with_two_workers(meshes, tmp_path):
         if code == 0:
             assert os.path.getsize(row["output"]) > 0
             assert row["flipped_faces"] == 0 and row["iterations"] >= 0
+        else:
+            assert row["message"] == message, path
         for column in batch.COLUMNS:  # no atlas asked for
             if column.startswith("atlas_"):
                 assert row[column] is None or math.isnan(row[column]), (path, column)
-        else:
-            assert row["message"] == message, path
     by_name = {r["mesh"]: r for r in table.to_dict("records")}
     assert by_name["garbage.obj"]["status"] == "failed"
     assert "not orientable" in by_name["moebius.off"]["message"]

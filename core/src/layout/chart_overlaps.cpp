@@ -47,11 +47,12 @@ double penetration(const std::array<Eigen::Vector2d, 3>& a,
 // tested are neighbours, which the first sides part).
 bool interiors_overlap(const std::array<Eigen::Vector2d, 3>& a,
                        const std::array<Eigen::Vector2d, 3>& b, double tolerance) {
+  // (A side whose reach is NaN separates nothing, as in penetration's minimum.)
   for (int i = 0; i < 3; ++i) {
-    if (!(reach_past(a, i, b) > tolerance)) return false;
+    if (reach_past(a, i, b) <= tolerance) return false;
   }
   for (int i = 0; i < 3; ++i) {
-    if (!(reach_past(b, i, a) > tolerance)) return false;
+    if (reach_past(b, i, a) <= tolerance) return false;
   }
   return true;
 }

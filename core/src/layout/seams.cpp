@@ -1,6 +1,7 @@
 #include "ricci/layout/seams.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -288,12 +289,12 @@ Spokes spokes_around(const Triangulation& mesh, int first,
   return s;
 }
 
-// A cone's further branch ends on the cut at least this many cut edges away from the cone (or,
+// A cone's further branch ends on the cut more than this many cut edges away from the cone (or,
 // where no such vertex is reached, at the nearest other than its cut neighbours). Ended at the
-// nearest, two cut edges along, it closed a loop around a few faces by the cone: a chart of 2 faces
-// below a texel on CGAL's diplodocus at 8 cones, and about man's cone of 1.7 turns loops that left
-// its chart overlapping (3 splits, 5 charts); 10 edges away: no split, 2 charts, neither below a
-// texel (the camel's two below a texel gone too).
+// nearest, two cut edges along, it closed a loop around a few faces by the cone (measured with
+// wedges of at most 1.9 pi): a chart of 2 faces below a texel on CGAL's diplodocus at 8 cones, and
+// about man's cone of 1.7 turns loops that left its chart overlapping (3 splits, 5 charts); 10
+// edges away: no split, 2 charts, neither below a texel (the camel's two below a texel gone too).
 constexpr int kBranchEndHops = 10;
 
 // Cone c gets another branch: the shortest path, off the cut, to a vertex of the cut or the
@@ -334,7 +335,8 @@ bool add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, int ho
 
 // Cone c's widest wedge (between cut edges that follow each other around it) while it is wider
 // than `widest` gets a branch that leaves c within its middle half (the shortest such), else by
-// the edge nearest its middle.
+// the edge nearest its middle. Where that wedge has no edge to leave by, or no branch from it
+// reaches the cut, the cone keeps its wedges (the charts' overlap splits part what overlaps).
 void narrow_wedges(const Triangulation& mesh, const EdgeGraph& graph, int into_c,
                    const std::vector<double>& corner_angles, double widest,
                    std::vector<char>& cut) {

@@ -116,14 +116,13 @@ double lap(Clock::time_point& from) {
   return s;
 }
 
-// The widest wedge that the seams leave a cone (ConeWedges). A wedge of a full turn overlaps itself
-// at the cone's vertex. Before, a cone of angle theta had floor(theta / 2 pi) + 1 branches, each
-// the shortest path to the cut, which can leave one wedge past a full turn: CGAL's man at 8 cones,
-// a cone of 10.87 in wedges of 2.86, 1.58 and 6.42, its chart split 5 times; the camel's cone of
-// 14.74 in 1.62, 10.90 and 2.22. At most 1.9 pi each (10.87 in 2.86, 1.58, 3.23 and 3.19), on the
-// 234 files of the real set and CGAL's at 8 cones (docs/atlas-measurements.md): fewer splits,
-// shorter seams.
-constexpr double kWidestWedge = 1.9 * kPi;
+// The widest wedge that the seams leave a cone (ConeWedges): a full turn, past which a wedge
+// overlaps itself at the cone's vertex. Before, a cone of angle theta had floor(theta / 2 pi) + 1
+// branches, each the shortest path to the cut, which can leave one wedge past a full turn: CGAL's
+// man at 8 cones, a cone of 10.87 in wedges of 2.86, 1.58 and 6.42, its chart split 5 times; the
+// camel's cone of 14.74 in 1.62, 10.90 and 2.22. (At most 1.9 pi, the cones of an unfolded CAD
+// part just below a full turn took a branch each: Cura's felixpro2 bed 80 charts instead of 15.)
+constexpr double kWidestWedge = 2 * kPi;
 
 // Per face, its side lengths as `corners` draw it (`[f][c]`: the side opposite corner c).
 std::vector<std::array<double, 3>> drawn_sides(

@@ -7,8 +7,8 @@
 //                    own side lengths: the discrete conformal map), unless the charts go back onto
 //                    the user's faces (below)
 //   seams            cut_through_cones (seams.h) on the delivered edges that lie on the user's
-//                    edges, weighted by their 3D length; cones of angle above 2 pi get a branch per
-//                    full turn
+//                    edges, weighted by their 3D length; a cone's wedge past a full turn (its angle
+//                    between two seams at it) is split by a branch from its middle
 //   charts           lay_out_charts (charts.h); a chart whose faces overlap is split along a short
 //                    path between the overlapping sheets and laid out again (the metric is flat:
 //                    no new flow)

@@ -1,5 +1,6 @@
 #include "subdivision/face_pieces.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -145,9 +146,10 @@ FaceCut cut_face(const InputOverlay& overlay, int face) {
   for (int start = 0; start < m; ++start) {
     if (arc_used[start]) continue;
     FacePiece piece;
-    piece.points.reserve(m);  // a piece's points are at most the face's, and as many sides
-    piece.along.reserve(m);
-    piece.arc.reserve(m);
+    const int most = std::min(m, 8);  // most pieces have few points: not m each (the cheese's m
+    piece.points.reserve(most);       // are hundreds)
+    piece.along.reserve(most);
+    piece.arc.reserve(most);
     piece.points.push_back(start);
     auto note_step = [&](int E, bool forward) {
       const int f = face_left_of(input, E, forward);

@@ -16,6 +16,7 @@
 //   pruning      branches that end at no cone glued back.
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include "ricci/layout/cut_graph.h"
@@ -28,7 +29,7 @@ namespace ricci {
 //! and a wedge near a full turn can overlap the far side of its own chart.
 struct ConeWedges {
   std::vector<double> corner_angles;  //!< the flat metric's, per corner 3 f + c (empty: no limit)
-  double widest = 0;
+  double widest = std::numeric_limits<double>::infinity();
 };
 
 //! A cut through the cones (`cones`) on the edges marked in `allowed` (per edge; empty: every
