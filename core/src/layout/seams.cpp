@@ -289,32 +289,22 @@ Spokes spokes_around(const Triangulation& mesh, int first,
   return s;
 }
 
-// A cone's further branch ends on the cut more than this many cut edges away from the cone (or,
-// where no such vertex is reached, at the nearest other than its cut neighbours). Ended at the
-// nearest, two cut edges along, it closed a loop around a few faces by the cone (measured with
-// wedges of at most 1.9 pi): a chart of 2 faces below a texel on CGAL's diplodocus at 8 cones, and
-// about man's cone of 1.7 turns loops that left its chart overlapping (3 splits, 5 charts); 10
-// edges away: no split, 2 charts, neither below a texel (the camel's two below a texel gone too).
-constexpr int kBranchEndHops = 10;
-
 // Cone c gets another branch: the shortest path, off the cut, to a vertex of the cut or the
-// boundary that is more than `hops` cut edges from c, leaving c by an edge of `leave` (empty: any).
-// False where none is reached.
-bool add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, int hops,
+// boundary that is neither c, nor a cut neighbour of c, nor nearer to c along the cut than
+// `away` (3D length), leaving c by an edge of `leave` (empty: any). False where none is reached.
+bool add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, double away,
                 std::vector<char>& cut, const std::vector<int>& leave = {}) {
   const std::vector<int> degree = cut_degree(mesh, cut);
   std::vector<char> near(mesh.num_vertices(), 0);
   near[c] = 1;
-  std::vector<int> ring{c};
-  for (int h = 0; h < hops; ++h) {
-    std::vector<int> next;
-    for (int v : ring) {
-      for (int e : graph.edges_at(v)) {
-        const int w = graph.other(e, v);
-        if (cut[e] && !near[w]) near[w] = 1, next.push_back(w);
-      }
-    }
-    ring = std::move(next);
+  for (int e : graph.edges_at(c)) {
+    if (cut[e]) near[graph.other(e, c)] = 1;
+  }
+  if (away > 0) {  // along the cut, to `away` from c
+    std::vector<char> off_cut(cut.size());
+    for (size_t e = 0; e < cut.size(); ++e) off_cut[e] = !cut[e];
+    const ShortestPaths along = graph.from({c}, off_cut);
+    for (int v = 0; v < mesh.num_vertices(); ++v) near[v] = near[v] || along.distance[v] < away;
   }
   std::vector<char> on_cut(mesh.num_vertices(), 0);
   for (int v = 0; v < mesh.num_vertices(); ++v) on_cut[v] = degree[v] > 0;
@@ -335,10 +325,12 @@ bool add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, int ho
 
 // Cone c's widest wedge (between cut edges that follow each other around it) while it is wider
 // than `widest` gets a branch that leaves c within its middle half (the shortest such), else by
-// the edge nearest its middle. Where that wedge has no edge to leave by, or no branch from it
-// reaches the cut, the cone keeps its wedges (the charts' overlap splits part what overlaps).
+// the edge nearest its middle, which ends on the cut at least `away` from c along it (else, where
+// none is reached so, anywhere but at c's cut neighbours). Where that wedge has no edge to leave
+// by, or no branch from it reaches the cut, the cone keeps its wedges (the charts' overlap splits
+// part what overlaps).
 void narrow_wedges(const Triangulation& mesh, const EdgeGraph& graph, int into_c,
-                   const std::vector<double>& corner_angles, double widest,
+                   const std::vector<double>& corner_angles, double widest, double away,
                    std::vector<char>& cut) {
   const int c = mesh.halfedge_head(into_c);
   const Spokes s = spokes_around(mesh, into_c, corner_angles);
@@ -377,8 +369,8 @@ void narrow_wedges(const Triangulation& mesh, const EdgeGraph& graph, int into_c
     }
     if (nearest < 0) return;  // no edge inside the wedge to leave by
     if (middle.empty()) middle.push_back(s.edge[nearest]);
-    if (!add_branch(mesh, graph, c, kBranchEndHops, cut, middle) &&
-        !add_branch(mesh, graph, c, 1, cut, middle)) {
+    if (!add_branch(mesh, graph, c, away, cut, middle) &&
+        !add_branch(mesh, graph, c, 0, cut, middle)) {
       return;
     }
   }
@@ -407,7 +399,8 @@ CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>&
     }
     for (int c : cones) {
       if (into[c] >= 0)
-        narrow_wedges(mesh, graph, into[c], wedges.corner_angles, wedges.widest, g.cut);
+        narrow_wedges(mesh, graph, into[c], wedges.corner_angles, wedges.widest, wedges.branch_end,
+                      g.cut);
     }
   }
   for (int e = 0; e < mesh.num_edges(); ++e) {

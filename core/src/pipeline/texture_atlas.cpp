@@ -124,6 +124,19 @@ double lap(Clock::time_point& from) {
 // part just below a full turn took a branch each: Cura's felixpro2 bed 80 charts instead of 15.)
 constexpr double kWidestWedge = 2 * kPi;
 
+// A cone's further branch ends on the cut at least this many times sqrt(area) from the cone along
+// it (ConeWedges::branch_end). Ended at the nearest cut vertex, two cut edges along, it closed a
+// loop around a few faces by the cone (measured with wedges of at most 1.9 pi): a chart of 2 faces
+// below a texel on CGAL's diplodocus at 8 cones, and about man's cone of 1.7 turns loops that left
+// its chart overlapping (3 splits, 5 charts); 10 cut edges away (0.07 to 0.11 sqrt(area) on those
+// meshes of 20k to 48k faces): no split, 2 charts, neither below a texel. Counted in edges, a
+// coarse part's branches ran far (meshcat's head, 686 faces: the seams of its 64 cones 7.07
+// sqrt(area) instead of 5.3, so that the QC retry's atlas was not delivered, QC p95 1.51 for
+// 1.26; oblong.off no longer unfolded), which this length does not. On the 234 files of the real
+// set and CGAL's at the defaults charts below a texel 16 to 2, splits 936 to 363
+// (docs/atlas-measurements.md).
+constexpr double kBranchEnd = 0.1;
+
 // Per face, its side lengths as `corners` draw it (`[f][c]`: the side opposite corner c).
 std::vector<std::array<double, 3>> drawn_sides(
     const std::vector<std::array<Eigen::Vector3d, 3>>& corners) {
@@ -384,7 +397,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   atlas.seconds = {};
   auto clock = Clock::now();
   ConeWedges wedges{std::vector<double>(3 * static_cast<size_t>(delivered.num_faces())),
-                    kWidestWedge};
+                    kWidestWedge, kBranchEnd * std::sqrt(mesh.input_area())};
   for (int f = 0; f < delivered.num_faces(); ++f) {
     const TriangleAngles a = corner_angles(Geometry::Euclidean, flat[f]);
     for (int c = 0; c < 3; ++c) wedges.corner_angles[3 * f + c] = a.angle[c];

@@ -30,13 +30,16 @@ namespace ricci {
 struct ConeWedges {
   std::vector<double> corner_angles;  //!< the flat metric's, per corner 3 f + c (empty: no limit)
   double widest = std::numeric_limits<double>::infinity();
+  //! A further branch ends on the cut at least this far from its cone along the cut (in
+  //! `lengths`): ended at the nearest cut vertex it closes a loop around a few faces by the cone.
+  double branch_end = 0;
 };
 
 //! A cut through the cones (`cones`) on the edges marked in `allowed` (per edge; empty: every
 //! edge), with `lengths` per edge the weights of shortest paths (3D lengths: seams short on the
 //! surface the user sees). Each cone's widest wedge, while wider than `wedges.widest`, gets a
 //! branch that leaves the cone within the wedge's middle half, the shortest such path to a cut
-//! vertex some cut edges away from the cone (not closing a loop around a few faces by it).
+//! vertex `wedges.branch_end` or more from the cone along the cut.
 //! Cones are nodes of the cut's paths, so every path's two sides are related by one isometry.
 //! \pre the allowed edges connect every vertex; cones are interior vertices.
 CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>& lengths,
