@@ -324,8 +324,9 @@ bool add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, double
 }
 
 // Cone c's widest wedge (between cut edges that follow each other around it) while it is wider
-// than `widest` gets a branch that leaves c within its middle half (the shortest such), else by
-// the edge nearest its middle, which ends on the cut at least `away` from c along it (else, where
+// than `widest` gets a branch that leaves c where both parts are within `widest` if the wedge is
+// at most twice that, else within its middle half (the shortest such), else by the edge nearest
+// its middle, which ends on the cut at least `away` from c along it (else, where
 // none is reached so, anywhere but at c's cut neighbours). Where that wedge has no edge to leave
 // by, or no branch from it reaches the cut, the cone keeps its wedges (the charts' overlap splits
 // part what overlaps).
@@ -356,6 +357,9 @@ void narrow_wedges(const Triangulation& mesh, const EdgeGraph& graph, int into_c
       if (w > width) from = a, width = w;
     }
     if (!(width > widest)) return;
+    // Where one branch can leave both parts within `widest`, where it does; else the middle half.
+    const double low = width <= 2 * widest ? width - widest : width / 4;
+    const double high = width <= 2 * widest ? widest : 3 * width / 4;
     std::vector<int> middle;
     int nearest = -1;
     double nearest_off = kInfinity;
@@ -364,7 +368,7 @@ void narrow_wedges(const Triangulation& mesh, const EdgeGraph& graph, int into_c
       if (cut[s.edge[i]]) break;
       if (!usable[i]) continue;
       const double t = i > from ? s.at[i] - s.at[from] : s.angle - s.at[from] + s.at[i];
-      if (t >= width / 4 && t <= 3 * width / 4) middle.push_back(s.edge[i]);
+      if (t >= low && t <= high) middle.push_back(s.edge[i]);
       if (std::abs(t - width / 2) < nearest_off) nearest = i, nearest_off = std::abs(t - width / 2);
     }
     if (nearest < 0) return;  // no edge inside the wedge to leave by
