@@ -38,8 +38,9 @@ struct ConeWedges {
 //! A cut through the cones (`cones`) on the edges marked in `allowed` (per edge; empty: every
 //! edge), with `lengths` per edge the weights of shortest paths (3D lengths: seams short on the
 //! surface the user sees). Each cone's widest wedge, while wider than `wedges.widest`, gets a
-//! branch that leaves the cone within the wedge's middle half, the shortest such path to a cut
-//! vertex `wedges.branch_end` or more from the cone along the cut.
+//! branch that leaves the cone where both parts are within it (the wedge's middle half if it is
+//! more than twice as wide), the shortest such path to a cut vertex `wedges.branch_end` or more
+//! from the cone along the cut.
 //! Cones are nodes of the cut's paths, so every path's two sides are related by one isometry.
 //! \pre the allowed edges connect every vertex; cones are interior vertices.
 CutGraph cut_through_cones(const Triangulation& mesh, const std::vector<double>& lengths,
