@@ -323,13 +323,13 @@ bool add_branch(const Triangulation& mesh, const EdgeGraph& graph, int c, double
   return true;
 }
 
-// Cone c's widest wedge (between cut edges that follow each other around it) while it is wider
-// than `widest` gets a branch that leaves c where both parts are within `widest` if the wedge is
-// at most twice that, else within its middle half (the shortest such), else by the edge nearest
-// its middle, which ends on the cut at least `away` from c along it (else, where
-// none is reached so, anywhere but at c's cut neighbours). Where that wedge has no edge to leave
-// by, or no branch from it reaches the cut, the cone keeps its wedges (the charts' overlap splits
-// part what overlaps).
+// Cone c's widest wedge (between cut edges that follow each other around it), while it is wider
+// than `widest`, gets a branch that leaves c where both parts are within `widest` if the wedge is
+// at most twice that, else within its middle half (the shortest such path; with no edge there, by
+// the edge nearest the middle). The branch ends on the cut at least `away` from c along it, or,
+// where no such vertex is reached, anywhere but at c's cut neighbours. Where the wedge has no
+// edge to leave by, or no branch from it reaches the cut, the cone keeps its wedges (the charts'
+// overlap splits part what overlaps).
 void narrow_wedges(const Triangulation& mesh, const EdgeGraph& graph, int into_c,
                    const std::vector<double>& corner_angles, double widest, double away,
                    std::vector<char>& cut) {
