@@ -133,8 +133,8 @@ constexpr double kWidestWedge = 2 * kPi;
 // coarse part's branches ran far (meshcat's head, 686 faces: the seams of its 64 cones 7.07
 // sqrt(area) instead of 5.3, so that the QC retry's atlas was not delivered, QC p95 1.51 for
 // 1.26; oblong.off no longer unfolded), which this length does not. On the 234 files of the real
-// set and CGAL's at the defaults charts below a texel 16 to 2, splits 936 to 363
-// (docs/atlas-measurements.md).
+// set and CGAL's at the defaults, with the rest of the rule: charts below a texel 16 to 3, overlap
+// splits 936 to 407 (docs/atlas-measurements.md).
 constexpr double kBranchEnd = 0.1;
 
 // Per face, its side lengths as `corners` draw it (`[f][c]`: the side opposite corner c).
