@@ -396,9 +396,14 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   // === Seams and charts; charts whose faces overlap split between the sheets, until none does
   atlas.seconds = {};
   auto clock = Clock::now();
-  ConeWedges wedges{std::vector<double>(3 * static_cast<size_t>(delivered.num_faces())),
+  // The flat corner angles of the faces at cones (the only ones a cone's wedges read).
+  ConeWedges wedges{std::vector<double>(3 * static_cast<size_t>(delivered.num_faces()), 0.0),
                     kWidestWedge, kBranchEnd * std::sqrt(mesh.input_area())};
+  std::vector<char> is_cone(delivered.num_vertices(), 0);
+  for (int c : cones) is_cone[c] = 1;
   for (int f = 0; f < delivered.num_faces(); ++f) {
+    const std::array<int, 3>& t = delivered.faces()[f];
+    if (!is_cone[t[0]] && !is_cone[t[1]] && !is_cone[t[2]]) continue;
     const TriangleAngles a = corner_angles(Geometry::Euclidean, flat[f]);
     for (int c = 0; c < 3; ++c) wedges.corner_angles[3 * f + c] = a.angle[c];
   }

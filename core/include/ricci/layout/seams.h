@@ -28,7 +28,8 @@ namespace ricci {
 //! may be: a cone of angle above 2 pi laid out as one wedge overlaps itself around its vertex,
 //! and a wedge near a full turn can overlap the far side of its own chart.
 struct ConeWedges {
-  std::vector<double> corner_angles;  //!< the flat metric's, per corner 3 f + c (empty: no limit)
+  //! The flat metric's, per corner 3 f + c (empty: no limit); only those at cones are read.
+  std::vector<double> corner_angles;
   double widest = std::numeric_limits<double>::infinity();
   //! A further branch ends on the cut at least this far from its cone along the cut (in
   //! `lengths`): ended at the nearest cut vertex it closes a loop around a few faces by the cone.
