@@ -200,6 +200,25 @@ Raster rasterize(const Triangles& chart, const Eigen::Matrix2d& rotation, double
   return r;
 }
 
+// A raster turned a quarter counter-clockwise, (x, y) to (-y, x): cell (i, j) of `r` becomes cell
+// (height - 1 - j, i), each cell's box (grown by the margin, in the maximum norm) that of its turn,
+// so the turn holds just the cells that the turned chart comes within the margin of: the raster of
+// the turned chart, on a grid aligned to the turned one's.
+Raster quarter_turned(const Raster& r, double cell) {
+  const Eigen::Matrix2d quarter{{0, -1}, {1, 0}};
+  const int width = r.mask.width(), height = r.mask.height();
+  Raster t;
+  t.rotation = quarter * r.rotation;
+  t.origin = Eigen::Vector2d(-(r.origin.y() + cell * height), r.origin.x());
+  t.mask = Mask(height, width);
+  for (int j = 0; j < height; ++j) {
+    for (int i = 0; i < width; ++i) {
+      if (r.mask.get(i, j)) t.mask.set(height - 1 - j, i);
+    }
+  }
+  return t;
+}
+
 // Bits as a row of cells: bit i of word i / 64 is cell i.
 using Bits = std::vector<std::uint64_t>;
 
@@ -402,7 +421,6 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
       for (const auto& q : t) lo[k] = lo[k].cwiseMin(up[k] * q), hi[k] = hi[k].cwiseMax(up[k] * q);
     }
   }
-  const Eigen::Matrix2d quarter{{0, -1}, {1, 0}};
   // A hint outside (0, 1] is no utilization; below 0.1 it would pad far more than asked.
   const bool expected = expected_utilization > 0 && expected_utilization <= 1;
   double extent = std::sqrt(total / (expected ? std::max(expected_utilization, 0.1) : 0.6));
@@ -445,10 +463,8 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     std::vector<std::array<Raster, kTurns>> rasters(n);
     for (size_t k = 0; k < n; ++k) {
       if (charts[k].empty()) continue;
-      Eigen::Matrix2d turn = up[k];
-      for (int t = 0; t < kTurns; ++t, turn = quarter * turn) {
-        rasters[k][t] = rasterize(charts[k], turn, cell, margin);
-      }
+      rasters[k][0] = rasterize(charts[k], up[k], cell, margin);
+      for (int t = 1; t < kTurns; ++t) rasters[k][t] = quarter_turned(rasters[k][t - 1], cell);
     }
     std::vector<size_t> nonempty;
     long cells = 0;
