@@ -2,12 +2,14 @@
 // over the whole chart, not only neighbours), which charts are embedded for certain without that
 // test, and the split of an overlapping chart between its two sheets (ricci/layout/charts.h).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <queue>
 
 #include "mesh/plane.h"
+#include "mesh/two_threads.h"
 #include "ricci/layout/charts.h"
 #include "ricci/mesh/errors.h"
 #include "ricci/mesh/geometry.h"
@@ -17,6 +19,10 @@ namespace ricci {
 using detail::cross;
 
 namespace {
+
+// A chart of this many faces has its overlap test on two threads (a face's query and tests cost
+// about a microsecond, a thread some 0.1 ms).
+constexpr int kTwoThreadsFromFaces = 4000;
 
 // How far the interiors of two counter-clockwise triangles reach past the line of side i of
 // triangle t towards the other, o (<= 0: that side separates them; infinite: a side of no
@@ -145,14 +151,30 @@ std::vector<std::pair<int, int>> overlapping_faces(const Charts& charts, size_t 
     const double tolerance = 1e-9 * size;
     const std::vector<int> in_order = faces;  // the tree reorders `faces`
     const BoxTree tree(box, faces);
-    std::vector<std::pair<int, int>> found;
-    for (int f : in_order) {
-      tree.visit(box[f], [&](int g) {
-        if (g > f && interiors_overlap(charts.corners[f], charts.corners[g], tolerance)) {
-          found.emplace_back(f, g);
-        }
-      });
-      if (per_chart > 0 && found.size() >= per_chart) break;
+    // Each half of the faces in order with the pairs it finds, up to per_chart; then the first
+    // half's, and the second's while the first found fewer, a face's pairs all or none: the pairs
+    // one pass in order finds before it stops.
+    std::array<std::vector<std::pair<int, int>>, 2> half;
+    detail::in_two_halves(
+        static_cast<int>(in_order.size()),
+        [&](int part, int begin, int end) {
+          std::vector<std::pair<int, int>>& found = half[part];
+          for (int i = begin; i < end; ++i) {
+            const int f = in_order[i];
+            tree.visit(box[f], [&](int g) {
+              if (g > f && interiors_overlap(charts.corners[f], charts.corners[g], tolerance)) {
+                found.emplace_back(f, g);
+              }
+            });
+            if (per_chart > 0 && found.size() >= per_chart) break;
+          }
+        },
+        kTwoThreadsFromFaces);
+    std::vector<std::pair<int, int>> found = std::move(half[0]);
+    for (size_t i = 0; i < half[1].size(); ++i) {
+      const bool same_face = i > 0 && half[1][i].first == half[1][i - 1].first;
+      if (per_chart > 0 && found.size() >= per_chart && !same_face) break;
+      found.push_back(half[1][i]);
     }
     std::sort(found.begin(), found.end());
     pairs.insert(pairs.end(), found.begin(), found.end());

@@ -11,10 +11,10 @@ namespace ricci::detail {
 inline constexpr int kTwoThreadsFromIterations = 50000;
 
 //! work(part, begin, end) for part 0 on [0, n / 2) and part 1 on [n / 2, n), on two threads; for
-//! short loops part 0 on [0, n) and part 1 on the empty [n, n), on this one.
+//! loops shorter than `from` part 0 on [0, n) and part 1 on the empty [n, n), on this one.
 template <class Work>
-void in_two_halves(int n, const Work& work) {
-  if (n < kTwoThreadsFromIterations) {
+void in_two_halves(int n, const Work& work, int from = kTwoThreadsFromIterations) {
+  if (n < from) {
     work(0, 0, n);
     work(1, n, n);
     return;
