@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <future>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -483,6 +484,20 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   // overlap. Only those packings are made here: the delivered attempt's charts are packed once
   // it is chosen (pack_atlas).
   atlas.seconds.charts += lap(clock);
+  // The charts as they stand delivered on the user's faces, on the second core while the halving
+  // below is tried: most halvings pack no fuller, and then that delivery is the one made (CGAL's
+  // man at 8 cones: its 0.07 s trial beside the delivery's 0.13 s).
+  const bool may_halve =
+      o.halve_long_charts && overlaps.empty() && !long_chart_ends(charts, kLongAspect).empty();
+  const auto on_input = [&, bound = run.atlas.bound](const std::vector<char>& cut,
+                                                     const Charts& developed) {
+    return delivered_on_input(mesh, *sub, delivered, under, cut, developed, bound);
+  };
+  std::future<OnInput> unhalved;
+  if (sub && may_halve) {
+    unhalved = std::async(std::launch::async,
+                          [&, cut = seam, developed = charts] { return on_input(cut, developed); });
+  }
   std::optional<Packing> packing;
   for (int round = 0; round < kMaxHalvings && o.halve_long_charts && overlaps.empty(); ++round) {
     std::vector<char> halved = seam;
@@ -531,34 +546,26 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   // makes less conformal (its QC p95) stays as developed.
   atlas.harmonic_charts = 0;
   if (sub && overlaps.empty()) {
-    const AsDrawn pieces{face_distortion(positions, faces, charts.corners),
-                         qc_p95(positions, faces, charts.corners)};
-    const std::optional<InputCharts> in =
-        charts_on_input(mesh, *sub, delivered, under, seam, charts);
-    std::vector<int> stuck;
-    std::optional<Drawn> user =
-        in ? drawn_where_deliverable(mesh, mesh.positions(), in->seam, in->charts, run.atlas.bound,
-                                     pieces, stuck)
-           : std::nullopt;
-    if (user) {
+    OnInput drawn =
+        unhalved.valid() && atlas.halvings == 0 ? unhalved.get() : on_input(seam, charts);
+    if (drawn.user) {
       atlas.seconds.harmonic += lap(clock);
-      atlas.harmonic_charts = user->redrawn;
-      atlas.untangled = user->untangled;
+      atlas.harmonic_charts = drawn.user->redrawn;
+      atlas.untangled = drawn.user->untangled;
       atlas.on_input_faces = true;
-      deliver(mesh, mesh.positions(), mesh.faces(), in->seam, lengths_in_3d(mesh, mesh.positions()),
-              user->charts, {}, mesh.input_area(), quarter, run);
+      deliver(mesh, mesh.positions(), mesh.faces(), drawn.in->seam,
+              lengths_in_3d(mesh, mesh.positions()), drawn.user->charts, {}, mesh.input_area(),
+              quarter, run);
       return;
     }
-    if (auto partly = in ? partly_cut_drawn(mesh, *sub, delivered, under, seam, charts, *in,
-                                            run.atlas.bound, pieces, std::move(stuck))
-                         : std::nullopt) {
-      auto& [cut, drawn] = *partly;
+    if (drawn.partly) {
+      auto& [cut, user] = *drawn.partly;
       atlas.seconds.harmonic += lap(clock);
-      atlas.harmonic_charts = drawn.redrawn;
-      atlas.untangled = drawn.untangled;
+      atlas.harmonic_charts = user.redrawn;
+      atlas.untangled = user.untangled;
       atlas.input_faces_cut = cut.input_faces_cut;
       deliver(cut.delivered, cut.sub.positions, cut.sub.faces, cut.seam,
-              lengths_in_3d(cut.delivered, cut.sub.positions), drawn.charts, {}, mesh.input_area(),
+              lengths_in_3d(cut.delivered, cut.sub.positions), user.charts, {}, mesh.input_area(),
               quarter, run);
       run.subdivision = std::move(cut.sub);
       return;

@@ -133,6 +133,18 @@ std::optional<std::pair<PartlyCutCharts, Drawn>> partly_cut_drawn(
     const std::vector<int>& under, const std::vector<char>& seam, const Charts& developed,
     const InputCharts& in, double bound, const AsDrawn& pieces, std::vector<int> stuck);
 
+//! A common subdivision's charts (as developed on its pieces) delivered on the user's faces: all
+//! of them (`user`), else with some cut into their pieces (`partly`), else neither (the pieces
+//! are delivered then). Measured against the pieces as developed (AsDrawn).
+struct OnInput {
+  std::optional<InputCharts> in;
+  std::optional<Drawn> user;
+  std::optional<std::pair<PartlyCutCharts, Drawn>> partly;
+};
+OnInput delivered_on_input(const CompactMesh& mesh, const CommonSubdivision& sub,
+                           const Triangulation& delivered, const std::vector<int>& under,
+                           const std::vector<char>& seam, const Charts& charts, double bound);
+
 //! Per edge of `delivered`, its length in 3D between `positions` (seams are shortest there).
 std::vector<double> lengths_in_3d(const Triangulation& delivered,
                                   const std::vector<Eigen::Vector3d>& positions);
