@@ -250,38 +250,6 @@ TEST(Charts, AChartWhoseHarmonicInsideWouldTurnKeepsItsDrawing) {
   }
 }
 
-TEST(Charts, AFaceTurnedWithEveryCornerOnTheBorderIsHeld) {
-  const CutGrid g = cut_grid(8);
-  const auto on_boundary = [&](int v) { return g.mesh.is_boundary_vertex(v); };
-  // A face whose corners are all on the square's boundary (a corner of the square), turned by
-  // moving one corner across its opposite side: neither a harmonic inside nor the untangling
-  // moves such corners.
-  int face = -1;
-  for (int f = 0; f < g.mesh.num_faces() && face < 0; ++f) {
-    const auto& t = g.mesh.faces()[f];
-    if (on_boundary(t[0]) && on_boundary(t[1]) && on_boundary(t[2])) face = f;
-  }
-  ASSERT_GE(face, 0);
-  EXPECT_FALSE(turned_face_held(g.mesh, g.cut, g.charts));
-  Charts corner = g.charts;
-  const auto& q = g.charts.corners[face];
-  move_vertex(g, g.mesh.faces()[face][0], 2.0 * ((q[1] + q[2]) / 2 - q[0]), corner);
-  ASSERT_FALSE(signed_area(corner.corners[face]) > 0);
-  EXPECT_TRUE(turned_face_held(g.mesh, g.cut, corner));
-  // An inside vertex moved past its neighbours turns its faces, which untangling mends.
-  int inside = -1;
-  for (int v = 0; v < g.mesh.num_vertices() && inside < 0; ++v) {
-    const Eigen::Vector3d& p = g.mesh.positions()[v];
-    if (!on_boundary(v) && std::abs(p.x() - 0.5) > 0.2) inside = v;
-  }
-  ASSERT_GE(inside, 0);
-  Charts pushed = g.charts;
-  move_vertex(g, inside, Eigen::Vector2d(0.3, 0), pushed);
-  ASSERT_TRUE(std::any_of(pushed.corners.begin(), pushed.corners.end(),
-                          [](const auto& t) { return !(signed_area(t) > 0); }));
-  EXPECT_FALSE(turned_face_held(g.mesh, g.cut, pushed));
-}
-
 TEST(Charts, AScrambledBlockOfTheInsideIsUntangledAsARegion) {
   // Twelve inside vertices of the left chart, each put where another of them was: most faces
   // around them turn over, and a vertex moved alone towards the mean of its neighbours (whose

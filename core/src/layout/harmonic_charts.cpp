@@ -378,26 +378,6 @@ std::vector<int> redraw_tangled_regions(const Triangulation& mesh,
 
 }  // namespace
 
-bool turned_face_held(const Triangulation& mesh, const std::vector<char>& cut,
-                      const Charts& charts) {
-  std::vector<int> turned;
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    if (!(signed_area(charts.corners[f]) > 0)) turned.push_back(f);
-  }
-  if (turned.empty()) return false;
-  const std::vector<int> wedge = chart_wedges(mesh, cut);
-  const std::vector<char> border = border_wedges(mesh, cut, wedge);
-  const SeamSides seams = seam_sides(mesh, cut, wedge);
-  for (int f : turned) {
-    bool held = true;
-    for (int c = 0; c < 3 && held; ++c) {
-      held = border[wedge[3 * f + c]] && !glued(seams, mesh.faces()[f][c], charts);
-    }
-    if (held) return true;
-  }
-  return false;
-}
-
 std::vector<int> untangle_turned_faces(const Triangulation& mesh,
                                        const std::vector<Eigen::Vector3d>& positions,
                                        const std::vector<char>& cut, Charts& charts) {

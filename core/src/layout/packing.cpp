@@ -219,6 +219,31 @@ Raster quarter_turned(const Raster& r, double cell) {
   return t;
 }
 
+// The raster cut to the rows and columns that hold a set cell (its grid rounds the chart's box up
+// by a cell or two on one side, which a quarter turn moves to the low side, where it would keep
+// the chart a cell off the atlas's sides).
+Raster trimmed(const Raster& r, double cell) {
+  const Mask& m = r.mask;
+  int x0 = m.width(), x1 = -1, y0 = m.height(), y1 = -1;
+  for (int y = 0; y < m.height(); ++y) {
+    for (int x = 0; x < m.width(); ++x) {
+      if (!m.get(x, y)) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  }
+  if (x1 < 0 || (x0 == 0 && y0 == 0 && x1 == m.width() - 1 && y1 == m.height() - 1)) return r;
+  Raster t;
+  t.rotation = r.rotation;
+  t.origin = r.origin + cell * Eigen::Vector2d(x0, y0);
+  t.mask = Mask(x1 - x0 + 1, y1 - y0 + 1);
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      if (m.get(x, y)) t.mask.set(x - x0, y - y0);
+    }
+  }
+  return t;
+}
+
 // Bits as a row of cells: bit i of word i / 64 is cell i.
 using Bits = std::vector<std::uint64_t>;
 
@@ -463,7 +488,7 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     std::vector<std::array<Raster, kTurns>> rasters(n);
     for (size_t k = 0; k < n; ++k) {
       if (charts[k].empty()) continue;
-      rasters[k][0] = rasterize(charts[k], up[k], cell, margin);
+      rasters[k][0] = trimmed(rasterize(charts[k], up[k], cell, margin), cell);
       for (int t = 1; t < kTurns; ++t) rasters[k][t] = quarter_turned(rasters[k][t - 1], cell);
     }
     std::vector<size_t> nonempty;

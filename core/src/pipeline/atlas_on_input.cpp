@@ -254,8 +254,7 @@ double qc_p95(const std::vector<Eigen::Vector3d>& positions,
 // CGAL's with a subdivision, by at most 8 % of its excess over 1 above 1,700 faces, 30 % above 500
 // (and up to 14 times on a part of 92). Where not given, `stuck` gets the faces that stay turned
 // or overlap another (none where D alone exceeds), of the redrawn drawing, else of the one as
-// developed; where faces turned as developed stay turned redrawn, those alone, with no overlap
-// test (CGAL's man at 8 cones: 0.04 s, the same atlas).
+// developed.
 std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
                                              const std::vector<Eigen::Vector3d>& positions,
                                              const std::vector<char>& seam, Charts charts,
@@ -297,9 +296,6 @@ std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
   };
   std::vector<int> moved = untangle_turned_faces(t, positions, seam, charts);
   const bool turned_developed = turned();
-  // A face turned that no redrawing mends: not given, the faces turned stuck (CGAL's man at 8
-  // cones: the harmonic drawing and its test spared, 0.04 s, the same atlas).
-  if (turned_developed && turned_face_held(t, seam, charts)) return not_given(charts, Checked{});
   const double qc_developed = qc_p95(positions, faces, charts.corners);
   if (turned_developed || t.num_faces() < kHarmonicBelow ||
       qc_developed - 1 > (1 + kSameQc) * (pieces.qc_p95 - 1)) {
@@ -324,11 +320,8 @@ std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
     for (int w : untangle_turned_faces(t, positions, seam, charts)) {
       if (std::find(moved.begin(), moved.end(), w) == moved.end()) moved.push_back(w);
     }
-    // Still turned where the drawing as developed was: not given, its turned faces stuck.
-    const bool still_turned = turned();
-    if (still_turned && turned_developed) return not_given(charts, Checked{});
     const Checked now = check(charts);
-    if (still_turned || !deliverable(now)) {
+    if (turned() || !deliverable(now)) {
       // The drawing as developed, where it turned no face and delivers.
       std::optional<Checked> before;
       if (!turned_developed && drawn.redrawn > 0) before = check(untangled);

@@ -90,11 +90,6 @@ std::vector<int> untangle_turned_faces(const Triangulation& mesh,
                                        const std::vector<Eigen::Vector3d>& positions,
                                        const std::vector<char>& cut, Charts& charts);
 
-//! Some face is turned whose corners no redrawing moves: all on the border (a harmonic drawing
-//! keeps them) and none inside a seam's path (untangle_turned_faces holds the others).
-bool turned_face_held(const Triangulation& mesh, const std::vector<char>& cut,
-                      const Charts& charts);
-
 //! The quasi-conformal ratio of a face's map from its 3D corners (`positions` at `face`) to its
 //! drawing `corners`.
 double drawn_quasi_conformal_ratio(const std::vector<Eigen::Vector3d>& positions,
