@@ -174,6 +174,47 @@ constexpr int kLastHalving = 19;
 // there, converged at 31; 9 with the whole walk).
 constexpr int kCreepingSteps = 3;
 
+// A start that is Newton's first step (FlowOptions::start_is_a_step) is halved at most this many
+// times while it does not lower the squared residual (Armijo's test, as search_line's), the
+// least residual of those tried taken. The linear cone model overshoots where u is far from 0: at
+// BFF's 8 cones CGAL's bull leaves a squared residual of 766 (393 at u = 0), half of it 87, and
+// Newton took 10 iterations (8 factorizations) from the whole step, 7 (5) from half. Each
+// halving costs a jump (flips and angles, no factorization); past a quarter the start is little
+// more than u = 0 (the bull: 216).
+constexpr int kStartHalvings = 2;
+
+void detail::FlowState::halve_start(Eigen::VectorXd& start, Eigen::VectorXd& eased,
+                                    detail::LineSearch& jump) {
+  const Eigen::VectorXd whole = start;
+  const int n = steps.num_free();
+  const auto merit = [&](const detail::LineSearch& at) {
+    const Eigen::VectorXd k_at = curvature(at.flipped ? *at.flipped : triangulation, at.state);
+    return 0.5 * detail::free_residual(k_at, goal, free_index, n).squaredNorm();
+  };
+  const double here =
+      0.5 *
+      detail::free_residual(curvature(triangulation, metric), goal, free_index, n).squaredNorm();
+  double share = 1, least = merit(jump);
+  for (int halving = 0; halving < kStartHalvings && !(least <= (1 - 1e-4 * share) * here);
+       ++halving) {
+    share /= 2;
+    Eigen::VectorXd nearer = whole;
+    for (int v = 0; v < static_cast<int>(u.size()); ++v) {
+      if (free_index[v] >= 0) nearer[v] = u[v] + share * (whole[v] - u[v]);
+    }
+    detail::LineSearch trial;
+    Eigen::VectorXd trial_eased = jump_eased(nearer, trial);
+    if (!trial.state.valid()) continue;
+    const double phi = merit(trial);
+    if (!(phi < least)) continue;
+    least = phi;
+    result.start_share = share;
+    start = std::move(nearer);
+    eased = std::move(trial_eased);
+    jump = std::move(trial);
+  }
+}
+
 void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way, bool ease) {
   if (!start.allFinite()) return;
   if (flipping && all_ptolemy(structure) && (!hyperbolic() || flip_trial_points)) {
@@ -181,12 +222,16 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way, bo
     // lengths, valid whatever u (delaunay.h), unless a flip was refused there or a boundary
     // triangle is invalid.
     detail::LineSearch jump;
-    const Eigen::VectorXd eased = ease ? jump_eased(start, jump) : start;
+    Eigen::VectorXd eased = ease ? jump_eased(start, jump) : start;
     if (!ease)
       detail::evaluate_trial_point(triangulation, structure, start, true, options.loops, jump);
+    Eigen::VectorXd taken = start;  // the start, or the share of it halve_start takes
+    if (ease && options.start_is_a_step && jump.state.valid() && metric.valid()) {
+      halve_start(taken, eased, jump);
+    }
     if (jump.state.valid()) {
-      result.eased_start_vertices = static_cast<int>((eased.array() != start.array()).count());
-      if (result.eased_start_vertices > 0) unfinished_walk = walk_from_here(start, true);
+      result.eased_start_vertices = static_cast<int>((eased.array() != taken.array()).count());
+      if (result.eased_start_vertices > 0) unfinished_walk = walk_from_here(taken, true);
       if (jump.flipped) adopt_flips(jump);
       u = eased;
       metric = std::move(jump.state);

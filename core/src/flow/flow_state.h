@@ -123,6 +123,10 @@ struct FlowState {
   // The jump to `start` with Ptolemy flips (its result in `jump`), from `start` eased at the free
   // vertices that an edge from a vertex to itself would need; returns the start jumped to.
   Eigen::VectorXd jump_eased(const Eigen::VectorXd& start, LineSearch& jump);
+  // A start that is Newton's first step (FlowOptions::start_is_a_step), jumped to as `eased` and
+  // `jump`, halved while it does not lower the squared residual: `start` becomes the share taken,
+  // `eased` and `jump` its jump.
+  void halve_start(Eigen::VectorXd& start, Eigen::VectorXd& eased, LineSearch& jump);
   std::string precondition_failure(const TargetCurvature& target);
   std::string iterate(const TargetCurvature& target, int it);
   double attainable_floor(const TargetCurvature& target) const;

@@ -232,6 +232,8 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
     if (run.preset == TargetPreset::Atlas && flow.edge_flips == EdgeFlips::WhenNeeded) {
       flow.edge_flips = EdgeFlips::Always;
     }
+    // The linear cone model's u is Newton's first step from u = 0.
+    flow.start_is_a_step = run.preset == TargetPreset::Atlas;
     RicciFlowSolver solver(mesh, run.structure, flow, o.vertex_order);
     if (run.preset == TargetPreset::UnitDisk) {
       by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);

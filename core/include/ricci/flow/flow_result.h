@@ -64,6 +64,11 @@ struct FlowOptions {
   //! wanted one (stalled_for_loops, loops_refused) and neither the other attempts nor the
   //! unfolding gave an atlas (docs/design.md).
   bool loops = false;
+  //! With a start (RicciFlowSolver::solve) reached at once by flips: the start is Newton's first
+  //! step from the flow's u (the atlas's linear cone model: H at u = 0 is the cotangent
+  //! Laplacian), and is taken as Newton takes its steps, halved (twice at most) while it does not
+  //! lower the squared residual (Armijo's test, search_line).
+  bool start_is_a_step = false;
   //! Called once per iteration; returning false cancels the flow.
   std::function<bool(const FlowProgress&)> progress;
 };
@@ -127,6 +132,9 @@ struct FlowResult {
   //! Free vertices whose start was eased so that the jump to it needs no edge from a vertex to
   //! itself (FlowState::jump_eased); 0 where the start was jumped to as given, or walked to.
   int eased_start_vertices = 0;
+  //! The share of a start that is Newton's first step (FlowOptions::start_is_a_step) that the
+  //! flow took: 1, or 1/2 or 1/4 where the whole step raised the squared residual.
+  double start_share = 1;
   //! Yamabe in E2 and S2: the flips began from the intrinsic Delaunay triangulation of the input's
   //! lambda-lengths (EdgeFlip::isometric), the canonical discrete conformal class; false when the
   //! input was Delaunay already, or when the flow in that class stalled at the boundary and the
