@@ -534,13 +534,14 @@ TEST(Atlas, WhereTheCurvaturesOfLeastDistortionGiveNoAtlasOrAFarFromConformalOne
 }
 
 #ifndef RICCI_SANITIZED  // the Release build only (tests/CMakeLists.txt says why)
-TEST(Atlas, AtABudgetAStartHalvedSparesTheLoopsTheWholeStepRefused) {
+TEST(Atlas, AtABudgetAStartHalvedDrawsWithoutTheLoopsTheWholeStepWanted) {
   // Gymnasium's Adroit shoulder at 8 cones: from the whole linear step, its genus-7 part's flow
   // converged in 51 iterations where the Delaunay flips refused 6 loops, the layout of that
   // triangulation turned 2 faces of the subdivision over, and the same cones flowed again with
   // loops (D 0.411 on the file's faces). The whole step raises the squared residual there; from
-  // half of it (FlowOptions::start_is_a_step, since 2026-12-07) the flow converges in 11 iterations
-  // refusing none, and the atlas of those cones is valid at once, without loops.
+  // half of it (FlowOptions::start_is_a_step, since 2026-12-07) the flow converges in 11
+  // iterations on a triangulation whose layout turns no face, and the atlas of those cones is
+  // valid at once, without loops (the flow still refuses loops: flow_solver_test).
   const std::string mesh = std::string(RICCI_REAL_MESH_DIR) + "/gymrobotics-adroit-shoulder.stl";
   const std::string report = temp("halved.json");
   const Atlas a = run_atlas(mesh, "--max-cones 8 --report " + report);

@@ -217,7 +217,6 @@ TEST(RicciFlow, AStartThatIsNewtonsFirstStepIsHalvedWhereItRaisesTheResidual) {
     const FlowResult step = step_solver.solve(e.target, &e.placement.u);
     ASSERT_TRUE(whole.converged) << name << ": " << whole.failure;
     ASSERT_TRUE(step.converged) << name << ": " << step.failure;
-    EXPECT_EQ(whole.start_share, 1) << name;
     EXPECT_LE((step.u - whole.u).cwiseAbs().maxCoeff(), 1e-8) << name;
     if (std::string(name) == "bull.off") {
       EXPECT_LT(step.start_share, 1);
@@ -235,8 +234,11 @@ TEST(RicciFlow, AConvergedFlowSaysWhereItsDelaunayFlipsRefusedALoop) {
   // Gymnasium's Adroit shoulder (its genus-7 part of 10.9k faces) at 8 cones of 1.6 to 2.8 turns:
   // the flow converges, but the last Delaunay flips refused some flips to an edge from a vertex to
   // itself, and the triangulation it ends on is no Delaunay triangulation there (its layout turned
-  // faces of the subdivision over, and the atlas flows the cones again with loops). With loops
-  // the same flow ends on a triangulation that has some, and refuses none.
+  // faces of the subdivision over, and the atlas flowed the cones again with loops). With loops
+  // the same flow ends on a triangulation that has some, and refuses none. From half the linear
+  // model's step (start_is_a_step, the atlas's since 2026-12-07) it converges in fewer iterations,
+  // refusing loops as well, on another triangulation that is not Delaunay where they were refused,
+  // so to another u (by 4e-3; the atlas's layout of it turns no face: atlas_test).
   const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/gymrobotics-adroit-shoulder.stl");
   const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
   ASSERT_FALSE(repaired.components.empty());
@@ -260,8 +262,18 @@ TEST(RicciFlow, AConvergedFlowSaysWhereItsDelaunayFlipsRefusedALoop) {
   for (int edge = 0; edge < flowed.num_edges(); ++edge)
     loops += flowed.edge_vertices(edge)[0] == flowed.edge_vertices(edge)[1];
   EXPECT_GT(loops, 0);
-  std::printf("[ loops    ] shoulder at 8 cones: %d refused without loops; %d made with them\n",
-              without.loops_refused, loops);
+  options.loops = false;
+  options.start_is_a_step = true;
+  const FlowResult halved =
+      RicciFlowSolver(mesh, e.structure, options).solve(e.target, &e.placement.u);
+  ASSERT_TRUE(halved.converged) << halved.failure;
+  EXPECT_LT(halved.start_share, 1);
+  EXPECT_LT(halved.iterations, without.iterations);
+  std::printf(
+      "[ loops    ] shoulder at 8 cones: %d refused without loops (%d iterations); %d made "
+      "with them; from %g of the step %d refused (%d iterations)\n",
+      without.loops_refused, without.iterations, loops, halved.start_share, halved.loops_refused,
+      halved.iterations);
 }
 
 TEST(RicciFlow, CancelStopsTheFlow) {

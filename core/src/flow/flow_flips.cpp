@@ -186,6 +186,11 @@ constexpr int kStartHalvings = 2;
 void detail::FlowState::halve_start(Eigen::VectorXd& start, Eigen::VectorXd& eased,
                                     detail::LineSearch& jump) {
   const Eigen::VectorXd whole = start;
+  bool moves = false;  // a start of the flow's u (user cones, an unfolding: u = 0) is no step
+  for (int v = 0; v < static_cast<int>(u.size()) && !moves; ++v) {
+    moves = free_index[v] >= 0 && whole[v] != u[v];
+  }
+  if (!moves) return;
   const int n = steps.num_free();
   const auto merit = [&](const detail::LineSearch& at) {
     const Eigen::VectorXd k_at = curvature(at.flipped ? *at.flipped : triangulation, at.state);

@@ -54,7 +54,8 @@ constexpr double kHeldQcGain = 0.9;
 // stalled for want of one, or converged on a triangulation where the Delaunay flips refused one,
 // whose triangles there are no Delaunay triangulation's and can be slivers (gymnasium's Adroit
 // shoulder at 8 cones converged so with 6 refused from the linear model's whole step, and its
-// layout turned 2 faces over; from half of it, FlowOptions::start_is_a_step, it refuses none).
+// layout turned 2 faces over; from half of it, FlowOptions::start_is_a_step, its layout turns
+// none).
 bool wanted_loops(const FlowResult& flow) {
   return flow.stalled_for_loops || (flow.converged && flow.loops_refused > 0);
 }

@@ -585,6 +585,8 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     }
     atlas.seconds.harmonic += lap(clock);
   }
+  // A delivery made beside a halving that was kept reads `sub` until it ends.
+  if (unhalved.valid()) unhalved.wait();
   deliver(delivered, positions, faces, seam, length3d, charts, overlaps, mesh.input_area(), quarter,
           run);
   if (sub) run.subdivision = std::move(sub);
