@@ -1,12 +1,15 @@
 // Connectivity, topology and every rejected kind of mesh, with messages that say what and where.
 #include "ricci/mesh/compact_mesh.h"
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
+#include "mesh/two_threads.h"
 #include "ricci/mesh/errors.h"
 #include "test_meshes.h"
 
@@ -141,6 +144,23 @@ TEST(CompactMesh, RejectsSeveralComponents) {
   for (const auto& q : square_points()) p.push_back(q + Eigen::Vector3d(3, 0, 0));
   const std::string m = rejection(p, {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}, {4, 7, 5}});
   EXPECT_NE(m.find("2 connected components"), std::string::npos) << m;
+}
+
+// Loops split over two threads (mesh/two_threads.h): a half that throws (bad_alloc in a long
+// loop) leaves the other to end, and its exception reaches the caller, not std::terminate.
+TEST(TwoThreads, AnExceptionOfEitherHalfReachesTheCaller) {
+  for (const int throwing : {0, 1}) {
+    std::atomic<int> done{0};
+    EXPECT_THROW(detail::in_two_halves(
+                     100,
+                     [&](int part, int begin, int end) {
+                       if (part == throwing) throw std::runtime_error("this half");
+                       done += end - begin;
+                     },
+                     10),
+                 std::runtime_error);
+    EXPECT_EQ(done, 50) << "half " << throwing;
+  }
 }
 
 }  // namespace

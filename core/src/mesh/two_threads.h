@@ -3,6 +3,7 @@
 // threads' timing. Not installed API.
 #pragma once
 
+#include <exception>
 #include <thread>
 
 namespace ricci::detail {
@@ -20,9 +21,25 @@ void in_two_halves(int n, const Work& work, int from = kTwoThreadsFromIterations
     return;
   }
   const int middle = n / 2;
-  std::thread other([&] { work(1, middle, n); });
-  work(0, 0, middle);
+  // An exception of either half (bad_alloc) is thrown here once both have ended, not left to
+  // terminate the process from a joinable thread.
+  std::exception_ptr failed[2];
+  std::thread other([&] {
+    try {
+      work(1, middle, n);
+    } catch (...) {
+      failed[1] = std::current_exception();
+    }
+  });
+  try {
+    work(0, 0, middle);
+  } catch (...) {
+    failed[0] = std::current_exception();
+  }
   other.join();
+  for (const std::exception_ptr& e : failed) {
+    if (e) std::rethrow_exception(e);
+  }
 }
 
 }  // namespace ricci::detail
