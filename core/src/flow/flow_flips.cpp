@@ -109,15 +109,30 @@ void detail::FlowState::start_flipping(int iteration, const std::string& why) {
 // to the mean of the other two, 6, 12, 8, 7, 6 and 1.19 s. Where Newton stalls from the eased
 // start (the tardis's atlas at 29 cones: its steps cut to keep triangles valid at iteration 13),
 // the flow goes back and walks to the start as given (finish_walk).
+// The easings stop, as hopeless, after this many in a row that leave no fewer invalid faces than
+// the fewest before. Where the start is far off, not only at spike tips, they do not converge:
+// at BFF's 8 cones occt-tr12j.stl's jumps left 771, 1397, 1531, 1352, 1253, 1407, ... invalid
+// faces, CGAL's cheese 16635, 11038, 10018, 12805, 13005, ..., all 12 easings (each jump some
+// 10,000 flips) before the walk. Easings that end valid went on past a few such: PrusaSlicer's
+// gmax2 bed 22, 17, 22, 12, 18, 21, 17, 15, 3, 0 (four), CGAL's femur 44, 8, 6, 9, 9, 7, 5, 4, 1,
+// 0.
 constexpr int kEasings = 12;
+constexpr int kEasingsWithoutProgress = 5;
 constexpr double kEasingMargin = 2;
 
 Eigen::VectorXd detail::FlowState::jump_eased(const Eigen::VectorXd& start,
                                               detail::LineSearch& jump) {
   Eigen::VectorXd eased = start;
-  for (int easing = 0;; ++easing) {
+  long fewest_invalid = std::numeric_limits<long>::max();
+  for (int easing = 0, since_fewest = 0;; ++easing) {
     detail::evaluate_trial_point(triangulation, structure, eased, true, options.loops, jump);
+    ++result.start_jumps;
     if (jump.state.valid() || !jump.flipped || easing == kEasings) return eased;
+    const long invalid = std::count_if(jump.state.faces.begin(), jump.state.faces.end(),
+                                       [](const auto& face) { return !face.valid; });
+    since_fewest = invalid < fewest_invalid ? 0 : since_fewest + 1;
+    fewest_invalid = std::min(fewest_invalid, invalid);
+    if (since_fewest == kEasingsWithoutProgress) return eased;
     const IntrinsicTriangulation& t = *jump.flipped;
     Eigen::VectorXd next = eased;
     bool moved = false;
@@ -228,8 +243,10 @@ void detail::FlowState::walk_to(const Eigen::VectorXd& start, bool whole_way, bo
     // triangle is invalid.
     detail::LineSearch jump;
     Eigen::VectorXd eased = ease ? jump_eased(start, jump) : start;
-    if (!ease)
+    if (!ease) {
       detail::evaluate_trial_point(triangulation, structure, start, true, options.loops, jump);
+      ++result.start_jumps;
+    }
     Eigen::VectorXd taken = start;  // the start, or the share of it halve_start takes
     if (ease && options.start_is_a_step && jump.state.valid() && metric.valid()) {
       halve_start(taken, eased, jump);

@@ -235,6 +235,7 @@ std::string component_json_body(const CompactMesh& mesh, const Uniformization& r
     << ", \"edge_flips\": " << result.num_flips
     << ", \"connectivity_changes\": " << result.connectivity_changes
     << ", \"eased_start_vertices\": " << result.eased_start_vertices
+    << ", \"start_jumps\": " << result.start_jumps
     << ", \"start_share\": " << number(result.start_share)
     << ", \"delaunay_class\": " << (result.delaunay_class ? "true" : "false")
     << ", \"input_class_because\": "
