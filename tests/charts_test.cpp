@@ -250,6 +250,50 @@ TEST(Charts, AChartWhoseHarmonicInsideWouldTurnKeepsItsDrawing) {
   }
 }
 
+TEST(Charts, AChartWithAFaceTurnedOnItsBorderKeepsItsDrawingTheOtherIsRedrawn) {
+  // The left chart's corner face at (0, 1) has its three corners on the border: that corner
+  // reflected across the face's other side turns it over, and no harmonic inside mends it, so
+  // the left chart stays as drawn (an inside vertex moved there stays moved); the right chart's
+  // moved inside vertex is drawn back where its development puts it.
+  const CutGrid g = cut_grid(8);
+  const auto vertex_at = [&](double x, double y) {
+    for (int v = 0; v < g.mesh.num_vertices(); ++v) {
+      const Eigen::Vector3d& p = g.mesh.positions()[v];
+      if (std::abs(p.x() - x) < 1e-12 && std::abs(p.y() - y) < 1e-12) return v;
+    }
+    return -1;
+  };
+  const int corner = vertex_at(0, 1), left_inside = vertex_at(0.25, 0.5),
+            right_inside = vertex_at(0.75, 0.5);
+  ASSERT_GE(std::min({corner, left_inside, right_inside}), 0);
+  Charts drawn = g.charts;
+  move_vertex(g, corner, Eigen::Vector2d(0.175, -0.175), drawn);
+  move_vertex(g, left_inside, Eigen::Vector2d(0.02, 0.01), drawn);
+  move_vertex(g, right_inside, Eigen::Vector2d(0.02, 0.01), drawn);
+  int turned = 0;
+  for (const auto& q : drawn.corners) turned += !(signed_area(q) > 0);
+  ASSERT_EQ(turned, 1);
+  const Charts before = drawn;
+  const int redrawn = draw_harmonic_insides(g.mesh, g.mesh.positions(), g.cut,
+                                            std::vector<char>(drawn.num_charts, 1), drawn);
+  EXPECT_EQ(redrawn, 1);
+  int left = -1;
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    for (int v : g.mesh.faces()[f]) left = v == corner ? drawn.chart[f] : left;
+  }
+  double right_error = 0;
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      if (drawn.chart[f] == left) {
+        EXPECT_EQ(drawn.corners[f][c], before.corners[f][c]);
+      } else {
+        right_error = std::max(right_error, (drawn.corners[f][c] - g.charts.corners[f][c]).norm());
+      }
+    }
+  }
+  EXPECT_LT(right_error, 1e-12);
+}
+
 TEST(Charts, AScrambledBlockOfTheInsideIsUntangledAsARegion) {
   // Twelve inside vertices of the left chart, each put where another of them was: most faces
   // around them turn over, and a vertex moved alone towards the mean of its neighbours (whose

@@ -83,6 +83,15 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
     }
   }
   const std::vector<char> border = border_wedges(mesh, cut, wedge);
+  // A face turned over with its three corners on the border stays so, and its chart as drawn
+  // (below): that chart is left out of the system (CGAL's man at 8 cones, its user's faces: a cone
+  // opens the corners of three past a half turn).
+  for (int f = 0; f < nf; ++f) {
+    if (!redrawn[charts.chart[f]] || signed_area(charts.corners[f]) > 0) continue;
+    bool held = true;
+    for (int c = 0; c < 3 && held; ++c) held = border[wedge[3 * f + c]] != 0;
+    if (held) redrawn[charts.chart[f]] = 0;
+  }
   std::vector<int> unknown(3 * nf, -1);
   int n = 0;
   for (int k = 0; k < 3 * nf; ++k) {

@@ -7,6 +7,7 @@
 // vertices, becomes its chord. The two sides of a seam are congruent polylines, so their chords
 // are equal too: the seams still glue.
 #include <algorithm>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -296,7 +297,9 @@ std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
   };
   std::vector<int> moved = untangle_turned_faces(t, positions, seam, charts);
   const bool turned_developed = turned();
-  const double qc_developed = qc_p95(positions, faces, charts.corners);
+  // QC p95 as developed, measured where it is compared (not where a face stays turned).
+  const double qc_developed = turned_developed ? std::numeric_limits<double>::quiet_NaN()
+                                               : qc_p95(positions, faces, charts.corners);
   if (turned_developed || t.num_faces() < kHarmonicBelow ||
       qc_developed - 1 > (1 + kSameQc) * (pieces.qc_p95 - 1)) {
     const Charts untangled = charts;
