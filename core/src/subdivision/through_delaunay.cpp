@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
-#include <map>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -141,6 +141,14 @@ struct CutSide {
 struct CutPolygon {
   std::vector<CutPoint> points;
   std::vector<CutSide> sides;
+};
+
+struct FourIndexHash {
+  size_t operator()(const std::array<int, 4>& k) const {
+    std::uint64_t h = 0;
+    for (int x : k) h = (h ^ static_cast<std::uint32_t>(x)) * 0x9E3779B97F4A7C15ull;
+    return static_cast<size_t>(h ^ (h >> 32));
+  }
 };
 
 }  // namespace
@@ -317,8 +325,20 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
       bc_vertex[c] = on_delaunay_edge(bc_crossings[c].input_edge, bc_crossings[c].s);
     return bc_vertex[c];
   };
-  std::map<std::array<int, 4>, int> ac_vertex;               // (F, chord, ends of the side of G)
-  std::map<std::pair<int, int>, Eigen::Vector3d> layout_in;  // (vertex, G): its layout there
+  std::unordered_map<std::array<int, 4>, int, FourIndexHash>
+      ac_vertex;  // (F, chord, ends of the side of G)
+  // Per new vertex on an input edge, its layout in the final face G at hand (pieces of G that
+  // share it draw it at one point); a few per face, cleared at the next.
+  std::vector<std::pair<int, Eigen::Vector3d>> layout_in;
+  const auto layout_in_g = [&](int v) -> const Eigen::Vector3d* {
+    for (const auto& [w, at] : layout_in) {
+      if (w == v) return &at;
+    }
+    return nullptr;
+  };
+  const auto keep_layout_in_g = [&](int v, const Eigen::Vector3d& at) {
+    if (!layout_in_g(v)) layout_in.emplace_back(v, at);
+  };
 
   // === The input's edges in the Euclidean chart of each face of Tb
   struct ChordEnd {
@@ -472,14 +492,14 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
                      realize(over_delaunay, t, v, w, result.u), DiskSidePoints::OnGeodesic);
     };
     const FaceCut cut = cut_face(over_delaunay, G);
+    layout_in.clear();
     // A crossing of Tb's and Tc's edges that on_delaunay_edge made an input edge's crossing is
     // drawn on G's side, in each piece of G that holds it.
     for (const BoundaryPoint& b : cut.points) {
       if (b.crossing < 0) continue;
       const int v = bc_point(b.crossing);
       if (v >= nv && added[v - nv].input_edge >= 0) {
-        layout_in.emplace(std::make_pair(v, G),
-                          g_layout(b.side, over_delaunay.t_on_side(b.crossing, G, b.side)));
+        keep_layout_in_g(v, g_layout(b.side, over_delaunay.t_on_side(b.crossing, G, b.side)));
       }
     }
     for (const FacePiece& piece : cut.pieces) {
@@ -548,20 +568,19 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
           }
           if (!e) fail(G, "an input edge crosses a side of its Delaunay face twice");
           CutPoint q = e->point;
-          const auto key = std::make_pair(q.vertex, G);
           if (S.g_side >= 0) {
             q.g_side = S.g_side;
             q.g_t = Tc.face_vertex(G, S.g_side) == Tb.face_vertex(F, S.f_side) ? q.f_t : 1 - q.f_t;
             q.layout = g_layout(q.g_side, q.g_t);
-          } else if (const auto it = layout_in.find(key); it != layout_in.end()) {
-            q.layout = it->second;
+          } else if (const Eigen::Vector3d* kept = layout_in_g(q.vertex)) {
+            q.layout = *kept;
           } else {
             const KleinChord line(circle_g, P.layout.head<2>(), f_param(P, S.f_side),
                                   Q.layout.head<2>(), f_param(Q, S.f_side));
             const Eigen::Vector2d at = line.point(q.f_t);
             q.layout = Eigen::Vector3d(at.x(), at.y(), P.layout.z());
           }
-          layout_in.emplace(key, q.layout);
+          keep_layout_in_g(q.vertex, q.layout);
           return q;
         }
         if (S.g_side < 0) {
