@@ -368,8 +368,12 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
     }
     return -1;
   };
+  // The chords of every face F of Tb one after another, F's from chords_of[F][0] to [1], made
+  // when a piece of F is first cut (a vector per face cost man's subdivision a tenth of it).
+  std::vector<Chord> chords;
+  std::vector<std::array<size_t, 2>> chords_of(Tb.num_faces());
   auto chords_in = [&](int F, const std::array<Eigen::Vector2d, 3>& z) {
-    std::vector<Chord> chords;
+    chords_of[F][0] = chords.size();
     auto crossing_end = [&](int c) {
       const Crossing& x = ab_crossings[c];
       ChordEnd end;
@@ -406,7 +410,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
         }
       }
     }
-    return chords;
+    chords_of[F][1] = chords.size();
   };
 
   // The pieces of face F of Tb between the input's edges (the first overlay's), convex in F's
@@ -479,7 +483,6 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
   };
   std::vector<ChordPlane> planes;
   planes.reserve(Tc.num_faces());
-  std::vector<std::vector<Chord>> chords_of(Tb.num_faces());
   std::vector<char> made_for(Tb.num_faces(), 0);
   for (int G = 0; G < Tc.num_faces(); ++G) {
     planes.emplace_back(geometry, layout.corners[G]);
@@ -611,13 +614,13 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
       // for each, they cost CGAL's cheese at 8 cones most of its subdivision: a face F of Tb can
       // meet hundreds of G, and hold hundreds of crossings).
       if (!made_for[F]) {
-        chords_of[F] = chords_in(F, z);
+        chords_in(F, z);
         make_input_pieces(F, z);
         made_for[F] = 1;
       }
-      const std::vector<Chord>& chords = chords_of[F];
-      for (size_t ci = 0; ci < chords.size(); ++ci) {
-        const Chord& ch = chords[ci];
+      const size_t first_chord = chords_of[F][0];
+      for (size_t ci = 0; ci < chords_of[F][1] - first_chord; ++ci) {
+        const Chord& ch = chords[first_chord + ci];
         const Eigen::Vector2d a0 = ch.end[0].point.chart, dir = ch.end[1].point.chart - a0;
         std::vector<CutPolygon> next;
         for (const CutPolygon& pl : parts) {
