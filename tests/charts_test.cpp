@@ -252,7 +252,7 @@ TEST(Charts, AChartWhoseHarmonicInsideWouldTurnKeepsItsDrawing) {
 
 TEST(Charts, AChartWithAFaceTurnedOnItsBorderKeepsItsDrawingTheOtherIsRedrawn) {
   // The left chart's corner face at (0, 1) has its three corners on the border: that corner
-  // reflected across the face's other side turns it over, and no harmonic inside mends it, so
+  // moved past the face's other side turns it over, and no harmonic inside mends it, so
   // the left chart stays as drawn (an inside vertex moved there stays moved); the right chart's
   // moved inside vertex is drawn back where its development puts it.
   const CutGrid g = cut_grid(8);

@@ -202,10 +202,11 @@ TEST(RicciFlow, AStartWhoseDelaunayTriangulationNeedsALoopIsEasedToTheColdStarts
 
 TEST(RicciFlow, EasingsThatLeaveNoFewerInvalidFacesStopAsHopeless) {
   // At 8 cones occt-tr12j's start (genus 22) is far off everywhere, not at a few spike tips: the
-  // jumps to it leave hundreds of invalid faces however it is eased, and the flow walks there.
+  // jumps to it leave 771 to 1531 invalid faces however it is eased, and the flow walks there.
   // The easings stop after kEasingsWithoutProgress (5) in a row with no fewer invalid faces than
-  // the fewest before (the jumps were 13). CGAL's femur's easings go on past three such and end
-  // valid: the start eased at some vertices is taken.
+  // the fewest before (the jumps were 13; a walk made again, finish_walk, would jump once more).
+  // CGAL's femur's easings go on past three such and end valid: the start eased at some vertices
+  // is taken.
   struct Case {
     std::string path;
     bool taken;

@@ -112,10 +112,11 @@ void detail::FlowState::start_flipping(int iteration, const std::string& why) {
 // The easings stop, as hopeless, after this many in a row that leave no fewer invalid faces than
 // the fewest before. Where the start is far off, not only at spike tips, they do not converge:
 // at BFF's 8 cones occt-tr12j.stl's jumps left 771, 1397, 1531, 1352, 1253, 1407, ... invalid
-// faces, CGAL's cheese 16635, 11038, 10018, 12805, 13005, ..., all 12 easings (each jump some
-// 10,000 flips) before the walk. Easings that end valid went on past a few such: PrusaSlicer's
-// gmax2 bed 22, 17, 22, 12, 18, 21, 17, 15, 3, 0 (four), CGAL's femur 44, 8, 6, 9, 9, 7, 5, 4, 1,
-// 0.
+// faces, CGAL's cheese 16635, 11038, 10018, 12805, 13005, ..., and before this stop all 12
+// easings were made (13 jumps of some 10,000 flips each; tr12j now 6) before the walk. Easings
+// that end valid went on past a few such, at most four on the real set and CGAL's, one below
+// this stop: PrusaSlicer's gmax2 bed 22, 17, 22, 12, 18, 21, 17, 15, 3, 0, CGAL's femur 44, 8, 6,
+// 9, 9, 7, 5, 4, 1, 0.
 constexpr int kEasings = 12;
 constexpr int kEasingsWithoutProgress = 5;
 constexpr double kEasingMargin = 2;

@@ -83,9 +83,15 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
     }
   }
   const std::vector<char> border = border_wedges(mesh, cut, wedge);
+  const auto inside = [&](int k) {
+    return redrawn[charts.chart[k / 3]] && wedge[k] == k && !border[k];
+  };
+  bool any_inside = false;
+  for (int k = 0; k < 3 * nf && !any_inside; ++k) any_inside = inside(k);
+  if (!any_inside) return 0;
   // A face turned over with its three corners on the border stays so, and its chart as drawn
   // (below): that chart is left out of the system (CGAL's man at 8 cones, its user's faces: a cone
-  // opens the corners of three past a half turn).
+  // opens the corners of three past a half turn), the others' blocks solved as with it.
   for (int f = 0; f < nf; ++f) {
     if (!redrawn[charts.chart[f]] || signed_area(charts.corners[f]) > 0) continue;
     bool held = true;
@@ -95,13 +101,13 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
   std::vector<int> unknown(3 * nf, -1);
   int n = 0;
   for (int k = 0; k < 3 * nf; ++k) {
-    if (redrawn[charts.chart[k / 3]] && wedge[k] == k && !border[k]) unknown[k] = n++;
+    if (inside(k)) unknown[k] = n++;
   }
-  if (n == 0) return 0;
-  // sum over the sides of w (x_i - x_j)^2, w half the cotangent of the angle opposite.
+  // sum over the sides of w (x_i - x_j)^2, w half the cotangent of the angle opposite. (None
+  // where every chart with an inside was left out: the checks below count the others as before.)
   std::vector<Eigen::Triplet<double>> entries;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
-  for (int f = 0; f < nf; ++f) {
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2), x(0, 2);
+  for (int f = 0; f < nf && n > 0; ++f) {
     if (!redrawn[charts.chart[f]]) continue;
     for (int c = 0; c < 3; ++c) {
       const double w = 0.5 * cot[f][c];
@@ -118,13 +124,15 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
       }
     }
   }
-  Eigen::SparseMatrix<double> laplacian(n, n);
-  laplacian.setFromTriplets(entries.begin(), entries.end());
-  LinearSolver solver(LinearSolverKind::Cholmod);
-  solver.analyze(laplacian);
-  if (!solver.factorize(laplacian)) return 0;
-  const Eigen::MatrixXd x = solver.solve(rhs);
-  if (!x.allFinite()) return 0;
+  if (n > 0) {
+    Eigen::SparseMatrix<double> laplacian(n, n);
+    laplacian.setFromTriplets(entries.begin(), entries.end());
+    LinearSolver solver(LinearSolverKind::Cholmod);
+    solver.analyze(laplacian);
+    if (!solver.factorize(laplacian)) return 0;
+    x = solver.solve(rhs);
+    if (!x.allFinite()) return 0;
+  }
 
   // Redrawn, then each chart checked: no face turned over, no two overlapping.
   Charts harmonic = charts;

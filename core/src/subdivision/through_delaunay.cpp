@@ -1,6 +1,7 @@
 #include "subdivision/through_delaunay.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -369,7 +370,8 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
     return -1;
   };
   // The chords of every face F of Tb one after another, F's from chords_of[F][0] to [1], made
-  // when a piece of F is first cut (a vector per face cost man's subdivision a tenth of it).
+  // when a piece of F is first cut (a vector per face: man's subdivision at 8 cones 0.121 s
+  // against 0.118).
   std::vector<Chord> chords;
   std::vector<std::array<size_t, 2>> chords_of(Tb.num_faces());
   auto chords_in = [&](int F, const std::array<Eigen::Vector2d, 3>& z) {
@@ -575,6 +577,7 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
             q.g_side = S.g_side;
             q.g_t = Tc.face_vertex(G, S.g_side) == Tb.face_vertex(F, S.f_side) ? q.f_t : 1 - q.f_t;
             q.layout = g_layout(q.g_side, q.g_t);
+            keep_layout_in_g(q.vertex, q.layout);
           } else if (const Eigen::Vector3d* kept = layout_in_g(q.vertex)) {
             q.layout = *kept;
           } else {
@@ -582,8 +585,8 @@ CommonSubdivision subdivision_through_delaunay(const CompactMesh& mesh,
                                   Q.layout.head<2>(), f_param(Q, S.f_side));
             const Eigen::Vector2d at = line.point(q.f_t);
             q.layout = Eigen::Vector3d(at.x(), at.y(), P.layout.z());
+            layout_in.emplace_back(q.vertex, q.layout);
           }
-          keep_layout_in_g(q.vertex, q.layout);
           return q;
         }
         if (S.g_side < 0) {

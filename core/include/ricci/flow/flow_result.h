@@ -132,9 +132,10 @@ struct FlowResult {
   //! Free vertices whose start was eased so that the jump to it needs no edge from a vertex to
   //! itself (FlowState::jump_eased); 0 where the start was jumped to as given, or walked to.
   int eased_start_vertices = 0;
-  //! Jumps to a start made at once (as a trial point is, with flips): the first, one per easing
-  //! and per share of it tried (FlowState::jump_eased, halve_start); 0 where the start was only
-  //! walked to.
+  //! Jumps to a start made at once (as a trial point is, with flips), over the whole solve: the
+  //! first, one per easing and per share of it tried (FlowState::jump_eased, halve_start), and
+  //! those of a walk made again (finish_walk, start_flipping); 0 where none was tried (no flips, or
+  //! not every flip a Ptolemy flip).
   int start_jumps = 0;
   //! The share of a start that is Newton's first step (FlowOptions::start_is_a_step) that the
   //! flow took: 1, or 1/2 or 1/4 where the whole step raised the squared residual.
