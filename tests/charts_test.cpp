@@ -188,6 +188,15 @@ void move_vertex(const CutGrid& g, int v, const Eigen::Vector2d& d, Charts& char
   }
 }
 
+// The chart of a face at vertex v (the last such face's; -1 where v is in none).
+int chart_at(const CutGrid& g, const Charts& charts, int v) {
+  int chart = -1;
+  for (int f = 0; f < g.mesh.num_faces(); ++f) {
+    for (int w : g.mesh.faces()[f]) chart = w == v ? charts.chart[f] : chart;
+  }
+  return chart;
+}
+
 TEST(Charts, AHarmonicInsideOfAFlatChartIsItsDevelopment) {
   // Developed exactly, each chart is an isometric copy of its half of the grid; its inside moved
   // and then redrawn harmonic goes back there (the cotangent Laplacian is exact on linear maps).
@@ -240,10 +249,7 @@ TEST(Charts, AChartWhoseHarmonicInsideWouldTurnKeepsItsDrawing) {
   const int redrawn = draw_harmonic_insides(g.mesh, g.mesh.positions(), g.cut,
                                             std::vector<char>(pulled.num_charts, 1), pulled);
   EXPECT_EQ(redrawn, 1);
-  int chart = -1;
-  for (int f = 0; f < g.mesh.num_faces(); ++f) {
-    for (int v : g.mesh.faces()[f]) chart = v == corner ? pulled.chart[f] : chart;
-  }
+  const int chart = chart_at(g, pulled, corner);
   for (int f = 0; f < g.mesh.num_faces(); ++f) {
     if (pulled.chart[f] != chart) continue;
     for (int c = 0; c < 3; ++c) EXPECT_EQ(pulled.corners[f][c], before.corners[f][c]);
@@ -277,10 +283,7 @@ TEST(Charts, AChartWithAFaceTurnedOnItsBorderKeepsItsDrawingTheOtherIsRedrawn) {
   const int redrawn = draw_harmonic_insides(g.mesh, g.mesh.positions(), g.cut,
                                             std::vector<char>(drawn.num_charts, 1), drawn);
   EXPECT_EQ(redrawn, 1);
-  int left = -1;
-  for (int f = 0; f < g.mesh.num_faces(); ++f) {
-    for (int v : g.mesh.faces()[f]) left = v == corner ? drawn.chart[f] : left;
-  }
+  const int left = chart_at(g, drawn, corner);
   double right_error = 0;
   for (int f = 0; f < g.mesh.num_faces(); ++f) {
     for (int c = 0; c < 3; ++c) {
