@@ -11,8 +11,11 @@
 
 #include <gtest/gtest.h>
 
+#include <dlfcn.h>
+
 #include "flow/hessian.h"
 #include "flow/metric.h"
+#include "linear/blas_threads.h"
 #include "linear/minres.h"
 #include "linear/supernodal_factor.h"
 #include "ricci/flow/scheme.h"
@@ -335,3 +338,26 @@ TEST(VertexOrder, RestrictedOrderFollowsTheVertexMap) {
 
 }  // namespace
 }  // namespace ricci
+
+// While a SingleThreadedBlas lives, the OpenBLAS that CHOLMOD calls (scripts/setup.sh installs
+// it) runs on one thread, and its count comes back after; one made inside it changes nothing.
+TEST(SingleThreadedBlas, HoldsOpenBlasToOneThreadAndRestoresIt) {
+  const auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  const auto set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  ASSERT_NE(get, nullptr) << "the BLAS linked is not OpenBLAS";
+  ASSERT_NE(set, nullptr);
+  const int before = get();
+  set(2);  // as on two cores, whatever OPENBLAS_NUM_THREADS said
+  ASSERT_EQ(get(), 2) << "OpenBLAS here runs on one thread at most";
+  {
+    const ricci::detail::SingleThreadedBlas one;
+    EXPECT_EQ(get(), 1);
+    {
+      const ricci::detail::SingleThreadedBlas inside;
+      EXPECT_EQ(get(), 1);
+    }
+    EXPECT_EQ(get(), 1);
+  }
+  EXPECT_EQ(get(), 2);
+  set(before);
+}

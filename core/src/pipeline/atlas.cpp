@@ -11,6 +11,7 @@
 #include <system_error>
 #include <thread>
 
+#include "linear/blas_threads.h"
 #include "pipeline/attempts.h"
 #include "pipeline/texture_atlas.h"
 #include "ricci/mesh/errors.h"
@@ -404,7 +405,10 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
     };
   }
   std::optional<std::thread> other;
+  std::optional<detail::SingleThreadedBlas>
+      one_blas_thread;  // the two threads keep both cores busy
   if (n >= 2 && std::thread::hardware_concurrency() >= 2) {
+    one_blas_thread.emplace();
     try {
       other.emplace(work, [&](const FlowProgress&) { return !cancelled.load(); });
     } catch (const std::system_error&) {  // no second thread here: this one runs them all
@@ -412,6 +416,7 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
   }
   work(progress);
   if (other) other->join();
+  one_blas_thread.reset();
   for (size_t k = 0; k < n; ++k) {
     if (errors[k]) std::rethrow_exception(errors[k]);
     out.components.push_back(std::move(*runs[k]));
