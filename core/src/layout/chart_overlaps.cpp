@@ -215,7 +215,15 @@ std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<c
   const int nf = mesh.num_faces();
   const int nc = charts.num_charts;
   const auto& p = charts.corners;
+  // A chart with a face turned over is none (the rest is not read of it: where every chart has
+  // one, a drawing not delivered, nothing).
   std::vector<char> embedded(nc, 1);
+  for (int f = 0; f < nf; ++f) {
+    if (!(signed_area(p[f]) > 0)) embedded[charts.chart[f]] = 0;
+  }
+  if (std::none_of(embedded.begin(), embedded.end(), [](char e) { return e != 0; })) {
+    return embedded;
+  }
   const std::vector<int> wedge = chart_wedges(mesh, cut);
   // Per wedge: its angle sum, and its border halfedges out and in; per chart, its counts.
   std::vector<double> angle_sum(3 * nf, 0.0);
@@ -223,8 +231,8 @@ std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<c
   std::vector<long> faces(nc, 0), wedges(nc, 0), border(nc, 0);
   for (int f = 0; f < nf; ++f) {
     const int k = charts.chart[f];
+    if (!embedded[k]) continue;
     ++faces[k];
-    if (!(signed_area(p[f]) > 0)) embedded[k] = 0;
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector2d u = p[f][(c + 1) % 3] - p[f][c], v = p[f][(c + 2) % 3] - p[f][c];
       angle_sum[wedge[3 * f + c]] += std::atan2(std::abs(cross(u, v)), u.dot(v));

@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 
+#include "mesh/plane.h"
 #include "ricci/mesh/errors.h"
 
 namespace ricci {
@@ -278,9 +279,7 @@ double quasi_conformal_ratio(const std::array<double, 3>& from, const std::array
   if (!(std::abs(p.determinant()) > 0) || !(std::abs(q.determinant()) > 0)) {
     return std::numeric_limits<double>::infinity();
   }
-  const Eigen::Matrix2d a = q * p.inverse();
-  const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix2d>(a).singularValues();
-  return s[0] / s[1];
+  return detail::singular_value_ratio(q * p.inverse(), q.determinant() / p.determinant());
 }
 
 }  // namespace ricci

@@ -108,16 +108,9 @@ double quasi_conformal_ratio(const std::array<Eigen::Vector2d, 3>& a,
   Eigen::Matrix2d A, B;
   A << a[1] - a[0], a[2] - a[0];
   B << b[1] - b[0], b[2] - b[0];
-  const Eigen::Matrix2d J = B * A.inverse();
-  // J's conformal and anti-conformal parts: its singular values are alpha + beta and alpha - beta,
-  // whose product, det J, is the ratio of the areas (positive, and exact in sign, from the
-  // triangles themselves rather than from J's entries, which a needle's inverse inflates).
-  // (sqrt, not std::hypot: glibc 2.35's hypot symbol would keep the wheel from manylinux_2_34.)
-  const double p = J(0, 0) + J(1, 1), q = J(1, 0) - J(0, 1);
-  const double r = J(0, 0) - J(1, 1), t = J(1, 0) + J(0, 1);
-  const double alpha = 0.5 * std::sqrt(p * p + q * q), beta = 0.5 * std::sqrt(r * r + t * t);
-  const double det = cross(b[1] - b[0], b[2] - b[0]) / cross(a[1] - a[0], a[2] - a[0]);
-  return std::max(1.0, (alpha + beta) * (alpha + beta) / det);
+  // det J, the ratio of the areas, positive (neither triangle flat nor turned, above).
+  return singular_value_ratio(B * A.inverse(),
+                              cross(b[1] - b[0], b[2] - b[0]) / cross(a[1] - a[0], a[2] - a[0]));
 }
 
 std::vector<std::array<size_t, 3>> piece_triangles(const std::vector<Eigen::Vector2d>& domain,
