@@ -8,6 +8,7 @@
 #include <string>
 
 #include "mesh/plane.h"
+#include "mesh/two_threads.h"
 #include "ricci/mesh/errors.h"
 
 namespace ricci {
@@ -113,6 +114,9 @@ class Mask {
     return s == 0 || w + 1 >= words_ ? low : low | (r[w + 1] << (64 - s));
   }
   int words() const { return words_; }
+  bool operator==(const Mask& o) const {
+    return width_ == o.width_ && height_ == o.height_ && bits_ == o.bits_;
+  }
   const std::uint64_t* row(int y) const { return bits_.data() + static_cast<size_t>(y) * words_; }
   std::uint64_t* row(int y) { return bits_.data() + static_cast<size_t>(y) * words_; }
   // Grown to at least width x height, the bits kept.
@@ -351,6 +355,30 @@ void place(Mask& atlas, const Mask& chart, int x, int y) {
   }
 }
 
+// work(k) for every chart k; on two threads where the charts have kTwoThreadsFromIterations
+// triangles or more (the many parts of an assembly packed together), split where each half has
+// about half of them. Each chart's work writes its own slots only.
+template <class Work>
+void for_each_chart(const std::vector<Triangles>& charts, const Work& work) {
+  size_t total = 0;
+  for (const Triangles& c : charts) total += c.size();
+  if (total < static_cast<size_t>(detail::kTwoThreadsFromIterations)) {
+    for (size_t k = 0; k < charts.size(); ++k) work(k);
+    return;
+  }
+  size_t middle = 0;
+  for (size_t half = 0; middle < charts.size() && 2 * half < total;)
+    half += charts[middle++].size();
+  detail::in_two_halves(
+      2,
+      [&](int part, int, int) {
+        for (size_t k = part == 0 ? 0 : middle; k < (part == 0 ? middle : charts.size()); ++k) {
+          work(k);
+        }
+      },
+      0);
+}
+
 double area_of(const Triangles& chart) {
   double a = 0;
   for (const Triangle& t : chart) a += 0.5 * std::abs(cross(t[1] - t[0], t[2] - t[0]));
@@ -374,9 +402,40 @@ Placed pack_rasters(const std::vector<std::array<Raster, kTurns>>& rasters,
     side = std::max(side, std::min(both[0].mask.width(), both[0].mask.height()));
   }
   Mask atlas(side, side);
+  // Per row of the atlas, its leftmost free cell (its width where it has none); per row of a
+  // chart's turn, its leftmost set cell: a chart placed at row y lies at x no lower than any of
+  // its rows' leftmost free cell less that row's leftmost set cell, and a row where that bound
+  // already scores no better than the best place found is passed by without the fit's shifts.
+  std::vector<int> first_free(atlas.height(), 0);
+  const auto measure_row = [&](int y) {
+    int x = 0;
+    while (x < atlas.width() && atlas.get(x, y)) ++x;
+    first_free[y] = x;
+  };
   for (size_t k : order) {
     std::array<std::vector<std::array<int, 3>>, kTurns> runs;
     for (int t = 0; t < kTurns; ++t) runs[t] = runs_of(rasters[k][t].mask);
+    // A turn whose cells are an earlier turn's fits where that one does, and ties go to the
+    // earlier turn: not searched (most small charts' rasters are the same in every turn, or in
+    // every other).
+    std::array<std::vector<std::pair<int, int>>, kTurns> leftmost;  // (row, its first set cell)
+    for (int t = 0; t < kTurns; ++t) {
+      const Mask& m = rasters[k][t].mask;
+      for (int r = 0; r < m.height(); ++r) {
+        for (int c = 0; c < m.width(); ++c) {
+          if (m.get(c, r)) {
+            leftmost[t].push_back({r, c});
+            break;
+          }
+        }
+      }
+    }
+    std::array<bool, kTurns> repeated{};
+    for (int t = 1; t < kTurns; ++t) {
+      for (int u = 0; u < t && !repeated[t]; ++u) {
+        repeated[t] = rasters[k][t].mask == rasters[k][u].mask;
+      }
+    }
     while (true) {
       // Least growth of the square's side, then of the used area, then bottom-left (ties to the
       // upright turn, then the lowest row, then the leftmost cell). At one row the score grows
@@ -391,9 +450,13 @@ Placed pack_rasters(const std::vector<std::array<Raster, kTurns>>& rasters,
       std::int64_t best = std::numeric_limits<std::int64_t>::max();
       FitRows fit(atlas.width());
       for (int turn = 0; turn < kTurns; ++turn) {
+        if (repeated[turn]) continue;
         const Mask& m = rasters[k][turn].mask;
         for (int y = 0; y + m.height() <= atlas.height(); ++y) {
           if (score(0, y, m) >= best) break;
+          int from = 0;
+          for (const auto& [r, c] : leftmost[turn]) from = std::max(from, first_free[y + r] - c);
+          if (from + m.width() > atlas.width() || score(from, y, m) >= best) continue;
           if (!fit.at(atlas, m.width(), runs[turn], y)) continue;
           const int x = lowest(fit.valid());
           if (x < 0 || score(x, y, m) >= best) continue;
@@ -404,9 +467,12 @@ Placed pack_rasters(const std::vector<std::array<Raster, kTurns>>& rasters,
       }
       if (best < std::numeric_limits<std::int64_t>::max()) break;
       atlas.grow(atlas.width() + atlas.width() / 4 + 1, atlas.height() + atlas.height() / 4 + 1);
+      first_free.resize(atlas.height());
+      for (int y = 0; y < atlas.height(); ++y) measure_row(y);
     }
     const Mask& m = p.raster[k]->mask;
     place(atlas, m, p.at[k].x(), p.at[k].y());
+    for (int r = 0; r < m.height(); ++r) measure_row(p.at[k].y() + r);
     p.extent = p.extent.cwiseMax(p.at[k] + Eigen::Vector2i(m.width(), m.height()));
   }
   return p;
@@ -438,14 +504,14 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return area[a] > area[b]; });
   std::vector<Eigen::Matrix2d> up(n);
   std::vector<Eigen::Vector2d> lo(n, Eigen::Vector2d::Zero()), hi = lo;  // upright boxes
-  for (size_t k = 0; k < n; ++k) {
+  for_each_chart(charts, [&](size_t k) {
     up[k] = o.quarter_turns_only ? Eigen::Matrix2d::Identity() : upright(charts[k]);
-    if (charts[k].empty()) continue;
+    if (charts[k].empty()) return;
     lo[k] = Eigen::Vector2d::Constant(INFINITY), hi[k] = -lo[k];
     for (const Triangle& t : charts[k]) {
       for (const auto& q : t) lo[k] = lo[k].cwiseMin(up[k] * q), hi[k] = hi[k].cwiseMax(up[k] * q);
     }
-  }
+  });
   // A hint outside (0, 1] is no utilization; below 0.1 it would pad far more than asked.
   const bool expected = expected_utilization > 0 && expected_utilization <= 1;
   double extent = std::sqrt(total / (expected ? std::max(expected_utilization, 0.1) : 0.6));
@@ -486,11 +552,11 @@ Packing pack_charts(const std::vector<Triangles>& charts, const PackingOptions& 
     }
     const double cell = std::max(std::sqrt(total / 20000), std::sqrt(rastered / 80000));
     std::vector<std::array<Raster, kTurns>> rasters(n);
-    for (size_t k = 0; k < n; ++k) {
-      if (charts[k].empty()) continue;
+    for_each_chart(charts, [&](size_t k) {
+      if (charts[k].empty()) return;
       rasters[k][0] = trimmed(rasterize(charts[k], up[k], cell, margin), cell);
       for (int t = 1; t < kTurns; ++t) rasters[k][t] = quarter_turned(rasters[k][t - 1], cell);
-    }
+    });
     std::vector<size_t> nonempty;
     long cells = 0;
     for (size_t k : order) {
