@@ -2,6 +2,8 @@
 
 #include <dlfcn.h>
 
+#include <mutex>
+
 namespace ricci::detail {
 
 namespace {
@@ -9,34 +11,34 @@ namespace {
 using GetThreads = int (*)();
 using SetThreads = void (*)(int);
 
-// OpenBLAS's thread count calls, where the process has them.
-struct OpenBlasThreads {
-  GetThreads get = nullptr;
-  SetThreads set = nullptr;
-};
-
-OpenBlasThreads open_blas_threads() {
-  OpenBlasThreads t;
-  t.get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-  t.set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  return t;
-}
+// The guards alive in the process, and the count the first of them found: the count is the
+// process's, so only the first guard sets it and only the last restores it (two meshes
+// uniformized at once from two threads, as Python's threads may).
+std::mutex held_mutex;
+int held = 0;
+int former = 0;  // 0: the first guard changed nothing
 
 }  // namespace
 
 SingleThreadedBlas::SingleThreadedBlas() {
-  const OpenBlasThreads t = open_blas_threads();
-  if (t.get == nullptr || t.set == nullptr) return;
-  const int threads = t.get();
+  const std::lock_guard<std::mutex> lock(held_mutex);
+  if (held++ > 0) return;
+  const auto get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  former = 0;
+  if (get == nullptr || set == nullptr) return;
+  const int threads = get();
   if (threads <= 1) return;
-  former_ = threads;
-  t.set(1);
+  former = threads;
+  set(1);
 }
 
 SingleThreadedBlas::~SingleThreadedBlas() {
-  if (former_ <= 1) return;
-  const OpenBlasThreads t = open_blas_threads();
-  if (t.set != nullptr) t.set(former_);
+  const std::lock_guard<std::mutex> lock(held_mutex);
+  if (--held > 0 || former <= 1) return;
+  const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  if (set != nullptr) set(former);
+  former = 0;
 }
 
 }  // namespace ricci::detail

@@ -412,6 +412,7 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
     try {
       other.emplace(work, [&](const FlowProgress&) { return !cancelled.load(); });
     } catch (const std::system_error&) {  // no second thread here: this one runs them all
+      one_blas_thread.reset();
     }
   }
   work(progress);
