@@ -5,11 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
-#include <optional>
 #include <vector>
 
-#include "pipeline/texture_atlas.h"
 #include "ricci/layout/charts.h"
 #include "test_meshes.h"
 
@@ -298,86 +295,6 @@ TEST(Charts, AChartWithAFaceTurnedOnItsBorderKeepsItsDrawingTheOtherIsRedrawn) {
     }
   }
   EXPECT_LT(right_error, 1e-12);
-}
-
-// The grid of AChartWithAFaceTurnedOnItsBorderKeepsItsDrawingTheOtherIsRedrawn: its left chart's
-// corner face at (0, 1) turned with its three corners on the border, an inside vertex of the
-// right chart moved (no face turned there).
-struct TurnedOnBorder {
-  CutGrid g = cut_grid(8);
-  Charts drawn;
-  int left = -1, right = -1, inside = -1;  // the charts, and the right chart's vertex moved
-};
-TurnedOnBorder turned_on_border() {
-  TurnedOnBorder t;
-  const auto vertex_at = [&](double x, double y) {
-    for (int v = 0; v < t.g.mesh.num_vertices(); ++v) {
-      const Eigen::Vector3d& p = t.g.mesh.positions()[v];
-      if (std::abs(p.x() - x) < 1e-12 && std::abs(p.y() - y) < 1e-12) return v;
-    }
-    return -1;
-  };
-  const int corner = vertex_at(0, 1);
-  t.inside = vertex_at(0.75, 0.5);
-  t.drawn = t.g.charts;
-  move_vertex(t.g, corner, Eigen::Vector2d(0.175, -0.175), t.drawn);
-  move_vertex(t.g, t.inside, Eigen::Vector2d(0.02, 0.01), t.drawn);
-  t.left = chart_at(t.g, t.drawn, corner);
-  t.right = chart_at(t.g, t.drawn, t.inside);
-  return t;
-}
-
-TEST(Charts, KeptAsDrawnWhereAFaceTurnsOnTheBorderOrHasNoArea) {
-  const TurnedOnBorder t = turned_on_border();
-  ASSERT_NE(t.left, t.right);
-  std::vector<KeptAsDrawn> kept =
-      charts_kept_as_drawn(t.g.mesh, t.g.mesh.positions(), t.g.cut, t.drawn);
-  ASSERT_EQ(kept.size(), 2u);
-  EXPECT_EQ(kept[t.left], KeptAsDrawn::TurnedOnBorder);
-  EXPECT_EQ(kept[t.right], KeptAsDrawn::No);
-  // The right chart's moved vertex put on a neighbour in 3D: its faces there have no area.
-  std::vector<Eigen::Vector3d> positions = t.g.mesh.positions();
-  for (const auto& f : t.g.mesh.faces()) {
-    for (int c = 0; c < 3; ++c) {
-      if (f[c] == t.inside) positions[t.inside] = t.g.mesh.positions()[f[(c + 1) % 3]];
-    }
-  }
-  kept = charts_kept_as_drawn(t.g.mesh, positions, t.g.cut, t.drawn);
-  EXPECT_EQ(kept[t.left], KeptAsDrawn::TurnedOnBorder);
-  EXPECT_EQ(kept[t.right], KeptAsDrawn::NoArea);
-  // Drawn as developed: nothing kept.
-  kept = charts_kept_as_drawn(t.g.mesh, t.g.mesh.positions(), t.g.cut, t.g.charts);
-  EXPECT_EQ(std::count(kept.begin(), kept.end(), KeptAsDrawn::No), 2);
-}
-
-// Where every face turned is in a chart kept as drawn, the drawing on those faces is not given
-// without its harmonic redrawing (detail::drawn_where_deliverable), and the faces it names to be
-// cut are those that redrawing, untangled, would leave turned or overlapping.
-TEST(Charts, ADrawingTurnedOnlyOnTheBorderNamesTheFacesItsRedrawingWould) {
-  const TurnedOnBorder t = turned_on_border();
-  const std::vector<Eigen::Vector3d>& positions = t.g.mesh.positions();
-  std::vector<int> stuck;
-  const std::optional<detail::Drawn> drawn = detail::drawn_where_deliverable(
-      t.g.mesh, positions, t.g.cut, t.drawn, std::numeric_limits<double>::quiet_NaN(),
-      detail::AsDrawn{1, 1}, stuck);
-  EXPECT_FALSE(drawn.has_value());
-  // The redrawing made: each chart untangled, redrawn, untangled again.
-  Charts redrawn = t.drawn;
-  untangle_turned_faces(t.g.mesh, positions, t.g.cut, redrawn);
-  draw_harmonic_insides(t.g.mesh, positions, t.g.cut, std::vector<char>(redrawn.num_charts, 1),
-                        redrawn);
-  untangle_turned_faces(t.g.mesh, positions, t.g.cut, redrawn);
-  std::vector<int> expected;
-  for (int f = 0; f < t.g.mesh.num_faces(); ++f) {
-    if (!(signed_area(redrawn.corners[f]) > 0)) expected.push_back(f);
-  }
-  for (const auto& [f, g] : overlapping_faces(t.g.mesh, t.g.cut, redrawn)) {
-    expected.push_back(f), expected.push_back(g);
-  }
-  ASSERT_EQ(expected.size(), 1u);  // the corner face
-  EXPECT_EQ(t.drawn.chart[expected[0]], t.left);
-  std::sort(stuck.begin(), stuck.end());
-  EXPECT_EQ(stuck, expected);
 }
 
 TEST(Charts, AScrambledBlockOfTheInsideIsUntangledAsARegion) {

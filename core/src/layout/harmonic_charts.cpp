@@ -61,60 +61,28 @@ std::vector<char> border_wedges(const Triangulation& mesh, const std::vector<cha
   return border;
 }
 
-// charts_kept_as_drawn, with the charts' wedges and which are on the border.
-std::vector<KeptAsDrawn> kept_as_drawn(const Triangulation& mesh,
-                                       const std::vector<Eigen::Vector3d>& positions,
-                                       const std::vector<int>& wedge,
-                                       const std::vector<char>& border, const Charts& charts) {
-  std::vector<KeptAsDrawn> kept(charts.num_charts, KeptAsDrawn::No);
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    KeptAsDrawn& k = kept[charts.chart[f]];
-    const auto& t = mesh.faces()[f];
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::Vector3d a = positions[t[(c + 1) % 3]] - positions[t[c]];
-      const Eigen::Vector3d b = positions[t[(c + 2) % 3]] - positions[t[c]];
-      const double twice_area = a.cross(b).norm();
-      if (!(twice_area > 0) || !std::isfinite(a.dot(b) / twice_area)) k = KeptAsDrawn::NoArea;
-    }
-    if (k != KeptAsDrawn::No || signed_area(charts.corners[f]) > 0) continue;
-    bool held = true;
-    for (int c = 0; c < 3 && held; ++c) held = border[wedge[3 * f + c]] != 0;
-    if (held) k = KeptAsDrawn::TurnedOnBorder;
-  }
-  return kept;
-}
-
 }  // namespace
-
-std::vector<KeptAsDrawn> charts_kept_as_drawn(const Triangulation& mesh,
-                                              const std::vector<Eigen::Vector3d>& positions,
-                                              const std::vector<char>& cut, const Charts& charts) {
-  const std::vector<int> wedge = chart_wedges(mesh, cut);
-  return kept_as_drawn(mesh, positions, wedge, border_wedges(mesh, cut, wedge), charts);
-}
 
 int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Vector3d>& positions,
                           const std::vector<char>& cut, const std::vector<char>& which,
                           Charts& charts) {
   const int nf = mesh.num_faces();
   const std::vector<int> wedge = chart_wedges(mesh, cut);
-  const std::vector<char> border = border_wedges(mesh, cut, wedge);
-  const std::vector<KeptAsDrawn> kept = kept_as_drawn(mesh, positions, wedge, border, charts);
-  // A face of no 3D area leaves its chart as drawn.
   std::vector<char> redrawn(charts.num_charts, 0);
-  for (int k = 0; k < charts.num_charts; ++k) {
-    redrawn[k] = which[k] && kept[k] != KeptAsDrawn::NoArea;
-  }
-  // The cotangent of each corner's 3D angle.
+  for (int k = 0; k < charts.num_charts; ++k) redrawn[k] = which[k];
+  // The cotangent of each corner's 3D angle; a face of no 3D area leaves its chart as drawn.
   std::vector<std::array<double, 3>> cot(nf);
   for (int f = 0; f < nf; ++f) {
     const auto& t = mesh.faces()[f];
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector3d a = positions[t[(c + 1) % 3]] - positions[t[c]];
       const Eigen::Vector3d b = positions[t[(c + 2) % 3]] - positions[t[c]];
-      cot[f][c] = a.dot(b) / a.cross(b).norm();
+      const double twice_area = a.cross(b).norm();
+      cot[f][c] = a.dot(b) / twice_area;
+      if (!(twice_area > 0) || !std::isfinite(cot[f][c])) redrawn[charts.chart[f]] = 0;
     }
   }
+  const std::vector<char> border = border_wedges(mesh, cut, wedge);
   const auto inside = [&](int k) {
     return redrawn[charts.chart[k / 3]] && wedge[k] == k && !border[k];
   };
@@ -124,8 +92,11 @@ int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Ve
   // A face turned over with its three corners on the border stays so, and its chart as drawn
   // (below): that chart is left out of the system (CGAL's man at 8 cones, its user's faces: a cone
   // opens the corners of three past a half turn), the others' blocks solved as with it.
-  for (int k = 0; k < charts.num_charts; ++k) {
-    if (kept[k] == KeptAsDrawn::TurnedOnBorder) redrawn[k] = 0;
+  for (int f = 0; f < nf; ++f) {
+    if (!redrawn[charts.chart[f]] || signed_area(charts.corners[f]) > 0) continue;
+    bool held = true;
+    for (int c = 0; c < 3 && held; ++c) held = border[wedge[3 * f + c]] != 0;
+    if (held) redrawn[charts.chart[f]] = 0;
   }
   std::vector<int> unknown(3 * nf, -1);
   int n = 0;

@@ -300,35 +300,6 @@ std::optional<Drawn> drawn_where_deliverable(const Triangulation& t,
   // QC p95 as developed, measured where it is compared (not where a face stays turned).
   const double qc_developed = turned_developed ? std::numeric_limits<double>::quiet_NaN()
                                                : qc_p95(positions, faces, charts.corners);
-  // Where every face turned or overlapping another is in a chart the redrawing would leave as
-  // drawn (charts_kept_as_drawn: a face that a cone opens past a half turn, its three corners on
-  // the border), and a face stays turned after the untangling that follows it, the drawing is not
-  // given, and the redrawing, a factorization, would change none of the faces that say where to
-  // cut (`stuck`): another chart comes out of it as drawn, or redrawn where that turns and
-  // overlaps nothing. So it is not made (CGAL's camel at 8 cones, one such chart of six: this
-  // drawing 0.061 s to 0.022 s; man's two charts are both such, and nothing was solved before).
-  if (turned_developed) {
-    const std::vector<KeptAsDrawn> kept = charts_kept_as_drawn(t, positions, seam, charts);
-    const auto decides = [&](int f) { return kept[charts.chart[f]] == KeptAsDrawn::No; };
-    bool redrawing_decides = false;
-    for (int f = 0; f < t.num_faces() && !redrawing_decides; ++f) {
-      redrawing_decides = !(signed_area(charts.corners[f]) > 0) && decides(f);
-    }
-    if (!redrawing_decides) {
-      const Checked developed = check(charts);
-      for (const auto& [f, g] : developed.overlaps)
-        redrawing_decides = redrawing_decides || decides(f);
-      if (!redrawing_decides) {
-        Charts again = charts;
-        const Checked now =
-            untangle_turned_faces(t, positions, seam, again).empty() ? developed : check(again);
-        const bool still_turned = std::any_of(again.corners.begin(), again.corners.end(),
-                                              [](const auto& q) { return !(signed_area(q) > 0); });
-        // (Else, where the redrawing can lower D or the untangling mended every face, below.)
-        if (still_turned) return not_given(again, now, &charts, developed);
-      }
-    }
-  }
   if (turned_developed || t.num_faces() < kHarmonicBelow ||
       qc_developed - 1 > (1 + kSameQc) * (pieces.qc_p95 - 1)) {
     const Charts untangled = charts;

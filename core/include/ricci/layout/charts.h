@@ -58,26 +58,12 @@ double signed_area(const std::array<Eigen::Vector2d, 3>& t);
 //! joined across uncut edges (the corners one position of a chart stands for).
 std::vector<int> chart_wedges(const Triangulation& mesh, const std::vector<char>& cut);
 
-//! Why draw_harmonic_insides leaves a chart's drawing as it is, whatever its border.
-enum class KeptAsDrawn : char {
-  No,              //!< it may be redrawn
-  NoArea,          //!< a face of it has no 3D area: no cotangent weights
-  TurnedOnBorder,  //!< a face of it is turned over with its three corners on the border
-};
-
-//! Per chart of `charts` (laid out with `cut`, as for lay_out_charts), whether and why
-//! draw_harmonic_insides would leave it as drawn (the border's wedges stay, so no inside turns a
-//! face whose corners are all on it back over).
-std::vector<KeptAsDrawn> charts_kept_as_drawn(const Triangulation& mesh,
-                                              const std::vector<Eigen::Vector3d>& positions,
-                                              const std::vector<char>& cut, const Charts& charts);
-
 //! Redraws the inside of every chart whose flag in `which` is set as the harmonic map of its
 //! border as drawn: the wedges of the border (at a seam or a boundary edge) stay, the others go
 //! where the cotangent Laplacian of the faces' 3D shapes (`positions`) vanishes, the map of least
 //! conformal energy with that border. A chart keeps its drawing where the redrawn one turns a face
 //! over, overlaps itself, or has a higher 95th percentile of quasi-conformal ratio than a drawing
-//! with no face turned over, or where charts_kept_as_drawn says so. Returns the charts redrawn. The
+//! with no face turned over, or a face of it has no 3D area. Returns the charts redrawn. The
 //! charts' max_relative_length_error stays the development's: a redrawn inside leaves the metric's
 //! lengths on purpose.
 int draw_harmonic_insides(const Triangulation& mesh, const std::vector<Eigen::Vector3d>& positions,
