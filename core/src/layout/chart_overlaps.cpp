@@ -215,8 +215,8 @@ std::vector<char> embedded_charts(const Triangulation& mesh, const std::vector<c
   const int nf = mesh.num_faces();
   const int nc = charts.num_charts;
   const auto& p = charts.corners;
-  // A chart with a face turned over is none (the rest is not read of it: where every chart has
-  // one, a drawing not delivered, nothing).
+  // A chart with a face turned over is not embedded, and its faces are not read further (where
+  // every chart has one, as in a drawing about to be refused, nothing is).
   std::vector<char> embedded(nc, 1);
   for (int f = 0; f < nf; ++f) {
     if (!(signed_area(p[f]) > 0)) embedded[charts.chart[f]] = 0;

@@ -405,8 +405,8 @@ MeshUniformization uniformize_mesh(RepairedMesh mesh, const UniformizationOption
     };
   }
   std::optional<std::thread> other;
-  std::optional<detail::SingleThreadedBlas>
-      one_blas_thread;  // the two threads keep both cores busy
+  // The two threads keep both cores busy: OpenBLAS's own threads would only spin.
+  std::optional<detail::SingleThreadedBlas> one_blas_thread;
   if (n >= 2 && std::thread::hardware_concurrency() >= 2) {
     one_blas_thread.emplace();
     try {
