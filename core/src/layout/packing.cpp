@@ -415,9 +415,6 @@ Placed pack_rasters(const std::vector<std::array<Raster, kTurns>>& rasters,
   for (size_t k : order) {
     std::array<std::vector<std::array<int, 3>>, kTurns> runs;
     for (int t = 0; t < kTurns; ++t) runs[t] = runs_of(rasters[k][t].mask);
-    // A turn whose cells are an earlier turn's fits where that one does, and ties go to the
-    // earlier turn: not searched (most small charts' rasters are the same in every turn, or in
-    // every other).
     std::array<std::vector<std::pair<int, int>>, kTurns> leftmost;  // (row, its first set cell)
     for (int t = 0; t < kTurns; ++t) {
       const Mask& m = rasters[k][t].mask;
@@ -430,6 +427,9 @@ Placed pack_rasters(const std::vector<std::array<Raster, kTurns>>& rasters,
         }
       }
     }
+    // A turn whose cells are an earlier turn's fits where that one does, and ties go to the
+    // earlier turn: not searched (most small charts' rasters are the same in every turn, or in
+    // every other).
     std::array<bool, kTurns> repeated{};
     for (int t = 1; t < kTurns; ++t) {
       for (int u = 0; u < t && !repeated[t]; ++u) {
