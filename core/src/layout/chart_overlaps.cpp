@@ -466,6 +466,9 @@ void SheetSeparator::nearest_share(int chart, const std::vector<int>& member,
 // strip a quarter from its end).
 constexpr double kClearlyShorter = 0.8;
 
+// From this many groups a part's two distance searches run on two threads.
+constexpr int kTwoSearchesFromGroups = 10000;
+
 void SheetSeparator::shares_by_distances(int chart, const std::vector<int>& member,
                                          const std::vector<int>& first,
                                          const std::vector<int>& group,
@@ -525,7 +528,11 @@ void SheetSeparator::shares_by_distances(int chart, const std::vector<int>& memb
     return d;
   };
   const int from = local[seeds[0]], to = local[seeds[1]];
-  const std::vector<double> df = distances(from), dg = distances(to);
+  // The two searches on two threads where the part is large (a scan's chart of 100k faces: 9
+  // separations of some 30 ms each).
+  std::vector<double> df, dg;
+  detail::both([&] { df = distances(from); }, [&] { dg = distances(to); },
+               groups >= kTwoSearchesFromGroups);
   // The nearest share: each group reached to the nearer seed, at equal distances to f's (the one
   // search from both seeds, nearest_share, gives such a group to the first that reaches it).
   for (int a = 0; a < groups; ++a) {

@@ -369,14 +369,14 @@ void for_each_chart(const std::vector<Triangles>& charts, const Work& work) {
   size_t middle = 0;
   for (size_t half = 0; middle < charts.size() && 2 * half < total;)
     half += charts[middle++].size();
-  detail::in_two_halves(
-      2,
-      [&](int part, int, int) {
-        for (size_t k = part == 0 ? 0 : middle; k < (part == 0 ? middle : charts.size()); ++k) {
-          work(k);
-        }
+  detail::both(
+      [&] {
+        for (size_t k = 0; k < middle; ++k) work(k);
       },
-      0);
+      [&] {
+        for (size_t k = middle; k < charts.size(); ++k) work(k);
+      },
+      true);
 }
 
 double area_of(const Triangles& chart) {

@@ -42,4 +42,12 @@ void in_two_halves(int n, const Work& work, int from = kTwoThreadsFromIterations
   }
 }
 
+//! first() and second(), on two threads where `two_threads`, else one after the other on this one;
+//! an exception of either is thrown here once both have ended.
+template <class First, class Second>
+void both(const First& first, const Second& second, bool two_threads) {
+  in_two_halves(
+      2, [&](int part, int, int) { part == 0 ? first() : second(); }, two_threads ? 0 : 3);
+}
+
 }  // namespace ricci::detail
