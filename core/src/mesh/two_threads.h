@@ -42,8 +42,9 @@ void in_two_halves(int n, const Work& work, int from = kTwoThreadsFromIterations
   }
 }
 
-//! first() and second(), on two threads where `two_threads`, else one after the other on this one;
-//! an exception of either is thrown here once both have ended.
+//! first() and second(), on two threads where `two_threads`, else one after the other on this one.
+//! An exception is thrown here: on two threads once both have ended, on one as it happens (an
+//! exception of first() leaves second() not run).
 template <class First, class Second>
 void both(const First& first, const Second& second, bool two_threads) {
   in_two_halves(
