@@ -169,7 +169,7 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
   if (spherical() || circles)
     lm_weight = step.alpha == 1 ? std::max(lm_weight / 4, 1e-8) : std::min(lm_weight * 8, 1e8);
   result.step_history.push_back(step.alpha);
-  steps.note_step(step.alpha);
+  steps.note_step(step.alpha, step.blocked_by_validity);
   u = std::move(step.u);
   metric = std::move(step.state);
   const int flips_before = result.num_flips;

@@ -89,7 +89,7 @@ std::vector<int> StepSolver::rows_in_order() const {
 
 void StepSolver::begin_solve() {
   held_ = Held::None;
-  last_step_full_ = false;
+  step_reuses_factor_ = false;
 }
 
 bool StepSolver::factorize(const MetricState& state, const Eigen::VectorXd& r, bool spherical,
@@ -183,7 +183,7 @@ bool StepSolver::solve(const MetricState& state, const Eigen::VectorXd& r, bool 
   // factorization whose first reuse fell short, the next is tried only once the residual has
   // fallen well below the one it was made at.
   bool assembled = false;
-  if (last_step_full_ && reuse_factor(kind, rtol, kStaleSolveIterations) &&
+  if (step_reuses_factor_ && reuse_factor(kind, rtol, kStaleSolveIterations) &&
       (!stale_fell_short_ || krylov_rate_ > 0 ||
        size <= kReuseFactorBelowResidual * factor_residual_)) {
     assembled = true;
