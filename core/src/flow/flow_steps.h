@@ -68,10 +68,11 @@ class StepSolver {
   //! every factorization in it 13 times slower), nor for H^2 + mu I (S2), whose pattern couples
   //! 2-rings.
   void use_vertex_order(VertexOrder order) { order_ = std::move(order); }
-  //! The step the line search took along the last direction: its length, and whether a longer one
-  //! was refused for a triangle it left invalid. A full step, or one shortened only so, lets the
-  //! next solve try the held factorization: where one triangle at a hole's rim degenerates at every
-  //! full step (pymeshfix's bunny at 8 cones, six steps of 1/2 in a row), the held factorization
+  //! The step the line search took along the last direction: its length, and whether a longer
+  //! trial point left a triangle invalid (LineSearch::blocked_by_validity; a shorter one may then
+  //! still have been refused for descent). A full step, or one so blocked, lets the next solve try
+  //! the held factorization: where one triangle at a hole's rim degenerates at every full step
+  //! (pymeshfix's bunny at 8 cones, six steps of 1/2 in a row), the held factorization
   //! preconditions the next system as well as after a full step (the atlases of the real set and
   //! CGAL's at 8 cones: 1,970 factorizations to 1,866, none more on any file; the bunny's 7 to 5).
   void note_step(double alpha, bool blocked_by_validity) {
@@ -80,7 +81,7 @@ class StepSolver {
   int num_free() const { return num_free_; }
 
   //! False when no shift makes the system factorizable, or the step is not finite. Once the line
-  //! search has taken a full step (or one shortened only for validity: note_step), the last
+  //! search has taken a full step (or one blocked by an invalid triangle: note_step), the last
   //! factorization of the step's system on this pattern (of an earlier H; in S2 of an earlier
   //! H^2 + mu I) preconditions MINRES on the current system to relative residual rtol (inexact
   //! Newton) for at most kStaleSolveIterations, and the system is factorized again only when that
@@ -155,12 +156,12 @@ class StepSolver {
   double factor_residual_ = 0;  // max |r| when it was made
   double krylov_rate_ = 0;      // MINRES's last convergence factor per iteration on it; 0: unknown
   bool stale_fell_short_ = false;  // the last MINRES solve with an earlier factorization fell short
-  // The last step was a full one, or one cut short only where a longer one left a triangle invalid
+  // The last step was a full one, or one where a longer trial point left a triangle invalid
   // (note_step): Newton's regime, where H changes little from step to step. (In S2, directions
-  // from an earlier factorization after steps cut short for descent made the Yamabe flow stall on
-  // 3 components of gltron-recognizer-quad.obj that converge with fresh ones; those cut short for
-  // validity change none of its flows, and Cura's Hellbot Magna's sphere, which stalled in 100
-  // iterations, converges with them.)
+  // from an earlier factorization after every step cut short made the Yamabe flow stall on 3
+  // components of gltron-recognizer-quad.obj that converge with fresh ones; after steps so blocked
+  // none of its flows changes, measured, and Cura's Hellbot Magna's sphere, which stalled in 100
+  // iterations, converges.)
   bool step_reuses_factor_ = false;
   int krylov_iterations_ = 0;
 };

@@ -495,6 +495,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   };
   std::future<OnInput> beside;  // a delivery on the user's faces, of `charts` where `current`
   bool current = false;
+  std::vector<std::future<OnInput>> outdated;  // of charts since halved, still running
   std::optional<Packing> packing;
   for (int round = 0; round < kMaxHalvings && o.halve_long_charts && overlaps.empty(); ++round) {
     const std::vector<std::pair<int, int>> ends = long_chart_ends(charts, kLongAspect);
@@ -503,8 +504,10 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       break;
     }
     if (sub && !current) {
-      // A delivery of charts since halved reads `sub` until it ends.
-      if (beside.valid()) beside.wait();
+      // A delivery of charts since halved that still runs is left to end on its own (waiting for
+      // it would hold this trial back); it reads `sub` until it ends.
+      if (beside.valid() && beside.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        outdated.push_back(std::move(beside));
       beside = std::async(std::launch::async,
                           [&, cut = seam, developed = charts] { return on_input(cut, developed); });
       current = true;
@@ -596,6 +599,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
   }
   // A delivery made beside a halving that was kept reads `sub` until it ends.
   if (beside.valid()) beside.wait();
+  for (std::future<OnInput>& f : outdated) f.wait();
   deliver(delivered, positions, faces, seam, length3d, charts, overlaps, mesh.input_area(), quarter,
           run);
   if (sub) run.subdivision = std::move(sub);
