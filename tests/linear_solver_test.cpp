@@ -9,6 +9,10 @@
 #include <numeric>
 #include <optional>
 #include <random>
+#include <stdexcept>
+#include <system_error>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -19,6 +23,8 @@
 #include "linear/blas_threads.h"
 #include "linear/minres.h"
 #include "linear/supernodal_factor.h"
+#include "mesh/two_threads.h"
+#include "no_new_threads.h"
 #include "ricci/flow/scheme.h"
 #include "ricci/linear/vertex_order.h"
 #include "ricci/mesh/errors.h"
@@ -163,6 +169,44 @@ TEST(LinearSolver, TwoThreadsSolveWhatOneSolves) {
       EXPECT_EQ((two.solve(b) - x2).norm(), 0.0);  // whatever the threads' timing
     }
   }
+}
+
+// Where no thread can be made, this one does the work of both: the loops' halves, the two tasks,
+// the factor's two subtrees, with the results of two threads.
+TEST(LinearSolver, WhereNoThreadCanBeMadeOneThreadSolvesWhatTwoSolve) {
+  const Eigen::SparseMatrix<double> h = lion_head_hessian();
+  const MetisFactor cholmod(h);
+  ASSERT_EQ(cholmod.factor().minor, cholmod.factor().n);
+  const detail::SinglePrecisionFactor two(cholmod.factor(), 0);
+  ASSERT_FALSE(two.subtrees(0).empty());
+  std::mt19937 rng(17);
+  const Eigen::VectorXd b = random_vector(static_cast<int>(h.rows()), rng);
+  const Eigen::VectorXd on_two = two.solve(b);
+  const std::thread::id here = std::this_thread::get_id();
+  const test::NoNewThreads no_threads;
+  EXPECT_THROW(std::thread([] {}).join(), std::system_error) << "the scope did not hold threads";
+  EXPECT_EQ((two.solve(b) - on_two).norm(), 0.0);
+  std::vector<int> part_of(1000, -1);
+  std::vector<std::thread::id> ran_on(2);
+  detail::in_two_halves(
+      1000,
+      [&](int part, int begin, int end) {
+        ran_on[part] = std::this_thread::get_id();
+        for (int i = begin; i < end; ++i) part_of[i] = part;
+      },
+      0);
+  EXPECT_EQ(ran_on[0], here);
+  EXPECT_EQ(ran_on[1], here);
+  for (int i = 0; i < 1000; ++i) ASSERT_EQ(part_of[i], i < 500 ? 0 : 1) << i;
+  int first = 0, second = 0;
+  detail::both([&] { first = 1; }, [&] { second = first + 1; }, true);
+  EXPECT_EQ(second, 2);  // one after the other
+  // An exception of the first half is thrown once the second has run, as with two threads.
+  bool second_ran = false;
+  EXPECT_THROW(
+      detail::both([] { throw std::runtime_error("first"); }, [&] { second_ran = true; }, true),
+      std::runtime_error);
+  EXPECT_TRUE(second_ran);
 }
 
 // Unit columns and a column of several nonzeros, as the cone placement solves them: each

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "linear/blas_threads.h"
+#include "no_new_threads.h"
 #include "ricci/io/mesh_io.h"
 #include "ricci/mesh/errors.h"
 #include "ricci/pipeline/atlas.h"
@@ -405,6 +406,30 @@ TEST(UniformizeMesh, ComponentsRunTogetherAsEachAlone) {
       ASSERT_EQ(u.size(), alone.size()) << "component " << k;
       EXPECT_EQ((u - alone).cwiseAbs().maxCoeff(), 0) << "component " << k;
     }
+  }
+}
+
+// Where no thread can be made, one thread delivers the atlas two deliver: CGAL's lion head at 8
+// cones, whose flow flips, whose charts are delivered on its faces beside a halving trial.
+TEST(Uniformize, WhereNoThreadCanBeMadeTheAtlasIsTheSame) {
+  const CompactMesh lion = test::cgal_mesh("lion-head.off");
+  UniformizationOptions o;
+  o.preset = TargetPreset::Atlas;
+  o.cone_placement.max_cones = 8;
+  const detail::SingleThreadedBlas one_blas_thread;  // the same sums in both runs
+  const Uniformization two = uniformize(lion, o);
+  ASSERT_TRUE(two.valid());
+  EXPECT_FALSE(two.result.flip_sequence.empty());
+  EXPECT_GT(two.atlas.halvings, 0);
+  const TextureCoordinates on_two = texture_coordinates(two);
+  const test::NoNewThreads no_threads;
+  const Uniformization one = uniformize(lion, o);
+  ASSERT_TRUE(one.valid());
+  const TextureCoordinates on_one = texture_coordinates(one);
+  EXPECT_EQ((one.result.u - two.result.u).cwiseAbs().maxCoeff(), 0);
+  ASSERT_EQ(on_one.wedge.size(), on_two.wedge.size());
+  for (size_t f = 0; f < on_one.wedge.size(); ++f) {
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(on_one.wedge[f][k], on_two.wedge[f][k]) << f;
   }
 }
 

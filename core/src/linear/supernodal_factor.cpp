@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <numeric>
-#include <thread>
 #include <type_traits>
+
+#include "mesh/two_threads.h"
 
 namespace ricci::detail {
 
@@ -186,11 +187,14 @@ void SupernodalFactor<Value>::backward(double* x, int count) const {
   if (subtrees_[0].empty()) return;
   std::vector<double> other_local;  // sized here: the other thread allocates nothing
   other_local.reserve(static_cast<std::size_t>(max_rows_) * count);
-  std::thread other([&] {
-    for (const Range& r : subtrees_[1]) backward(r, x, count, other_local);
-  });
-  for (const Range& r : subtrees_[0]) backward(r, x, count, local);
-  other.join();
+  detail::both(
+      [&] {
+        for (const Range& r : subtrees_[0]) backward(r, x, count, local);
+      },
+      [&] {
+        for (const Range& r : subtrees_[1]) backward(r, x, count, other_local);
+      },
+      true);
 }
 
 template <class Value>
@@ -209,12 +213,16 @@ Eigen::VectorXd SupernodalFactor<Value>::solve(const Eigen::VectorXd& b) const {
                                         std::vector<double>(n_ - from, 0.0)};
     std::vector<double> other_local;  // sized here: the other thread allocates nothing
     other_local.reserve(max_rows_);
-    std::thread other([&] {
-      for (const Range& r : subtrees_[1])
-        forward(r, z.data(), ancestors[1].data(), from, other_local);
-    });
-    for (const Range& r : subtrees_[0]) forward(r, z.data(), ancestors[0].data(), from, local);
-    other.join();
+    detail::both(
+        [&] {
+          for (const Range& r : subtrees_[0])
+            forward(r, z.data(), ancestors[0].data(), from, local);
+        },
+        [&] {
+          for (const Range& r : subtrees_[1])
+            forward(r, z.data(), ancestors[1].data(), from, other_local);
+        },
+        true);
     for (int k = from; k < n_; ++k) z[k] += ancestors[0][k - from] + ancestors[1][k - from];
     forward(top_, z.data(), nullptr, n_, local);
   }

@@ -1,9 +1,13 @@
 // Loops whose iterations are independent, on the machine's second core when they are long enough
 // to pay for a thread. Each half's results go to slots of their own, so nothing depends on the
-// threads' timing. Not installed API.
+// threads' timing. Where no thread can be made (std::system_error: a process at its limit of
+// threads or of address space), this thread runs both halves, one after the other. Not installed
+// API.
 #pragma once
 
 #include <exception>
+#include <optional>
+#include <system_error>
 #include <thread>
 
 namespace ricci::detail {
@@ -24,27 +28,36 @@ void in_two_halves(int n, const Work& work, int from = kTwoThreadsFromIterations
   // An exception of either half (bad_alloc) is thrown here once both have ended, not left to
   // terminate the process from a joinable thread.
   std::exception_ptr failed[2];
-  std::thread other([&] {
+  const auto second_half = [&] {
     try {
       work(1, middle, n);
     } catch (...) {
       failed[1] = std::current_exception();
     }
-  });
+  };
+  std::optional<std::thread> other;
+  try {
+    other.emplace(second_half);
+  } catch (const std::system_error&) {  // no second thread: this one runs it after the first half
+  }
   try {
     work(0, 0, middle);
   } catch (...) {
     failed[0] = std::current_exception();
   }
-  other.join();
+  if (other) {
+    other->join();
+  } else {
+    second_half();
+  }
   for (const std::exception_ptr& e : failed) {
     if (e) std::rethrow_exception(e);
   }
 }
 
-//! first() and second(), on two threads where `two_threads`, else one after the other on this one.
-//! An exception is thrown here: on two threads once both have ended, on one as it happens (an
-//! exception of first() leaves second() not run).
+//! first() and second(), on two threads where `two_threads` (and a thread can be made), else one
+//! after the other on this one. An exception is thrown here: where `two_threads` once both have
+//! run, else as it happens (an exception of first() leaves second() not run).
 template <class First, class Second>
 void both(const First& first, const Second& second, bool two_threads) {
   in_two_halves(

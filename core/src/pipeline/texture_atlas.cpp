@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <system_error>
 #include <utility>
 
 #include "mesh/clock.h"
@@ -493,6 +494,11 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
                                                      const Charts& developed) {
     return delivered_on_input(mesh, *sub, delivered, under, cut, developed, bound);
   };
+  // A delivery runs on a thread of its own where one can be made, else (deferred) when asked
+  // for; one that is not asked for is left to end or, deferred, never run.
+  const auto running = [](const std::future<OnInput>& f) {
+    return f.valid() && f.wait_for(std::chrono::seconds(0)) == std::future_status::timeout;
+  };
   std::future<OnInput> beside;  // a delivery on the user's faces, of `charts` where `current`
   bool current = false;
   std::vector<std::future<OnInput>> outdated;  // of charts since halved, still running
@@ -506,10 +512,13 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     if (sub && !current) {
       // A delivery of charts since halved that still runs is left to end on its own (waiting for
       // it would hold this trial back); it reads `sub` until it ends.
-      if (beside.valid() && beside.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
-        outdated.push_back(std::move(beside));
-      beside = std::async(std::launch::async,
-                          [&, cut = seam, developed = charts] { return on_input(cut, developed); });
+      if (running(beside)) outdated.push_back(std::move(beside));
+      auto deliver = [&, cut = seam, developed = charts] { return on_input(cut, developed); };
+      try {
+        beside = std::async(std::launch::async, deliver);
+      } catch (const std::system_error&) {  // no second thread: delivered when asked for
+        beside = std::async(std::launch::deferred, std::move(deliver));
+      }
       current = true;
     }
     std::vector<char> halved = seam;
@@ -598,7 +607,7 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
     atlas.seconds.harmonic += lap(clock);
   }
   // A delivery made beside a halving that was kept reads `sub` until it ends.
-  if (beside.valid()) beside.wait();
+  if (running(beside)) beside.wait();
   for (std::future<OnInput>& f : outdated) f.wait();
   deliver(delivered, positions, faces, seam, length3d, charts, overlaps, mesh.input_area(), quarter,
           run);
