@@ -7,12 +7,13 @@ Usage: measure_layouts.py FILE [FILE ...] [--tsv OUT] [--disk-texcoords]
 FILE is a PLY that ricci-flow wrote, or an OBJ with a texture coordinate per face corner
 (f v/vt), as Boundary First Flattening and CEPS write them. Per file:
 
-* faces, and faces turned over in the layout's model (plane: straight sides; Poincare disk: as
-  hyperbolic triangles, whose sides are geodesics, straight in the Klein model; sphere: seen from
-  outside); PLY only: texture_flipped, faces with a planar or disk layout whose texture
-  coordinates (texcoord_double, as a texture draws them: straight) are turned over;
+* faces, and faces not counter-clockwise (turned over, or of zero area) in the layout's model
+  (plane: straight sides; Poincare disk: as hyperbolic triangles, whose sides are geodesics;
+  sphere: seen from outside); PLY only: texture_flipped, faces with a planar or disk layout whose
+  texture coordinates (texcoord_double, as a texture draws them: straight) are turned over;
 * the quasi-conformal ratio of each face's affine map from 3D to its layout (singular values'
-  ratio): median, p95, max;
+  ratio): median, p95, max over the faces where it is finite; degenerate: the faces where it is
+  not (zero area in 3D or in the layout);
 * PLY only: the angle sum at every interior vertex of the delivered mesh, its corner angles
   measured in the layout's model (Euclidean angles in the plane, hyperbolic angles between the
   geodesic sides in the Poincare disk, spherical ones on the unit sphere), against 2 pi - Kbar
@@ -164,12 +165,20 @@ def quasi_conformal(surface, layout):
 
 def orientation(model, t):
     """Per face: > 0 when counter-clockwise in the model (plane: straight; disk: the hyperbolic
-    triangle, straight in the Klein model; sphere: seen from outside)."""
+    triangle; sphere: seen from outside), 0 where its corners are on a line (or coincide)."""
     if model == SPHERE:
         return np.einsum("ij,ij->i", np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]),
                          t[:, 0] + t[:, 1] + t[:, 2])
     if model == DISK:
-        t = 2 * t / (1 + np.sum(t * t, axis=2, keepdims=True))
+        # The Moebius map taking the first corner to 0 makes the sides from it straight rays: the
+        # sign of the angle from the second corner to the third there. In extended precision, as
+        # corner_angle: the Klein model's 2 z / (1 + |z|^2) turned faces 1e-12 wide its way
+        # (OpenFOAM's motorbike: 23 of its faces squeezed in the Poincare disk).
+        zp, zq, zr = (x[:, 0].astype(np.longdouble) + 1j * x[:, 1].astype(np.longdouble)
+                      for x in (t[:, 0], t[:, 1], t[:, 2]))
+        wq = (zq - zp) / (1 - np.conj(zp) * zq)
+        wr = (zr - zp) / (1 - np.conj(zp) * zr)
+        return (np.conj(wq) * wr).imag.astype(float)
     a, b = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
     return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
 
