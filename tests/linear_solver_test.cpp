@@ -184,7 +184,8 @@ TEST(LinearSolver, WhereNoThreadCanBeMadeOneThreadSolvesWhatTwoSolve) {
   const Eigen::VectorXd on_two = two.solve(b);
   const std::thread::id here = std::this_thread::get_id();
   const test::NoNewThreads no_threads;
-  EXPECT_THROW(std::thread([] {}).join(), std::system_error) << "the scope did not hold threads";
+  ASSERT_TRUE(no_threads.held());
+  ASSERT_THROW(std::thread([] {}).join(), std::system_error) << "the scope did not hold threads";
   EXPECT_EQ((two.solve(b) - on_two).norm(), 0.0);
   std::vector<int> part_of(1000, -1);
   std::vector<std::thread::id> ran_on(2);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <complex>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -410,7 +411,8 @@ TEST(UniformizeMesh, ComponentsRunTogetherAsEachAlone) {
 }
 
 // Where no thread can be made, one thread delivers the atlas two deliver: CGAL's lion head at 8
-// cones, whose flow flips, whose charts are delivered on its faces beside a halving trial.
+// cones, whose flow flips, whose charts are delivered on its faces beside a halving trial. (The
+// run before the scope has started CHOLMOD's OpenMP threads, which the scope does not cover.)
 TEST(Uniformize, WhereNoThreadCanBeMadeTheAtlasIsTheSame) {
   const CompactMesh lion = test::cgal_mesh("lion-head.off");
   UniformizationOptions o;
@@ -423,6 +425,8 @@ TEST(Uniformize, WhereNoThreadCanBeMadeTheAtlasIsTheSame) {
   EXPECT_GT(two.atlas.halvings, 0);
   const TextureCoordinates on_two = texture_coordinates(two);
   const test::NoNewThreads no_threads;
+  ASSERT_TRUE(no_threads.held());
+  ASSERT_THROW(std::thread([] {}).join(), std::system_error) << "the scope did not hold threads";
   const Uniformization one = uniformize(lion, o);
   ASSERT_TRUE(one.valid());
   const TextureCoordinates on_one = texture_coordinates(one);

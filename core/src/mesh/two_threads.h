@@ -1,8 +1,9 @@
 // Loops whose iterations are independent, on the machine's second core when they are long enough
 // to pay for a thread. Each half's results go to slots of their own, so nothing depends on the
 // threads' timing. Where no thread can be made (std::system_error: a process at its limit of
-// threads or of address space), this thread runs both halves, one after the other. Not installed
-// API.
+// threads or of address space), this thread runs both halves, one after the other. (CHOLMOD's
+// factorization starts OpenMP threads of its own; where libgomp cannot make them it ends the
+// process, which OMP_THREAD_LIMIT=1 in the environment avoids.) Not installed API.
 #pragma once
 
 #include <exception>

@@ -513,11 +513,11 @@ void lay_out_atlas(const CompactMesh& mesh, const UniformizationOptions& o, Unif
       // A delivery of charts since halved that still runs is left to end on its own (waiting for
       // it would hold this trial back); it reads `sub` until it ends.
       if (running(beside)) outdated.push_back(std::move(beside));
-      auto deliver = [&, cut = seam, developed = charts] { return on_input(cut, developed); };
+      auto delivery = [&, cut = seam, developed = charts] { return on_input(cut, developed); };
       try {
-        beside = std::async(std::launch::async, deliver);
+        beside = std::async(std::launch::async, delivery);
       } catch (const std::system_error&) {  // no second thread: delivered when asked for
-        beside = std::async(std::launch::deferred, std::move(deliver));
+        beside = std::async(std::launch::deferred, std::move(delivery));
       }
       current = true;
     }
