@@ -13,7 +13,10 @@ FILE is a PLY that ricci-flow wrote, or an OBJ with a texture coordinate per fac
   texture coordinates (texcoord_double, as a texture draws them: straight) are turned over;
 * the quasi-conformal ratio of each face's affine map from 3D to its layout (singular values'
   ratio): median, p95, max over the faces where it is finite; degenerate: the faces where it is
-  not (zero area in 3D or in the layout);
+  not (zero area in 3D or in the layout); qc_log_mean, the mean of its log over those faces, and
+  qc_area_median, its median over the surface (each face weighted by its 3D area, the degenerate
+  ones at infinity): measures of a map that depend less than the median on how finely the tool
+  cut its cells;
 * PLY only: the angle sum at every interior vertex of the delivered mesh, its corner angles
   measured in the layout's model (Euclidean angles in the plane, hyperbolic angles between the
   geodesic sides in the Poincare disk, spherical ones on the unit sphere), against 2 pi - Kbar
@@ -305,7 +308,7 @@ def measure_ply(path, atlas=False):
     row = {"file": path, "faces": len(faces)}
     names = {PLANE: "plane", DISK: "poincare-disk", SPHERE: "sphere"}
     row["models"] = ",".join(names[m] for m in sorted(set(model.tolist())) if m in names)
-    qc, flipped = [], 0
+    qc, area, flipped = [], [], 0
     worst = worst_cut = worst_fine = float("nan")
     checked = checked_cut = checked_fine = 0
     for m in (PLANE, DISK, SPHERE):
@@ -315,6 +318,7 @@ def measure_ply(path, atlas=False):
         t = corners[sel]
         flipped += int(np.sum(~(orientation(m, t) > 0)))
         qc.append(quasi_conformal(surface[faces[sel]], t))
+        area.append(triangle_areas(surface[faces[sel]]))
         # Angle sums per model; a vertex's faces all lie in one component, so in one model.
         kb = kbar.copy()
         kb[np.setdiff1d(np.arange(n), faces[sel].ravel())] = np.nan
@@ -324,7 +328,7 @@ def measure_ply(path, atlas=False):
         worst_cut = np.nanmax([worst_cut, wc]) if kc else worst_cut
         worst_fine = np.nanmax([worst_fine, wf]) if kf else worst_fine
         checked, checked_cut, checked_fine = checked + k, checked_cut + kc, checked_fine + kf
-    row.update(summary(np.concatenate(qc), flipped))
+    row.update(summary(np.concatenate(qc), flipped, np.concatenate(area)))
     if "texcoord_double" in f and len(f["texcoord_double"]) == len(faces):
         uv = np.array(f["texcoord_double"], dtype=float).reshape(-1, 3, 2)
         drawn = uv[(model == PLANE) | (model == DISK)]
@@ -349,12 +353,21 @@ def atlas_ply(surface, faces, f, model, corners):
     return {}
 
 
-def summary(qc, flipped):
+def summary(qc, flipped, area=None):
     finite = qc[np.isfinite(qc)]
-    return {"flipped": flipped, "degenerate": int(len(qc) - len(finite)),
-            "qc_median": float(np.median(finite)) if len(finite) else float("nan"),
-            "qc_p95": float(np.percentile(finite, 95)) if len(finite) else float("nan"),
-            "qc_max": float(finite.max()) if len(finite) else float("nan")}
+    row = {"flipped": flipped, "degenerate": int(len(qc) - len(finite)),
+           "qc_median": float(np.median(finite)) if len(finite) else float("nan"),
+           "qc_p95": float(np.percentile(finite, 95)) if len(finite) else float("nan"),
+           "qc_max": float(finite.max()) if len(finite) else float("nan")}
+    if area is not None:
+        row["qc_log_mean"] = float(np.mean(np.log(finite))) if len(finite) else float("nan")
+        # The median over the surface rather than over the faces: by 3D area, QC not finite
+        # counting as infinite.
+        order = np.argsort(np.where(np.isfinite(qc), qc, np.inf), kind="stable")
+        weight = np.cumsum(area[order])
+        at = np.searchsorted(weight, weight[-1] / 2) if len(qc) and weight[-1] > 0 else None
+        row["qc_area_median"] = float(qc[order][at]) if at is not None else float("nan")
+    return row
 
 
 def measure_obj(path, atlas=False):
@@ -362,7 +375,7 @@ def measure_obj(path, atlas=False):
     corners = np.concatenate([uv, np.zeros(uv.shape[:2] + (1,))], axis=2)
     row = {"file": path, "faces": len(faces), "models": "plane"}
     row.update(summary(quasi_conformal(v[faces], corners), int(np.sum(~(orientation(
-        PLANE, corners) > 0)))))
+        PLANE, corners) > 0))), triangle_areas(v[faces])))
     if atlas:
         row.update(measure_atlas(v, faces, uv))
     return row
@@ -532,7 +545,7 @@ def measure_atlas(surface, faces, uv):
 
 
 COLUMNS = ("file", "faces", "models", "flipped", "texture_flipped", "degenerate", "qc_median",
-           "qc_p95", "qc_max", "angle_error", "interior_vertices", "cut_angle_error", "cut_vertices",
+           "qc_p95", "qc_max", "qc_log_mean", "qc_area_median", "angle_error", "interior_vertices", "cut_angle_error", "cut_vertices",
            "resolved_angle_error", "resolved_vertices")
 ATLAS_COLUMNS = ("atlas_faces", "atlas_D", "atlas_qc_median", "atlas_qc_p95", "atlas_qc_max",
                  "atlas_flipped", "atlas_uv_degenerate", "atlas_overlap", "atlas_seam",
