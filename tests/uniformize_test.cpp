@@ -437,6 +437,42 @@ TEST(Uniformize, WhereNoThreadCanBeMadeTheAtlasIsTheSame) {
   }
 }
 
+// A vertex that delivered faces hold keeps its own results: here the repair joins each point's
+// three copies and cuts the third triangle off again onto new copies, and the kept vertices 0
+// and 1 hold the other triangles' faces while their own triangle went to the copies (in another
+// component). Each delivered face's per-vertex positions are its corners.
+TEST(UniformizeMesh, AVertexThatFacesHoldKeepsItsOwnResults) {
+  const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0},
+                                          {1, 0, 0}, {0, 0, 0}, {0.5, -1, 0},
+                                          {0, 0, 0}, {1, 0, 0}, {0.5, 0, 1}};
+  int cases = 0;
+  for (const std::vector<std::array<int, 3>>& faces :
+       {std::vector<std::array<int, 3>>{{0, 1, 2}, {3, 4, 5}, {6, 7, 8}},
+        std::vector<std::array<int, 3>>{{3, 4, 5}, {6, 7, 8}, {0, 1, 2}}}) {
+    const RepairedMesh repaired = repair_mesh(p, faces);
+    ASSERT_EQ(repaired.components.size(), 2u);
+    for (const MeshComponent& c : repaired.components) {
+      for (int v : c.vertex) {
+        const int r = repaired.represented_by[v];
+        cases += r >= 0 && r != v;  // held, and said to take another vertex's results
+      }
+    }
+    const MeshUniformization out = uniformize_mesh(repaired, UniformizationOptions());
+    ASSERT_TRUE(out.valid());
+    ASSERT_EQ(out.corners.size(), out.faces.size());
+    for (size_t f = 0; f < out.faces.size(); ++f) {
+      for (int c = 0; c < 3; ++c) {
+        const int v = out.faces[f][c];
+        EXPECT_EQ(out.position[v], out.corners[f][c]) << "face " << f << " corner " << c;
+        if (!out.texture.wedge.empty()) {
+          EXPECT_EQ(out.texture.vertex[v], out.texture.wedge[f][c]) << "face " << f;
+        }
+      }
+    }
+  }
+  EXPECT_GT(cases, 0) << "no vertex that faces hold is said to take another's results";
+}
+
 // Of several components that cannot be given the request, the first one's error is thrown, as
 // when they ran one after the other.
 TEST(UniformizeMesh, TheFirstFailingComponentIsNamed) {
