@@ -460,14 +460,23 @@ TEST(UniformizeMesh, AVertexThatFacesHoldKeepsItsOwnResults) {
     const MeshUniformization out = uniformize_mesh(repaired, UniformizationOptions());
     ASSERT_TRUE(out.valid());
     ASSERT_EQ(out.corners.size(), out.faces.size());
+    ASSERT_EQ(out.position.size(), out.positions.size());
+    ASSERT_EQ(out.texture.vertex.size(), out.positions.size());
     for (size_t f = 0; f < out.faces.size(); ++f) {
+      const std::array<int, 3>& t = out.faces[f];
       for (int c = 0; c < 3; ++c) {
-        const int v = out.faces[f][c];
-        EXPECT_EQ(out.position[v], out.corners[f][c]) << "face " << f << " corner " << c;
-        if (!out.texture.wedge.empty()) {
-          EXPECT_EQ(out.texture.vertex[v], out.texture.wedge[f][c]) << "face " << f;
-        }
+        EXPECT_EQ(out.position[t[c]], out.corners[f][c]) << "face " << f << " corner " << c;
       }
+      // The packing moves each piece by a similarity: a face's texture coordinates are its
+      // corners' scaled alike along its three sides.
+      std::array<double, 3> ratio{};
+      for (int c = 0; c < 3; ++c) {
+        const int a = t[c], b = t[(c + 1) % 3];
+        ratio[c] = (out.texture.vertex[b] - out.texture.vertex[a]).norm() /
+                   (out.corners[f][(c + 1) % 3] - out.corners[f][c]).norm();
+      }
+      EXPECT_NEAR(ratio[1], ratio[0], 1e-9 * ratio[0]) << "face " << f;
+      EXPECT_NEAR(ratio[2], ratio[0], 1e-9 * ratio[0]) << "face " << f;
     }
   }
   EXPECT_GT(cases, 0) << "no vertex that faces hold is said to take another's results";

@@ -38,8 +38,10 @@ struct RepairedMesh {
   std::vector<Eigen::Vector3d> positions;
   //! Per vertex: the input vertex it is, or copies.
   std::vector<int> original;
-  //! Per vertex: the vertex whose results it takes (itself, or the vertex a needle collapsed it
-  //! onto); -1 where the vertex is in no face.
+  //! Per vertex: the vertex whose results it takes (itself, the vertex a needle collapsed it
+  //! onto, or, for a vertex joined to others at its position, the copy its own faces went to where
+  //! a non-manifold edge was cut open again); -1 where the vertex is in no face. A vertex that
+  //! faces hold is delivered with its own results whatever this says (MeshUniformization).
   std::vector<int> represented_by;
   std::vector<MeshComponent> components;  //!< in the order of their first input face
   RepairReport report;
