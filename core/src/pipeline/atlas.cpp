@@ -124,17 +124,23 @@ double area_of(const std::vector<Triangle2>& triangles) {
 // (UniformizationOptions::halve_long_charts).
 constexpr double kHalvedShare = 1.0 / 32;
 
-// Per delivered vertex: whether a delivered face holds it. Such a vertex keeps its own results;
-// one that none holds (a collapsed needle's, or a joined vertex's whose faces went to a copy)
-// takes those of the vertex the repair says holds its faces (RepairedMesh::represented_by).
-// (CGAL's diplodocus: a kept vertex holding a joined one's faces took its copy's position on the
-// sphere, 4.4e-10 away, and four faces of 1e-10 around it turned over.)
-std::vector<char> held_by_faces(const MeshUniformization& out) {
+// The delivered vertices that take another's results, each with that vertex: a vertex that no
+// delivered face holds (a collapsed needle's, or a joined vertex's whose faces went to a copy)
+// takes those of the vertex the repair says holds its faces (RepairedMesh::represented_by); a
+// vertex that faces hold keeps its own. (CGAL's diplodocus: a kept vertex holding a joined one's
+// faces took its copy's position on the sphere, 4.4e-10 away, and four faces of 1e-10 around it
+// turned over.)
+std::vector<std::pair<int, int>> results_taken(const MeshUniformization& out) {
   std::vector<char> held(out.positions.size(), 0);
   for (const auto& t : out.faces) {
     for (int v : t) held[static_cast<size_t>(v)] = 1;
   }
-  return held;
+  std::vector<std::pair<int, int>> taken;
+  for (size_t v = 0; v < out.mesh.positions.size(); ++v) {
+    const int r = out.mesh.represented_by[v];
+    if (r >= 0 && r != static_cast<int>(v) && !held[v]) taken.emplace_back(static_cast<int>(v), r);
+  }
+  return taken;
 }
 
 // Several components: every piece packed at once (pack_charts) at one texel density, each
@@ -150,13 +156,7 @@ void gather_texture(MeshUniformization& out, const PackingOptions& packing) {
     for (size_t i = 0; i < t.vertex.size(); ++i) {
       out.texture.vertex[delivered_vertex(out, 0, static_cast<int>(i))] = t.vertex[i];
     }
-    const std::vector<char> held = held_by_faces(out);
-    for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
-      const int r = out.mesh.represented_by[v];
-      if (r >= 0 && r != static_cast<int>(v) && !held[v]) {
-        out.texture.vertex[v] = out.texture.vertex[r];
-      }
-    }
+    for (const auto& [v, r] : results_taken(out)) out.texture.vertex[v] = out.texture.vertex[r];
     return;
   }
   std::vector<std::vector<Triangle2>> pieces;
@@ -211,13 +211,7 @@ void gather_texture(MeshUniformization& out, const PackingOptions& packing) {
             to_atlas(piece_of_face[k][0], scale[k] * position[i].head<2>());
       }
     }
-    const std::vector<char> held = held_by_faces(out);
-    for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
-      const int r = out.mesh.represented_by[v];
-      if (r >= 0 && r != static_cast<int>(v) && !held[v]) {
-        out.texture.vertex[v] = out.texture.vertex[r];
-      }
-    }
+    for (const auto& [v, r] : results_taken(out)) out.texture.vertex[v] = out.texture.vertex[r];
     return;
   }
   for (size_t k = 0; k < n; ++k) {
@@ -295,10 +289,7 @@ void gather_vertices(MeshUniformization& out) {
       out.input_face.push_back(c.face[sub.input_face[f]]);
     }
   }
-  const std::vector<char> held = held_by_faces(out);
-  for (size_t v = 0; v < out.mesh.positions.size(); ++v) {  // a collapsed needle's vertex
-    const int r = out.mesh.represented_by[v];
-    if (r < 0 || r == static_cast<int>(v) || held[v]) continue;
+  for (const auto& [v, r] : results_taken(out)) {
     for (Eigen::VectorXd* x : {&out.u, &out.radius, &out.curvature, &out.target}) {
       (*x)[static_cast<long>(v)] = (*x)[r];
     }
