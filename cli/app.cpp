@@ -10,9 +10,11 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -278,7 +280,7 @@ void run(const Options& o) {
   }
 }
 
-int run_command_line(int argc, const char* const* argv) {
+int run_command_line(int argc, const char* const* argv, bool* out_of_memory) {
   Options options;
   try {
     options = parse_options(argc, argv);
@@ -298,9 +300,15 @@ int run_command_line(int argc, const char* const* argv) {
     run(options);
     return 0;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "ricci-flow: error: %s\n", e.what());
+    std::fprintf(stderr, "ricci-flow: error: %s\n", failure_message(e).c_str());
+    if (out_of_memory) *out_of_memory = dynamic_cast<const std::bad_alloc*>(&e) != nullptr;
     return 1;
   }
+}
+
+void end_out_of_memory(int code) {
+  std::fflush(nullptr);
+  std::_Exit(code);
 }
 
 }  // namespace ricci::cli

@@ -195,7 +195,7 @@ std::string run_file(const std::vector<std::string>& args) {
   try {
     cli::run(o);
   } catch (const std::exception& e) {
-    return e.what();
+    return failure_message(e);
   }
   return "";
 }
@@ -203,7 +203,11 @@ std::string run_file(const std::vector<std::string>& args) {
 int run_command_line(const std::vector<std::string>& args) {
   const std::vector<const char*> argv = argv_of(args);
   nb::gil_scoped_release released;
-  return cli::run_command_line(static_cast<int>(argv.size()), argv.data());
+  bool out_of_memory = false;
+  const int code =
+      cli::run_command_line(static_cast<int>(argv.size()), argv.data(), &out_of_memory);
+  if (out_of_memory) cli::end_out_of_memory(code);
+  return code;
 }
 
 // One clean mesh (one component, no repairs) and its flow, kept between solves: the
@@ -290,7 +294,8 @@ NB_MODULE(_ricci_flow, m) {
   });
   m.def("run_command_line", &run_command_line, nb::arg("args"),
         "Runs the ricci-flow command with args (args[0] the program's name); returns its exit "
-        "code.");
+        "code. Where the run ran out of memory, ends the process with that code (the console "
+        "script's use).");
   m.def("run_file", &run_file, nb::arg("args"),
         "Runs the ricci-flow command on one file (args as for run_command_line); returns \"\" when "
         "it wrote its result, else its error message. Usage errors raise ValueError.");

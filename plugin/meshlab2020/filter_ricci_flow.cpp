@@ -55,7 +55,8 @@ bool FilterRicciFlowPlugin::applyFilter(QAction*, MeshDocument& md,
     Log("%s", qUtf8Printable(errorMessage));
     return false;
   } catch (const std::exception& e) {
-    errorMessage = QString("Ricci flow failed unexpectedly, the mesh is unchanged: ") + e.what();
+    errorMessage = QString("Ricci flow failed unexpectedly, the mesh is unchanged: ") +
+                   QString::fromStdString(ricci::failure_message(e));
     Log("%s", qUtf8Printable(errorMessage));
     return false;
   }

@@ -72,7 +72,7 @@ std::map<std::string, QVariant> FilterRicciFlowPlugin::applyFilter(
     throw;
   } catch (const std::exception& e) {
     throw MLException(QString("Ricci flow failed unexpectedly, the mesh is unchanged: ") +
-                      e.what());
+                      QString::fromStdString(ricci::failure_message(e)));
   }
 }
 

@@ -1,14 +1,15 @@
 #include "ricci/io/mesh_io.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include "io/text_reader.h"
 
@@ -30,10 +31,19 @@ std::string read_file(const std::string& path) {
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError("read_mesh: cannot open '" + path + "' (missing file or no permission)");
-  std::ostringstream s;
-  s << in.rdbuf();
+  // Read into a string that grows by append, which throws where memory runs out (a stream's
+  // insertion of the file's buffer would only stop there, and leave the file cut short).
+  std::string bytes;
+  if (std::filesystem::is_regular_file(status)) {
+    const std::uintmax_t size = std::filesystem::file_size(path, error);
+    if (!error) bytes.reserve(static_cast<size_t>(size));
+  }
+  std::array<char, 1 << 16> chunk;
+  while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+    bytes.append(chunk.data(), static_cast<size_t>(in.gcount()));
+  }
   if (in.bad()) throw IoError("read_mesh: reading '" + path + "' failed");
-  return s.str();
+  return bytes;
 }
 
 std::vector<std::string_view> tokens(std::string_view line) {

@@ -2,6 +2,7 @@
 // stage, the fact that was wrong, where (counts, first indices), and what to do.
 #pragma once
 
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -62,5 +63,15 @@ class IoError : public Error {
  public:
   using Error::Error;
 };
+
+//! What a front end says of an exception that ended a run: its message, or, for std::bad_alloc
+//! (whose message is its type's name), that the process ran out of memory.
+inline std::string failure_message(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e)) {
+    return "out of memory: the process could not allocate what this mesh needs (the machine's "
+           "memory, or a limit on the process's address space such as ulimit -v)";
+  }
+  return e.what();
+}
 
 }  // namespace ricci
