@@ -280,7 +280,7 @@ void run(const Options& o) {
   }
 }
 
-int run_command_line(int argc, const char* const* argv, bool* out_of_memory) {
+int run_command_line(int argc, const char* const* argv) {
   Options options;
   try {
     options = parse_options(argc, argv);
@@ -301,12 +301,11 @@ int run_command_line(int argc, const char* const* argv, bool* out_of_memory) {
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ricci-flow: error: %s\n", failure_message(e).c_str());
-    if (out_of_memory) *out_of_memory = dynamic_cast<const std::bad_alloc*>(&e) != nullptr;
     return 1;
   }
 }
 
-void end_out_of_memory(int code) {
+void end_process(int code) {
   std::fflush(nullptr);
   std::_Exit(code);
 }

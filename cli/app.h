@@ -17,13 +17,13 @@ UniformizationOptions request_for(const Options& o, int num_input_vertices);
 void run(const Options& o);
 
 //! Runs ricci-flow with argv (argv[0] the program's name); returns the exit code: 0 done, 1 the
-//! run failed (message on stderr), 2 a usage error. Sets *out_of_memory where the run failed for
-//! want of memory: a process then ends by end_out_of_memory().
-int run_command_line(int argc, const char* const* argv, bool* out_of_memory = nullptr);
+//! run failed (message on stderr), 2 a usage error.
+int run_command_line(int argc, const char* const* argv);
 
-//! Ends the process with `code` after a run that ran out of memory, without its exit handlers:
-//! OpenBLAS's worker threads may then be retrying a buffer's allocation without end, and its exit
-//! handler waits for them (the process would never end).
-[[noreturn]] void end_out_of_memory(int code);
+//! Ends the process with `code`, C stdio flushed, without its exit handlers: where the address
+//! space is short (below about 350 MB), the worker thread of Debian 12's OpenBLAS (0.3.21) retries
+//! its buffer's allocation without end from its start, and OpenBLAS's exit handler waits for it,
+//! so that even `ricci-flow --version` would never end. The outputs are written or removed by then.
+[[noreturn]] void end_process(int code);
 
 }  // namespace ricci::cli

@@ -4,6 +4,7 @@
 // into flags and the dicts returned here into result objects.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <string>
@@ -203,10 +204,8 @@ std::string run_file(const std::vector<std::string>& args) {
 int run_command_line(const std::vector<std::string>& args) {
   const std::vector<const char*> argv = argv_of(args);
   nb::gil_scoped_release released;
-  bool out_of_memory = false;
-  const int code =
-      cli::run_command_line(static_cast<int>(argv.size()), argv.data(), &out_of_memory);
-  if (out_of_memory) cli::end_out_of_memory(code);
+  const int code = cli::run_command_line(static_cast<int>(argv.size()), argv.data());
+  std::fflush(nullptr);  // the caller may end the process without C's exit handlers
   return code;
 }
 
@@ -294,8 +293,7 @@ NB_MODULE(_ricci_flow, m) {
   });
   m.def("run_command_line", &run_command_line, nb::arg("args"),
         "Runs the ricci-flow command with args (args[0] the program's name); returns its exit "
-        "code. Where the run ran out of memory, ends the process with that code (the console "
-        "script's use).");
+        "code, C's stdio flushed.");
   m.def("run_file", &run_file, nb::arg("args"),
         "Runs the ricci-flow command on one file (args as for run_command_line); returns \"\" when "
         "it wrote its result, else its error message. Usage errors raise ValueError.");

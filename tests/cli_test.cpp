@@ -392,20 +392,28 @@ TEST(Cli, PoincareDiskLayoutsAreSplitOrChartedUntilNoFaceTurns) {
 
 #ifndef RICCI_SANITIZED  // the sanitizers reserve more address space than the limit below
 TEST(Cli, OutOfMemorySaysSoAndEnds) {
-  // An address space of 90 MB, of which the program and its libraries take about 60: OpenFOAM's
-  // motorbike (10.7 MB of OBJ, 331,653 faces) needs far more. Before, the message was
-  // "std::bad_alloc" and the process did not end: OpenBLAS's worker thread retried its buffer's
-  // allocation without end, and its exit handler waited for it. (A file could also be read cut
-  // short where memory ran out: pymeshfix's bunny as a 100k-face OBJ, at 70 MB, failed with "a
-  // vertex needs three coordinates" on a line the file has whole.)
-  const std::string out = temp("oom.ply"), err = temp("oom.err");
+  // An address space of 90 MB, of which the program and its libraries take about 55, and
+  // OpenBLAS's one worker thread (OPENBLAS_NUM_THREADS=2: the caller's and one more, whatever the
+  // cores; with a stack of 8 MB) about 9 more: too little for that worker's buffer, which it then
+  // asks for without end, and OpenBLAS's exit handler waits for it. Before, the process never
+  // ended: not even `--version`. OpenFOAM's motorbike (10.7 MB of OBJ, 331,653 faces) needs far
+  // more; its message was "std::bad_alloc". (A file could also be read cut short where memory ran
+  // out: pymeshfix's bunny as a 100k-face OBJ, at 70 MB, failed with "a vertex needs three
+  // coordinates" on a line the file has whole.)
+  const std::string limited =
+      "ulimit -v 90000; ulimit -s 8192; OPENBLAS_NUM_THREADS=2 timeout 120 " +
+      std::string(RICCI_CLI_PATH) + " ";
+  const std::string out = temp("oom.ply"), err = temp("oom.err"), said = temp("oom.out");
   std::remove(out.c_str());
+  const int version = std::system(("(" + limited + "--version) >" + said + " 2>" + err).c_str());
+  ASSERT_TRUE(WIFEXITED(version)) << version;
+  EXPECT_EQ(WEXITSTATUS(version), 0) << slurp(err);  // timeout's 124: the process did not end
+  EXPECT_EQ(slurp(said), "ricci-flow 0.1.0\n");
   const std::string motorbike = std::string(RICCI_REAL_MESH_DIR) + "/openfoam-motorbike.obj";
-  const int status = std::system(("(ulimit -v 90000; timeout 120 " + std::string(RICCI_CLI_PATH) +
-                                  " " + motorbike + " -o " + out + ") 2>" + err)
-                                     .c_str());
+  const int status =
+      std::system(("(" + limited + motorbike + " -o " + out + ") >" + said + " 2>" + err).c_str());
   ASSERT_TRUE(WIFEXITED(status)) << status;
-  EXPECT_EQ(WEXITSTATUS(status), 1) << slurp(err);  // timeout's 124: the process did not end
+  EXPECT_EQ(WEXITSTATUS(status), 1) << slurp(err);
   EXPECT_NE(slurp(err).find("ricci-flow: error: out of memory"), std::string::npos) << slurp(err);
   EXPECT_FALSE(std::ifstream(out).good());
 }

@@ -280,7 +280,7 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
         back_to_half(run.layout_failure);
       }
     } catch (const std::exception& e) {  // the half's converged flow stands
-      back_to_half(e.what());
+      back_to_half(failure_message(e));
     }
     if (!run.doubled) lay_out_flow(mesh, o, outer, run);
   } else {
