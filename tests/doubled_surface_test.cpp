@@ -12,12 +12,16 @@
 
 #include "layout_measures.h"
 #include "pipeline/doubled_surface.h"
+#include "pipeline/half_subdivision.h"
+#include "ricci/flow/flow_solver.h"
 #include "ricci/flow/presets.h"
 #include "ricci/flow/ricci_flow.h"
 #include "ricci/flow/scheme.h"
 #include "ricci/io/mesh_io.h"
 #include "ricci/pipeline/uniformize.h"
 #include "ricci/repair/repair.h"
+#include "ricci/subdivision/common_subdivision.h"
+#include "subdivision/input_overlay.h"
 #include "test_meshes.h"
 
 namespace ricci {
@@ -142,6 +146,48 @@ TEST(DoubledSurface, DisksThatStallAtTheBoundaryAreMappedOnTheDouble) {
     }
   }
   EXPECT_GE(doubled, 1);
+}
+
+// The disk's refits on the double measure each flow's boundary lengths through the overlay of its
+// flips, without the common subdivision: the same lengths as the half's subdivision measures, also
+// where the double's flips crossed boundary edges. On the disks of DRC-Hubo's hip hull (above),
+// flowed to the circles of their input boundary lengths.
+TEST(DoubledSurface, BoundaryLengthsThroughTheFlipsAreTheSubdivisions) {
+  const MeshFile file = read_mesh_file(RICCI_REAL_MESH_DIR "/dart-drchubo-lhr.stl");
+  const RepairedMesh repaired = repair_mesh(file.positions, file.triangles);
+  int crossed = 0, disks = 0;
+  for (const MeshComponent& component : repaired.components) {
+    const CompactMesh& half = component.mesh;
+    if (half.is_closed() || half.num_boundary_loops() != 1) continue;
+    ++disks;
+    const CompactMesh twice = CompactMesh::doubled(half);
+    const TargetCurvature target =
+        detail::doubled_target(half, twice, circle_boundary_target(half, half.input_lengths(), 0));
+    const ConformalStructure structure = prepare_flow(
+        twice, Geometry::Euclidean, test::scheme_options(Scheme::Yamabe, twice), target);
+    FlowOptions flow;
+    flow.edge_flips = EdgeFlips::Always;
+    RicciFlowSolver solver(twice, structure, flow);
+    const FlowResult r = solver.solve(target);
+    ASSERT_TRUE(r.converged) << r.failure;
+    const Triangulation& flowed = result_triangulation(twice, r);
+    const Layout frames = detail::face_by_face_layout(flowed, Geometry::Euclidean, r.edge_lengths);
+    const detail::HalfSubdivision measured = detail::half_subdivision(
+        half, common_subdivision(twice, structure, r, frames), flowed, frames);
+    const std::vector<double> lengths = detail::boundary_lengths_on_double(half, twice, r);
+    ASSERT_EQ(lengths.size(), measured.boundary_lengths.size());
+    for (int e = 0; e < half.num_edges(); ++e) {
+      EXPECT_NEAR(lengths[e], measured.boundary_lengths[e], 1e-12 * measured.boundary_lengths[e])
+          << "edge " << e;
+    }
+    // Boundary edges the final triangulation does not have: crossed by its edges.
+    detail::InputOverlay overlay(twice, true);
+    for (const EdgeFlip& f : r.flip_sequence) overlay.flip(f);
+    for (int e = 0; e < half.num_edges(); ++e)
+      crossed += half.is_boundary_edge(e) && overlay.first_crossing(e) >= 0;
+  }
+  EXPECT_GE(disks, 1);
+  EXPECT_GE(crossed, 1);
 }
 
 // Barrett WAM link 6 (dart-doc, BSD-2-clause): a CAD part of genus 1 with 35 boundary loops,

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -159,6 +160,33 @@ TEST(StallWindow, FlipsAreCalledForByStepsCutEverShorterOrBouncing) {
   EXPECT_EQ(first_call({-1.0 / 64, -1.0 / 128}), 1);
   // Steps the residual cut (Armijo), not the triangles.
   EXPECT_EQ(first_call({0.125, 0.0625, 0.03125, 1, 0.25, 1, 0.25, 1.0 / 128, 1.0 / 256}), -1);
+}
+
+// Where the flow on the double follows, steps cut short where a boundary triangle stayed invalid
+// after the trial points' Ptolemy flips stall the flow after 3 of them with the residual down by
+// less than a tenth: no flip of the surface mends that triangle. Without flips tried, 10.
+TEST(StallWindow, TrianglesAtTheBoundaryAfterFlipsStallSooner) {
+  const auto stalled_at = [](bool after_flips, double progress, bool double_next = true) {
+    detail::StallWindow window;
+    std::vector<double> residuals = {1};
+    for (int i = 0; i < 20; ++i) {
+      detail::LineSearch step;
+      step.alpha = 1.0 / 128;
+      step.blocked_by_validity = step.blocked_at_boundary = true;
+      step.blocked_at_boundary_after_flips = after_flips;
+      residuals.push_back(progress * residuals.back());
+      if (window.stalled(step, residuals, double_next)) return std::make_pair(i, window.window());
+    }
+    return std::make_pair(-1, 0);
+  };
+  EXPECT_EQ(stalled_at(true, 0.99), std::make_pair(2, detail::StallWindow::kLoopLength));
+  EXPECT_EQ(stalled_at(false, 0.99), std::make_pair(9, detail::StallWindow::kLength));
+  // Short steps that take a tenth off the residual over three go on, and are no stall where they
+  // halve it over ten.
+  EXPECT_EQ(stalled_at(true, 0.94), std::make_pair(9, detail::StallWindow::kLength));
+  EXPECT_EQ(stalled_at(true, 0.9).first, -1);
+  // Where nothing better follows the stall, 10 too.
+  EXPECT_EQ(stalled_at(true, 0.99, false), std::make_pair(9, detail::StallWindow::kLength));
 }
 
 TEST(RicciFlow, EverySchemeConvergesOnTorusInE2) {

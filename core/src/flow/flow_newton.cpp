@@ -156,7 +156,7 @@ std::string detail::FlowState::iterate(const TargetCurvature& target, int it) {
                            (flipping ? " for this mesh" : flips_help) + ", or try another scheme");
   }
   const std::vector<double>& history = result.residual_history;
-  if (stall.stalled(step, history)) {
+  if (stall.stalled(step, history, double_next)) {
     const int window = stall.window();
     s << "stalled at iteration " << it << ": for " << window
       << " iterations the step was cut below 1/64 to keep triangles from degenerating, and "

@@ -82,6 +82,10 @@ void RicciFlowSolver::defer_flips(bool defer) {
   state_->defer_flips = defer;
 }
 
+void RicciFlowSolver::double_next(bool next) {
+  state_->double_next = next;
+}
+
 void RicciFlowSolver::restart_with_flips(const std::string& why) {
   detail::FlowState& s = *state_;
   if (!s.flips_from_start) s.flipping_because = why;

@@ -50,6 +50,7 @@ struct FlowState {
   // falling 1.5 % per step.
   bool flip_trial_points = false;
   bool defer_flips = false;  // EdgeFlips::WhenNeeded: stop where flips would start
+  bool double_next = false;  // RicciFlowSolver::double_next
   // EdgeFlips::Always, or since restart_with_flips(), whose reason the next solve reports.
   bool flips_from_start;
   std::string flipping_because;

@@ -296,8 +296,10 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
     evaluate_trial_point(mesh, structure, s.u, flip_invalid, loops, s);
     if (!s.state.valid()) {
       s.blocked_by_validity = true;
-      s.blocked_at_boundary =
-          s.blocked_at_boundary || invalid_at_boundary(s.flipped ? *s.flipped : mesh, s.state);
+      const bool at_boundary = invalid_at_boundary(s.flipped ? *s.flipped : mesh, s.state);
+      s.blocked_at_boundary = s.blocked_at_boundary || at_boundary;
+      s.blocked_at_boundary_after_flips =
+          s.blocked_at_boundary_after_flips || (at_boundary && s.flipped);
       s.blocked_by_loop = s.blocked_by_loop || s.flips.loops_refused > 0;
       continue;
     }
@@ -318,18 +320,24 @@ LineSearch search_line(const IntrinsicTriangulation& mesh, const ConformalStruct
   return s;
 }
 
-bool StallWindow::stalled(const LineSearch& step, const std::vector<double>& residual_history) {
+bool StallWindow::stalled(const LineSearch& step, const std::vector<double>& residual_history,
+                          bool double_next) {
   short_steps_ = (step.blocked_by_validity && step.alpha <= kShortStep) ? short_steps_ + 1 : 0;
   loop_steps_ = (step.blocked_by_loop && step.alpha <= kShortStep) ? loop_steps_ + 1 : 0;
+  boundary_steps_ =
+      (step.blocked_at_boundary_after_flips && step.alpha <= kShortStep) ? boundary_steps_ + 1 : 0;
   recent_.push_back(step.blocked_by_validity ? -step.alpha : step.alpha);
   if (recent_.size() > 6) recent_.erase(recent_.begin());
   const size_t n = residual_history.size();
-  const auto little_progress = [&](int window) {
-    return residual_history[n - 1] > 0.5 * residual_history[n - static_cast<size_t>(window)];
+  const auto progress_below = [&](int window, double factor) {
+    return residual_history[n - 1] > factor * residual_history[n - static_cast<size_t>(window)];
   };
-  window_ = loop_steps_ >= kLoopLength && little_progress(kLoopLength) ? kLoopLength
-            : short_steps_ >= kLength && little_progress(kLength)      ? kLength
-                                                                       : 0;
+  const bool unmendable =
+      (loop_steps_ >= kLoopLength && progress_below(kLoopLength, 0.5)) ||
+      (double_next && boundary_steps_ >= kLoopLength && progress_below(kLoopLength, 0.9));
+  window_ = unmendable                                                ? kLoopLength
+            : short_steps_ >= kLength && progress_below(kLength, 0.5) ? kLength
+                                                                      : 0;
   return window_ > 0;
 }
 

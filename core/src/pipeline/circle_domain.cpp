@@ -53,11 +53,15 @@ BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop) {
 
 bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
                          const TargetCurvature& target, const UniformizationOptions& o,
-                         bool one_solve, Uniformization& run) {
+                         bool one_solve, const OnDouble& on_double, Uniformization& run) {
   const BoundaryRefit refit = refit_on_mesh(mesh, outer_loop);
   if (one_solve) {
+    // Where the double follows a stall at the boundary's triangles, the one solve stops sooner
+    // there (StallWindow); the repeated flows on the surface do not (they can go on past it).
     const auto one = [&] {
+      solver.double_next(on_double.follows);
       run.result = solver.solve_circle_domain(target, outer_loop);
+      solver.double_next(false);
       run.totals.add(run.result);
       if (run.result.converged) run.boundary_change = 0;  // the circles' target at the result
       return run.result.converged || run.result.stop == FlowStop::Cancelled;
@@ -82,10 +86,18 @@ bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int o
           "the one solve: " + one_failure + "; the repeated flows: " + run.result.failure;
       solver.restart_with_flips(why);
       if (one()) return true;
+      // Where a boundary triangle degenerates even with flips, the flow on the double, which
+      // flips boundary edges, before the repeated flows on the surface: those ran into such
+      // triangles too on FreeSurfer's flat patch of a hemisphere (2.5 s for nothing), but reach
+      // the circle domain of OpenFOAM's text annulus, whose double's flows do not settle.
+      if (on_double.flow && on_double.flow()) return false;
       solver.restart_with_flips(why);
     }
   }
   fit_boundary_to_circles(solver, mesh, refit, target, o, run);
+  if (!run.result.converged && !run.double_failure.empty()) {
+    run.result.failure += "; " + run.double_failure;
+  }
   return false;
 }
 

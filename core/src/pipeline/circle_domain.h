@@ -34,19 +34,28 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
                              const BoundaryRefit& refit, TargetCurvature target,
                              const UniformizationOptions& options, Uniformization& run);
 
+//! The flow on the surface's double (doubled_surface.h), as the disk preset calls on it: whether it
+//! follows a stall at the boundary's triangles, and the flow itself, true when its result is in
+//! the run (else run.double_failure says why not).
+struct OnDouble {
+  bool follows = false;
+  std::function<bool()> flow;
+};
+
 //! The disk preset on `mesh`: with one_solve (the Euclidean Yamabe flow only) one solve with the
 //! circle condition in the Jacobian (RicciFlowSolver::solve_circle_domain); where that does not
 //! converge (unless cancelled), or without one_solve, fit_boundary_to_circles from the input's
 //! metric. With EdgeFlips::WhenNeeded, where the one solve stops for flips
 //! (FlowStop::FlipsNeeded), the repeated flows run on the input's triangulation as without flips;
 //! where those fail too, the one solve (and, where that fails, the repeated flows) run with flips
-//! from the start, as with EdgeFlips::Always. A one solve that stops otherwise is followed by the
-//! repeated flows, which flip when needed.
-//! Fills run as fit_boundary_to_circles does (the totals count every flow); true when the result
-//! kept is a one solve's.
+//! from the start, as with EdgeFlips::Always; where that one solve stalls at the boundary's
+//! triangles, on_double.flow before the repeated flows. A one solve that stops otherwise is
+//! followed by the repeated flows, which flip when needed.
+//! Fills run as fit_boundary_to_circles does (the totals count every flow; the repeated flows'
+//! failure names the double's after it); true when the result kept is a one solve's.
 bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,
                          const TargetCurvature& target, const UniformizationOptions& options,
-                         bool one_solve, Uniformization& run);
+                         bool one_solve, const OnDouble& on_double, Uniformization& run);
 
 //! The refit of a flow on `mesh` itself: its boundary edges are edges of the final metric.
 BoundaryRefit refit_on_mesh(const CompactMesh& mesh, int outer_loop);

@@ -28,9 +28,16 @@
 
 namespace ricci::detail {
 
-//! Whether the flow of `run` may be repeated on the double: a Yamabe flow on a surface with
-//! boundary laid out in the plane (E2) or the Poincare disk (H2), a curvature target at every
-//! vertex, flips allowed, stopped by triangles at the boundary.
+//! Whether a flow of `run` (its scheme, geometry and preset) that stalls at the boundary's
+//! triangles is repeated on the double: a Yamabe flow on a surface with boundary laid out in the
+//! plane (E2) or the Poincare disk (H2), a curvature target at every vertex (or the atlas), flips
+//! allowed.
+bool double_follows_boundary_stall(const CompactMesh& half, const UniformizationOptions& options,
+                                   const TargetCurvature& target, const Uniformization& run);
+
+//! Whether the flow of `run` is repeated on the double: double_follows_boundary_stall, its flow
+//! stopped by triangles at the boundary, and no flow on the double failed for it before
+//! (run.double_failure).
 bool may_flow_on_double(const CompactMesh& half, const UniformizationOptions& options,
                         const TargetCurvature& target, const Uniformization& run);
 
@@ -66,6 +73,15 @@ FlowResult half_result(const CompactMesh& half, const FlowResult& twice);
 //! the final metric's triangles but are not glued, which is all the common subdivision needs.
 Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
                            const std::vector<double>& lengths);
+
+//! The lengths of the half's boundary edges in the final metric of a converged flow on its double
+//! (0 at the other edges): each is an edge of the double's input and a geodesic of its final
+//! metric (the reflection's fixed set), straight through the final faces the overlay of the
+//! flips says it crosses, so the distance between its ends with those faces unfolded. What the
+//! half's common subdivision measures (HalfSubdivision::boundary_lengths) without making it; empty
+//! where the crossed faces do not unfold as such a strip.
+std::vector<double> boundary_lengths_on_double(const CompactMesh& half, const CompactMesh& twice,
+                                               const FlowResult& result);
 
 //! The flow of `run` repeated on the double (the disk preset's flows included), and its result
 //! put in `run` for the half: result, totals (the half's own flow counted too), the subdivision

@@ -236,7 +236,15 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
     flow.start_is_a_step = run.preset == TargetPreset::Atlas;
     RicciFlowSolver solver(mesh, run.structure, flow, o.vertex_order);
     if (run.preset == TargetPreset::UnitDisk) {
-      by_one_solve = detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, run);
+      detail::OnDouble on_double;
+      on_double.follows = detail::double_follows_boundary_stall(mesh, o, target, run);
+      on_double.flow = [&] {
+        if (!detail::may_flow_on_double(mesh, o, target, run)) return false;
+        run.double_failure = detail::flow_on_double(mesh, o, outer, target, run);
+        return run.double_failure.empty();
+      };
+      by_one_solve =
+          detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, on_double, run);
     } else {
       const std::optional<Eigen::VectorXd> start =
           run.preset == TargetPreset::Atlas

@@ -62,6 +62,10 @@ class RicciFlowSolver {
   //! has a start.)
   void defer_flips(bool defer);
 
+  //! The caller flows on the surface's double where a solve stalls at its boundary's triangles
+  //! (doubled_surface.h): a solve then stops after fewer steps blocked there (StallWindow).
+  void double_next(bool next);
+
   //! Back to the input triangulation, the input structure and u0 (with flips on from the start
   //! after restart_with_flips()).
   void restart();

@@ -237,8 +237,9 @@ struct Uniformization {
   bool doubled = false;
   //! With `doubled`: why the flow on the surface itself stopped, or how its class differed.
   std::string doubled_because;
-  //! Where the surface's class was not its double's but the double gave no result, why not (the
-  //! surface's own result is delivered); "" otherwise.
+  //! Where the double was flowed but gave no result, why not: the surface's class was not its
+  //! double's, or the disk's one solve stalled at the boundary's triangles (the surface's own
+  //! result is delivered, where it has one); "" otherwise.
   std::string double_failure;
   //! Why the common subdivision could not be built, or "".
   std::string subdivision_failure;
