@@ -229,10 +229,9 @@ inline constexpr double kShortStep = 1.0 / 64;
 //! As few, where the caller flows on the double next (doubled_surface.h), where the Ptolemy flips
 //! left a boundary triangle invalid, which no flip of the surface mends, and the residual fell by
 //! less than a tenth over them: the unit disk's one solve on FreeSurfer's flat patch of a
-//! hemisphere (18,654 faces) ran 25 more iterations of up to 0.3 s each on the surface before
-//! (docs/benchmarks.md#the-disk-target). Not for flows that nothing better follows: in the
-//! repeated flows of CGAL's ALSTOM_TEST4.off, whose circle domain they reach on the surface, a flow
-//! so stopped left one component on the free boundary.
+//! hemisphere (18,654 faces) ran 34 iterations (2.3 s) where it now stops at 9
+//! (docs/benchmarks.md#disks-whose-boundary-triangles-degenerate). Only there, where the flow that
+//! follows flips the boundary's edges; for other flows it is not measured.
 class StallWindow {
  public:
   static constexpr int kLength = 10;

@@ -69,13 +69,18 @@ bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int o
     // Flips when needed: first everything the input's triangulation allows (the one solve, then
     // the repeated flows, as without flips), then the one solve with flips from the start (as
     // with them always). A one solve that stops for flips lets the flows' fixed point, which
-    // keeps each boundary target fixed, try without.
+    // keeps each boundary target fixed, try without. Where a one solve with flips stalls at the
+    // boundary's triangles, the flow on the double, which flips boundary edges, comes before the
+    // repeated flows on the surface: those ran into such triangles too on FreeSurfer's flat patch
+    // of a hemisphere (2.5 s for nothing), but reach the circle domain of OpenFOAM's text annulus,
+    // whose double's flows do not settle.
     solver.defer_flips(true);
     const bool done = one();
     const bool flips_needed = run.result.stop == FlowStop::FlipsNeeded;
     const std::string one_failure = run.result.failure;
     solver.defer_flips(false);
     if (done) return true;
+    if (!flips_needed && on_double.flow && on_double.flow()) return false;  // flips from the start
     solver.restart();
     if (flips_needed) {
       solver.defer_flips(true);
@@ -86,10 +91,6 @@ bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int o
           "the one solve: " + one_failure + "; the repeated flows: " + run.result.failure;
       solver.restart_with_flips(why);
       if (one()) return true;
-      // Where a boundary triangle degenerates even with flips, the flow on the double, which
-      // flips boundary edges, before the repeated flows on the surface: those ran into such
-      // triangles too on FreeSurfer's flat patch of a hemisphere (2.5 s for nothing), but reach
-      // the circle domain of OpenFOAM's text annulus, whose double's flows do not settle.
       if (on_double.flow && on_double.flow()) return false;
       solver.restart_with_flips(why);
     }

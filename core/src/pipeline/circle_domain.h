@@ -35,8 +35,9 @@ void fit_boundary_to_circles(RicciFlowSolver& solver, const CompactMesh& mesh,
                              const UniformizationOptions& options, Uniformization& run);
 
 //! The flow on the surface's double (doubled_surface.h), as the disk preset calls on it: whether it
-//! follows a stall at the boundary's triangles, and the flow itself, true when its result is in
-//! the run (else run.double_failure says why not).
+//! follows a stall at the boundary's triangles, and the flow itself where the run's last flow
+//! stalled so: true when its result is in the run (false: not flowed, or run.double_failure says
+//! why it gave none).
 struct OnDouble {
   bool follows = false;
   std::function<bool()> flow;
@@ -48,9 +49,9 @@ struct OnDouble {
 //! metric. With EdgeFlips::WhenNeeded, where the one solve stops for flips
 //! (FlowStop::FlipsNeeded), the repeated flows run on the input's triangulation as without flips;
 //! where those fail too, the one solve (and, where that fails, the repeated flows) run with flips
-//! from the start, as with EdgeFlips::Always; where that one solve stalls at the boundary's
-//! triangles, on_double.flow before the repeated flows. A one solve that stops otherwise is
-//! followed by the repeated flows, which flip when needed.
+//! from the start, as with EdgeFlips::Always. Where a one solve with flips (either) stalls at the
+//! boundary's triangles, on_double.flow before the repeated flows. A one solve that stops
+//! otherwise is followed by the repeated flows, which flip when needed.
 //! Fills run as fit_boundary_to_circles does (the totals count every flow; the repeated flows'
 //! failure names the double's after it); true when the result kept is a one solve's.
 bool reach_circle_domain(RicciFlowSolver& solver, const CompactMesh& mesh, int outer_loop,

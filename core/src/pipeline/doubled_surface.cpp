@@ -227,6 +227,7 @@ std::vector<double> boundary_lengths_on_double(const CompactMesh& half, const Co
     // The face the edge leaves its first vertex into, drawn with that vertex at its corner.
     const Crossing& first = crossings[c];
     int face = t.edge_faces(first.edge)[first.forward ? 0 : 1];
+    if (face < 0) return {};
     int side = side_of(t, face, first.edge);
     if (side < 0 || t.face_vertex(face, side) != a) return {};
     std::array<Eigen::Vector2d, 3> p;
@@ -244,8 +245,9 @@ std::vector<double> boundary_lengths_on_double(const CompactMesh& half, const Co
         return {};
       }
       const int next = t.edge_faces(x.edge)[x.forward ? 1 : 0];
+      if (next < 0) return {};
       const int next_side = side_of(t, next, x.edge);
-      if (next < 0 || next_side < 0) return {};
+      if (next_side < 0) return {};
       p = unfold_across(t, lengths, next, next_side, p[(side + 1) % 3], p[(side + 2) % 3]);
       face = next;
       side = next_side;
@@ -256,6 +258,9 @@ std::vector<double> boundary_lengths_on_double(const CompactMesh& half, const Co
     }
     if (t.face_vertex(face, side) != b) return {};
     out[input] = (p[side] - start).norm();
+  }
+  for (int e = 0; e < half.num_edges(); ++e) {
+    if (half.is_boundary_edge(e) && !(out[e] > 0)) return {};  // neither an edge nor crossed
   }
   return out;
 }

@@ -223,7 +223,9 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
                       const TargetCurvature& target, bool one_solve, Uniformization& run) {
   bool by_one_solve = false;
   {
-    // Its factorizations are freed before the flow on the double and the layout, which need none.
+    // Its factorizations are freed before the layout, which needs none, and before the flow on the
+    // double but where the disk's one solve stalled at the boundary's triangles (the surface's
+    // repeated flows may follow that one).
     // The atlas's flat cone metric in the canonical class from the start (the input flipped
     // isometrically to its intrinsic Delaunay triangulation first, as CEPS does), not only once
     // the flow needs flips: on faces that are not Delaunay the input class's map is farther from
@@ -240,8 +242,16 @@ bool flow_and_lay_out(const CompactMesh& mesh, const UniformizationOptions& o, i
       on_double.follows = detail::double_follows_boundary_stall(mesh, o, target, run);
       on_double.flow = [&] {
         if (!detail::may_flow_on_double(mesh, o, target, run)) return false;
+        const FlowTotals before = run.totals;
         run.double_failure = detail::flow_on_double(mesh, o, outer, target, run);
-        return run.double_failure.empty();
+        if (run.double_failure.empty()) return true;
+        // The double's cost counts, not its flips or convergence floor: its result is not
+        // delivered (as back_to_half below).
+        run.totals.edge_flips = before.edge_flips;
+        run.totals.flips_from_iteration = before.flips_from_iteration;
+        run.totals.without_flips = before.without_flips;
+        run.totals.attainable_residual = before.attainable_residual;
+        return false;
       };
       by_one_solve =
           detail::reach_circle_domain(solver, mesh, outer, target, o, one_solve, on_double, run);

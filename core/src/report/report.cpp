@@ -176,8 +176,12 @@ std::vector<std::string> summary_lines(const CompactMesh& mesh, const Uniformiza
         "the surface itself the flow ",
         run.doubled_because);
   }
-  if (!run.double_failure.empty()) {
-    line("Its class is not its double's (the canonical one), whose flow gave no map: ",
+  // (Where the surface's flows failed too, their failure names the double's already.)
+  if (!run.double_failure.empty() && run.result.converged) {
+    line(run.preset == TargetPreset::UnitDisk
+             ? "The surface doubled along its boundary, flowed first where the one solve stalled "
+               "at the boundary's triangles, gave no map: "
+             : "Its class is not its double's (the canonical one), whose flow gave no map: ",
          run.double_failure);
   }
   if (run.preset == TargetPreset::UnitDisk) {

@@ -62,8 +62,9 @@ class RicciFlowSolver {
   //! has a start.)
   void defer_flips(bool defer);
 
-  //! The caller flows on the surface's double where a solve stalls at its boundary's triangles
-  //! (doubled_surface.h): a solve then stops after fewer steps blocked there (StallWindow).
+  //! The caller flows on the surface doubled along its boundary where a solve stalls at the
+  //! boundary's triangles (where every edge flips): a solve then stops after 3 short steps blocked
+  //! there with the residual down by less than a tenth, not 10.
   void double_next(bool next);
 
   //! Back to the input triangulation, the input structure and u0 (with flips on from the start
