@@ -373,9 +373,9 @@ std::string usage() {
        "of\n"
        "prescribed curvature conformal to the input mesh, and its layout: in the plane (UV), in\n"
        "the Poincare disk, or on the unit sphere.\n\n"
-       "  INPUT                    mesh: .off .obj .ply .stl (polygons are split into triangles\n"
-       "                           as fans from their first corner); several components and\n"
-       "                           dirty meshes are fine (see --strict)\n";
+       "  INPUT                    mesh: .off .obj .ply .stl .gii (GIFTI surfaces; polygons are\n"
+       "                           split into triangles as fans from their first corner); several\n"
+       "                           components and dirty meshes are fine (see --strict)\n";
   const Options defaults;
   for (const Flag& f : flags()) {
     std::string head;

@@ -298,7 +298,7 @@ NB_MODULE(_ricci_flow, m) {
         "Runs the ricci-flow command on one file (args as for run_command_line); returns \"\" when "
         "it wrote its result, else its error message. Usage errors raise ValueError.");
   m.def("read_mesh", &read_mesh_arrays, nb::arg("path"),
-        "Vertices (n, 3) and triangles (m, 3) of a mesh file (.off .obj .ply .stl), polygons "
+        "Vertices (n, 3) and triangles (m, 3) of a mesh file (.off .obj .ply .stl .gii), polygons "
         "split as fans from their first corner.");
   m.def("uniformize", &uniformize_arrays, nb::arg("vertices"), nb::arg("faces"), nb::arg("flags"),
         "The uniformization of arrays with the command line tool's flags.");

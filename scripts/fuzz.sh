@@ -15,7 +15,7 @@ export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1
 
 # --- seeds: a square (two triangles, or one quad) and a tetrahedron in every format
 seeds="$build/seeds"
-rm -rf "$seeds" && mkdir -p "$seeds"/{off,obj,ply,stl}
+rm -rf "$seeds" && mkdir -p "$seeds"/{off,obj,ply,stl,gii}
 printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n' >"$seeds/off/square.off"
 printf 'OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n' >"$seeds/off/quad.off"
 printf 'COFF\n# tetrahedron\n4 4 6\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n0 0 1 1 1 1 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n' \
@@ -48,12 +48,29 @@ for f in faces:
     text += "".join("   vertex %g %g %g\n" % square[v] for v in f)
     text += "  endloop\n endfacet\n"
 open("%s/stl/square-ascii.stl" % seeds, "w").write(text + "endsolid square\n")
+import base64, zlib
+def gifti(encoding, points, triangles):
+    head = ('<DataArray Intent="NIFTI_INTENT_%s" DataType="NIFTI_TYPE_%s" ArrayIndexingOrder='
+            '"RowMajorOrder" Dimensionality="2" Dim0="%d" Dim1="3" Encoding="%s" Endian='
+            '"LittleEndian">')
+    body = ""
+    for intent, kind, rows, fmt in (("POINTSET", "FLOAT32", points, "<3f"),
+                                    ("TRIANGLE", "INT32", triangles, "<3i")):
+        if encoding == "ASCII":
+            data = " ".join("%g" % x for row in rows for x in row)
+        else:
+            raw = b"".join(struct.pack(fmt, *row) for row in rows)
+            data = base64.b64encode(zlib.compress(raw) if encoding.startswith("GZip") else raw).decode()
+        body += head % (intent, kind, len(rows), encoding) + "<Data>" + data + "</Data></DataArray>"
+    return '<?xml version="1.0"?><GIFTI Version="1.0">' + body + "</GIFTI>\n"
+for encoding in ("ASCII", "Base64Binary", "GZipBase64Binary"):
+    open("%s/gii/square-%s.gii" % (seeds, encoding), "w").write(gifti(encoding, square, faces))
 PY
-mkdir -p "$seeds/all" && cp "$seeds"/{off,obj,ply,stl}/* "$seeds/all/"
+mkdir -p "$seeds/all" && cp "$seeds"/{off,obj,ply,stl,gii}/* "$seeds/all/"
 
 # --- the regression inputs, each through every target that reads it
 regressions="$root/tests/fuzz/regressions"
-for format in off obj ply stl; do
+for format in off obj ply stl gii; do
   inputs=("$regressions"/*."$format")
   [ -e "${inputs[0]}" ] || continue
   echo "fuzz: fuzz_read_$format on ${#inputs[@]} regression inputs"
@@ -66,7 +83,7 @@ echo "fuzz: fuzz_read_and_repair on every regression input"
 
 # --- each target for SECONDS, from its corpus (kept in build/fuzz between runs) and the seeds
 cd "$build"
-for target in off obj ply stl all; do
+for target in off obj ply stl gii all; do
   name=fuzz_read_$target
   [ "$target" = all ] && name=fuzz_read_and_repair
   corpus="$build/corpus/$name"

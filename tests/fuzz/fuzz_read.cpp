@@ -1,4 +1,4 @@
-// libFuzzer target: reading one format (RICCI_FUZZ_FORMAT: off, obj, ply or stl) on arbitrary
+// libFuzzer target: reading one format (RICCI_FUZZ_FORMAT: off, obj, ply, stl or gii) on arbitrary
 // bytes, as read_mesh_file reads a file of that extension. A refusal (ricci::Error) is an answer;
 // a crash, a hang, a leak, undefined behaviour or memory past the limit is a finding.
 #include <cstddef>

@@ -152,6 +152,7 @@ std::string lowercase_extension(const std::string& path) {
 std::string sniff_format(std::string_view bytes) {
   const auto starts = [&](std::string_view s) { return bytes.substr(0, s.size()) == s; };
   if (io::is_ply_magic(bytes.substr(0, 3))) return "ply";
+  if (io::is_gifti(bytes)) return "gii";
   if (starts("solid") || starts("SOLID")) return "stl";
   if (bytes.substr(0, bytes.find('\n')).find("OFF") != std::string_view::npos) return "off";
   if (io::is_binary_stl(bytes)) return "stl";
@@ -192,11 +193,13 @@ namespace io {
 MeshFile read_mesh_bytes(const std::string& path, std::string_view bytes, std::string format) {
   std::string decoded;
   bytes = without_byte_order_mark(path, bytes, decoded);
-  if (format != "off" && format != "obj" && format != "ply" && format != "stl") {
+  if (format != "off" && format != "obj" && format != "ply" && format != "stl" && format != "gii") {
     format = sniff_format(bytes);
   }
   MeshFile mesh;
-  if (format == "off") {
+  if (format == "gii") {
+    mesh = read_gifti(path, bytes);
+  } else if (format == "off") {
     mesh = read_off(path, bytes);
   } else if (format == "obj") {
     mesh = read_obj(path, bytes);

@@ -74,6 +74,9 @@ MeshFile read_off(const std::string& path, std::string_view text);
 MeshFile read_obj(const std::string& path, std::string_view text);
 MeshFile read_stl(const std::string& path, std::string_view bytes);
 MeshFile read_ply(const std::string& path, std::string_view bytes);
+//! GIFTI (gifti_format.cpp): the first vertex and triangle arrays.
+bool is_gifti(std::string_view bytes);
+MeshFile read_gifti(const std::string& path, std::string_view bytes);
 
 //! The mesh a file's bytes hold, read as `format` ("off", "obj", "ply", "stl"; any other: by the
 //! first bytes) and its face indices checked against its vertices: read_mesh_file's reading, and

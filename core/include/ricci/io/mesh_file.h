@@ -11,7 +11,7 @@ namespace ricci {
 
 //! What a mesh file holds, as read: nothing is checked or repaired here.
 struct MeshFile {
-  std::string format;                         //!< "off", "obj", "ply", "stl"
+  std::string format;                         //!< "off", "obj", "ply", "stl", "gii"
   std::vector<Eigen::Vector3d> positions;     //!< in file order
   std::vector<std::array<int, 3>> triangles;  //!< polygons already split, in file order
   int polygons = 0;                           //!< faces with more than three corners, split
