@@ -25,7 +25,7 @@ meshlab_line=2025.07 # the MeshLab version the root must carry (its plugin check
 root_packages=(
   libgl1-mesa-dri fonts-dejavu-core
   g++ make cmake pkg-config qtbase5-dev libqt5opengl5-dev libglew-dev
-  libeigen3-dev libsuitesparse-dev ccache
+  libeigen3-dev libsuitesparse-dev zlib1g-dev ccache
 )
 
 as_root() {

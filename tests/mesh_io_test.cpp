@@ -215,72 +215,120 @@ std::string base64(const std::string& bytes) {
   return out;
 }
 
-std::string deflated(const std::string& bytes) {
-  uLongf size = compressBound(static_cast<uLong>(bytes.size()));
-  std::string out(size, '\0');
+// Deflated with a zlib header (as GIFTI writers do), or a gzip one (as gzip and nilearn's .gii.gz).
+std::string deflated(const std::string& bytes, bool gzip = false) {
+  z_stream z{};
   EXPECT_EQ(
-      compress(reinterpret_cast<Bytef*>(&out[0]), &size,
-               reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uLong>(bytes.size())),
+      deflateInit2(&z, Z_DEFAULT_COMPRESSION, Z_DEFLATED, gzip ? 31 : 15, 8, Z_DEFAULT_STRATEGY),
       Z_OK);
-  out.resize(size);
+  std::string out(deflateBound(&z, static_cast<uLong>(bytes.size())) + 32, '\0');
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+  z.avail_in = static_cast<uInt>(bytes.size());
+  z.next_out = reinterpret_cast<Bytef*>(&out[0]);
+  z.avail_out = static_cast<uInt>(out.size());
+  EXPECT_EQ(deflate(&z, Z_FINISH), Z_STREAM_END);
+  out.resize(z.total_out);
+  deflateEnd(&z);
   return out;
 }
 
-// The tetrahedron as GIFTI: its vertices and triangles as two DataArrays, with the given encoding
-// ("ASCII", "Base64Binary", "GZipBase64Binary"), byte order and index order, and a per-vertex
-// array (curvature, say) before them, which is no part of the surface.
-std::string tetrahedron_gifti(const std::string& encoding, bool big_endian, bool column_major) {
-  const double p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  const int t[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+struct GiftiWriting {
+  std::string encoding = "GZipBase64Binary";
+  bool big_endian = false, column_major = false;
+  bool doubles = false;  // FLOAT64 vertices and INT64 triangles (nibabel before 5.1 wrote int64)
+  bool gzip_header = false;
+};
+
+const double kTetrahedronPoints[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+const int kTetrahedronTriangles[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+
+// The tetrahedron as GIFTI: a per-vertex array (curvature, say) and an empty one first, which are
+// no part of the surface, then its vertices and triangles, as `w` says.
+std::string tetrahedron_gifti(const GiftiWriting& w) {
   std::string points, triangles;
   for (int k = 0; k < 12; ++k) {  // the k-th value in the file's order: row r, column c
-    const auto [r, c] = column_major ? std::make_pair(k % 4, k / 4) : std::make_pair(k / 3, k % 3);
-    if (encoding == "ASCII") {
-      points += std::to_string(p[r][c]) + " ";
-      triangles += std::to_string(t[r][c]) + " ";
+    const auto [r, c] =
+        w.column_major ? std::make_pair(k % 4, k / 4) : std::make_pair(k / 3, k % 3);
+    const double p = kTetrahedronPoints[r][c];
+    const int t = kTetrahedronTriangles[r][c];
+    if (w.encoding == "ASCII") {
+      points += std::to_string(p) + "\n";
+      triangles += std::to_string(t) + " ";
+    } else if (w.doubles) {
+      put(points, p, w.big_endian);
+      put(triangles, static_cast<std::int64_t>(t), w.big_endian);
     } else {
-      put(points, static_cast<float>(p[r][c]), big_endian);
-      put(triangles, static_cast<std::int32_t>(t[r][c]), big_endian);
+      put(points, static_cast<float>(p), w.big_endian);
+      put(triangles, static_cast<std::int32_t>(t), w.big_endian);
     }
   }
-  if (encoding == "GZipBase64Binary") points = deflated(points), triangles = deflated(triangles);
-  if (encoding != "ASCII") points = base64(points), triangles = base64(triangles);
-  const std::string common = std::string(" ArrayIndexingOrder=\"") +
-                             (column_major ? "ColumnMajorOrder" : "RowMajorOrder") +
-                             "\" Dimensionality=\"2\" Dim0=\"4\" Dim1=\"3\" Encoding=\"" +
-                             encoding + "\" Endian=\"" +
-                             (big_endian ? "BigEndian" : "LittleEndian") + "\"";
-  return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<GIFTI Version=\"1.0\" "
-         "NumberOfDataArrays=\"3\"><MetaData/>\n"
-         "<DataArray Intent=\"NIFTI_INTENT_SHAPE\" DataType=\"NIFTI_TYPE_FLOAT32\" "
-         "ArrayIndexingOrder=\"RowMajorOrder\" Dimensionality=\"1\" Dim0=\"4\" Encoding=\"ASCII\" "
-         "Endian=\"LittleEndian\"><Data>0.1 0.2 0.3 0.4</Data></DataArray>\n"
-         "<DataArray Intent=\"NIFTI_INTENT_POINTSET\" DataType=\"NIFTI_TYPE_FLOAT32\"" +
-         common + "><MetaData/><CoordinateSystemTransformMatrix/><Data>" + points +
+  if (w.encoding == "GZipBase64Binary") {
+    points = deflated(points, w.gzip_header), triangles = deflated(triangles, w.gzip_header);
+  }
+  if (w.encoding != "ASCII") {
+    points = base64(points), triangles = base64(triangles);
+    points.insert(points.size() / 2, "\n  ");  // writers wrap their base64 lines
+  }
+  const std::string common = std::string(" ArrayIndexingOrder='") +
+                             (w.column_major ? "ColumnMajorOrder" : "RowMajorOrder") +
+                             "'\n  Dimensionality = \"2\" Dim0=\"4\" Dim1=\"3\" Encoding=\"" +
+                             w.encoding + "\" Endian=\"" +
+                             (w.big_endian ? "BigEndian" : "LittleEndian") + "\"";
+  return std::string(
+             "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<GIFTI Version=\"1.0\" "
+             "NumberOfDataArrays=\"4\"><MetaData/>\n"
+             "<DataArray Intent=\"NIFTI_INTENT_SHAPE\" DataType=\"NIFTI_TYPE_FLOAT32\" "
+             "ArrayIndexingOrder=\"RowMajorOrder\" Dimensionality=\"1\" Dim0=\"4\" "
+             "Encoding=\"ASCII\" "
+             "Endian=\"LittleEndian\"><Data>0.1 0.2 0.3 0.4</Data></DataArray>\n"
+             "<DataArray Intent=\"NIFTI_INTENT_NONE\" DataType=\"NIFTI_TYPE_FLOAT32\" "
+             "Dimensionality=\"1\" Dim0=\"0\" Encoding=\"ASCII\"><Data /></DataArray>\n"
+             "<DataArray Intent=\"NIFTI_INTENT_POINTSET\" DataType=\"NIFTI_TYPE_") +
+         (w.doubles ? "FLOAT64" : "FLOAT32") + "\"" + common +
+         "><MetaData/><CoordinateSystemTransformMatrix/><Data>" + points +
          "</Data></DataArray>\n<DataArray Intent=\"NIFTI_INTENT_TRIANGLE\" "
-         "DataType=\"NIFTI_TYPE_INT32\"" +
-         common + "><Data>" + triangles + "</Data></DataArray>\n</GIFTI>\n";
+         "DataType=\"NIFTI_TYPE_" +
+         (w.doubles ? "INT64" : "INT32") + "\"" + common + "><Data>" + triangles +
+         "</Data></DataArray>\n</GIFTI>\n";
+}
+
+void expect_tetrahedron_file(const MeshFile& file) {
+  EXPECT_EQ(file.format, "gii");
+  ASSERT_EQ(file.positions.size(), 4u);
+  ASSERT_EQ(file.triangles.size(), 4u);
+  for (int r = 0; r < 4; ++r) {
+    EXPECT_EQ(file.positions[r], Eigen::Vector3d(kTetrahedronPoints[r][0], kTetrahedronPoints[r][1],
+                                                 kTetrahedronPoints[r][2]));
+    EXPECT_EQ(file.triangles[r],
+              (std::array<int, 3>{kTetrahedronTriangles[r][0], kTetrahedronTriangles[r][1],
+                                  kTetrahedronTriangles[r][2]}));
+  }
 }
 
 // GIFTI surfaces, every encoding, byte order and index order the standard allows in a file of
-// its own, and read without their extension too; files that are no surface are refused by name.
+// its own, 32- and 64-bit types, a zlib or gzip header, the file itself gzipped, and read without
+// their extension too; files that are no surface are refused by name.
 TEST(MeshIo, GiftiInEveryEncoding) {
+  std::vector<GiftiWriting> writings;
   for (const char* encoding : {"ASCII", "Base64Binary", "GZipBase64Binary"}) {
     for (const bool big_endian : {false, true}) {
       for (const bool column_major : {false, true}) {
-        const std::string bytes = tetrahedron_gifti(encoding, big_endian, column_major);
-        const std::string name = std::string("tet-") + encoding + (big_endian ? "-big" : "") +
-                                 (column_major ? "-columns" : "") + ".surf.gii";
-        SCOPED_TRACE(name);
-        const MeshFile file = read_mesh_file(write_file(name, bytes));
-        EXPECT_EQ(file.format, "gii");
-        ASSERT_EQ(file.triangles.size(), 4u);
-        EXPECT_EQ(file.triangles[0], (std::array<int, 3>{0, 2, 1}));
-        EXPECT_EQ(file.triangles[3], (std::array<int, 3>{0, 3, 2}));
-        expect_tetrahedron(read_mesh(write_file(name, bytes)));
-        expect_tetrahedron(read_mesh(write_file("tet-no-extension", bytes)));
+        writings.push_back({encoding, big_endian, column_major, false, false});
       }
     }
+  }
+  writings.push_back({"Base64Binary", true, true, true, false});
+  writings.push_back({"GZipBase64Binary", false, false, true, true});
+  for (const GiftiWriting& w : writings) {
+    const std::string bytes = tetrahedron_gifti(w);
+    const std::string name = "tet-" + w.encoding + (w.big_endian ? "-big" : "") +
+                             (w.column_major ? "-columns" : "") + (w.doubles ? "-64" : "") +
+                             (w.gzip_header ? "-gzip" : "") + ".surf.gii";
+    SCOPED_TRACE(name);
+    expect_tetrahedron_file(read_mesh_file(write_file(name, bytes)));
+    expect_tetrahedron(read_mesh(write_file(name, bytes)));
+    expect_tetrahedron_file(read_mesh_file(write_file("tet-no-extension", bytes)));
+    expect_tetrahedron_file(read_mesh_file(write_file(name + ".gz", deflated(bytes, true))));
   }
   const auto message = [](const std::string& bytes) {
     try {
@@ -290,27 +338,38 @@ TEST(MeshIo, GiftiInEveryEncoding) {
     }
     return std::string("no error");
   };
-  std::string shape_only = tetrahedron_gifti("ASCII", false, false);
+  GiftiWriting ascii;
+  ascii.encoding = "ASCII";
+  std::string shape_only = tetrahedron_gifti(ascii);
   shape_only = shape_only.substr(0, shape_only.find("<DataArray Intent=\"NIFTI_INTENT_POINTSET"));
   EXPECT_NE(message(shape_only + "</GIFTI>").find("no vertices"), std::string::npos);
-  std::string cut = tetrahedron_gifti("GZipBase64Binary", false, false);
+  std::string cut = tetrahedron_gifti({});
   const size_t data = cut.find("<Data>", cut.find("NIFTI_INTENT_TRIANGLE"));
   cut.erase(data + 6, 8);  // 6 bytes of the compressed stream
   EXPECT_NE(message(cut).find("does not inflate"), std::string::npos) << message(cut);
-  std::string external = tetrahedron_gifti("ASCII", false, false);
-  for (size_t at; (at = external.find("\"ASCII\"")) != std::string::npos;) {
-    external.replace(at, 7, "\"ExternalFileBinary\"");
-  }
-  EXPECT_NE(message(external).find("external files are not read"), std::string::npos);
+  // Data in an external file, as Connectome Workbench writes it: said so, not "no data".
+  std::string external = tetrahedron_gifti(ascii);
+  const size_t points = external.find("NIFTI_INTENT_POINTSET");
+  const size_t points_data = external.find("<Data>", points);
+  external.erase(points_data + 6, external.find("</Data>", points) - points_data - 6);
+  external.replace(external.find("\"ASCII\"", points), 7,
+                   "\"ExternalFileBinary\" ExternalFileName=\"lh.coord.dat\"");
+  EXPECT_NE(message(external).find("external file ('lh.coord.dat')"), std::string::npos)
+      << message(external);
   // Hostile counts and indices, refused before anything is allocated or cast.
-  std::string huge = tetrahedron_gifti("GZipBase64Binary", false, false);
+  std::string huge = tetrahedron_gifti({});
   huge.replace(huge.find("Dim0=\"4\"", huge.find("NIFTI_INTENT_POINTSET")), 8,
                "Dim0=\"2000000000\"");
-  EXPECT_NE(message(huge).find("values in"), std::string::npos) << message(huge);
-  std::string negative = tetrahedron_gifti("ASCII", false, false);
+  EXPECT_NE(message(huge).find("has 48 bytes for its 6000000000 values"), std::string::npos)
+      << message(huge);
+  std::string negative = tetrahedron_gifti(ascii);
   const size_t triangles = negative.find("<Data>", negative.find("NIFTI_INTENT_TRIANGLE")) + 6;
   negative.replace(triangles, 1, "-1");
   EXPECT_NE(message(negative).find("has the index -1"), std::string::npos) << message(negative);
+  // Arrays without an end: refused once, not searched for again at every DataArray.
+  std::string unended = "<GIFTI>";
+  for (int i = 0; i < 1000; ++i) unended += "<DataArray Intent=\"NIFTI_INTENT_POINTSET\"><Data>";
+  EXPECT_NE(message(unended).find("does not end"), std::string::npos) << message(unended);
 }
 
 // FreeSurfer's fsaverage5 left pial surface as nilearn ships it (meshes/real-meshes.tsv):

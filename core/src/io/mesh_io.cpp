@@ -191,6 +191,21 @@ std::string_view without_byte_order_mark(const std::string& path, std::string_vi
 namespace io {
 
 MeshFile read_mesh_bytes(const std::string& path, std::string_view bytes, std::string format) {
+  // A gzipped file (name.gii.gz, as nilearn ships its surfaces; any format): read as the file it
+  // holds, named by the extension before .gz, at most 1032 times its size (zlib's largest ratio).
+  std::string unzipped;
+  const bool known =
+      format == "off" || format == "obj" || format == "ply" || format == "stl" || format == "gii";
+  if (bytes.substr(0, 2) == "\x1f\x8b" && !known && !is_binary_stl(bytes)) {
+    const std::vector<unsigned char> in(bytes.begin(), bytes.end());
+    const std::vector<unsigned char> out = inflated(path, in, 1032 * in.size() + 64);
+    unzipped.assign(out.begin(), out.end());
+    bytes = unzipped;
+    const std::string inner = path.size() > 3 && lowercase_extension(path) == "gz"
+                                  ? lowercase_extension(path.substr(0, path.size() - 3))
+                                  : "";
+    format = inner == "gz" ? "" : inner;
+  }
   std::string decoded;
   bytes = without_byte_order_mark(path, bytes, decoded);
   if (format != "off" && format != "obj" && format != "ply" && format != "stl" && format != "gii") {

@@ -77,9 +77,15 @@ MeshFile read_ply(const std::string& path, std::string_view bytes);
 //! GIFTI (gifti_format.cpp): the first vertex and triangle arrays.
 bool is_gifti(std::string_view bytes);
 MeshFile read_gifti(const std::string& path, std::string_view bytes);
+//! A zlib or gzip stream inflated, grown as it yields and never past `most` bytes.
+//! \throws IoError where it does not inflate whole within that.
+std::vector<unsigned char> inflated(const std::string& path, const std::vector<unsigned char>& in,
+                                    size_t most);
 
-//! The mesh a file's bytes hold, read as `format` ("off", "obj", "ply", "stl"; any other: by the
-//! first bytes) and its face indices checked against its vertices: read_mesh_file's reading, and
+//! The mesh a file's bytes hold, read as `format` ("off", "obj", "ply", "stl", "gii"; any other: by
+//! the first bytes; gzipped bytes read with no such format are inflated first, the format then by
+//! the extension before `path`'s .gz) and its face indices checked against its vertices:
+//! read_mesh_file's reading, and
 //! what the fuzz targets (tests/fuzz/) run.
 //! \throws IoError naming `path` and what is wrong.
 MeshFile read_mesh_bytes(const std::string& path, std::string_view bytes, std::string format);
