@@ -1,6 +1,7 @@
 // Reading mesh files: OFF, OBJ, PLY (ASCII and binary), STL (ASCII and binary) and GIFTI surfaces,
-// each also gzipped (name.gii.gz), by readers of our own (no host application needed). Polygons are split into triangles as a fan from their
-// first corner; STL's separate triangle corners are merged where their coordinates are equal.
+// each also gzipped (name.gii.gz), by readers of our own (no host application needed). Polygons are
+// split into triangles as a fan from their first corner; STL's separate triangle corners are merged
+// where their coordinates are equal.
 #pragma once
 
 #include <array>
