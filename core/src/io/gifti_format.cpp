@@ -68,8 +68,8 @@ std::string_view data_text(const std::string& path, std::string_view body) {
   fail(path, "a DataArray without its Data");
 }
 
-std::vector<unsigned char> from_base64(const std::string& path, std::string_view text) {
-  std::vector<unsigned char> out;
+std::string from_base64(const std::string& path, std::string_view text) {
+  std::string out;
   out.reserve(text.size() / 4 * 3);
   unsigned buffer = 0;
   int bits = 0;
@@ -96,7 +96,7 @@ std::vector<unsigned char> from_base64(const std::string& path, std::string_view
     bits += 6;
     if (bits >= 8) {
       bits -= 8;
-      out.push_back(static_cast<unsigned char>((buffer >> bits) & 0xFF));
+      out.push_back(static_cast<char>((buffer >> bits) & 0xFF));
     }
   }
   return out;
@@ -114,7 +114,7 @@ size_t width_of(const std::string& type) {
 }
 
 // One value of `type` from its bytes in the file's byte order.
-double value_of(const std::string& type, const unsigned char* bytes, size_t width, bool swap) {
+double value_of(const std::string& type, const char* bytes, size_t width, bool swap) {
   unsigned char b[8];
   std::memcpy(b, bytes, width);
   if (swap) std::reverse(b, b + width);
@@ -175,19 +175,19 @@ DataArray read_array(const std::string& path, std::string_view tag, std::string_
       fail(path, "an ASCII data array of " + std::to_string(count) + " values in " +
                      std::to_string(data.size()) + " characters");
     }
+    const std::vector<std::string_view> words = tokens(data);
+    if (words.size() < count) {
+      fail(path, "an ASCII data array has " + std::to_string(words.size()) + " of its " +
+                     std::to_string(count) + " values");
+    }
     a.values.resize(count);
-    const std::string text(data);
-    const char* p = text.c_str();
     for (size_t i = 0; i < count; ++i) {
-      char* end = nullptr;
-      a.values[i] = std::strtod(p, &end);
-      if (end == p) {
-        fail(path, "an ASCII data array has fewer than its " + std::to_string(count) + " values");
+      if (!parse_number(words[i], a.values[i])) {
+        fail(path, "'" + std::string(words[i]) + "' in an ASCII data array is not a number");
       }
-      p = end;
     }
   } else {
-    std::vector<unsigned char> bytes = from_base64(path, data);
+    std::string bytes = from_base64(path, data);
     if (encoding == "GZipBase64Binary") bytes = inflated(path, bytes, count * width);
     if (bytes.size() != count * width) {
       fail(path, "a data array has " + std::to_string(bytes.size()) + " bytes for its " +
@@ -209,16 +209,15 @@ DataArray read_array(const std::string& path, std::string_view tag, std::string_
 
 }  // namespace
 
-std::vector<unsigned char> inflated(const std::string& path, const std::vector<unsigned char>& in,
-                                    size_t most) {
+std::string inflated(const std::string& path, std::string_view in, size_t most) {
   if (in.size() > std::numeric_limits<uInt>::max()) fail(path, "compressed data of 4 GB or more");
   z_stream z{};
   if (inflateInit2(&z, 15 + 32) != Z_OK) fail(path, "zlib could not start");  // zlib or gzip
-  z.next_in = const_cast<unsigned char*>(in.data());
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data()));
   z.avail_in = static_cast<uInt>(in.size());
   // Grown as the stream yields, never past `most`: a count in the file allocates nothing.
-  std::vector<unsigned char> out;
-  unsigned char chunk[65536];
+  std::string out;
+  Bytef chunk[65536];
   int status = Z_OK;
   while (status == Z_OK) {
     z.next_out = chunk;
@@ -229,7 +228,7 @@ std::vector<unsigned char> inflated(const std::string& path, const std::vector<u
       status = Z_BUF_ERROR;
       break;
     }
-    out.insert(out.end(), chunk, chunk + got);
+    out.append(reinterpret_cast<const char*>(chunk), got);
   }
   inflateEnd(&z);
   if (status != Z_STREAM_END) {

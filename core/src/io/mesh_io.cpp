@@ -93,19 +93,23 @@ void LineReader::fail(const std::string& what) const {
   throw IoError("read_mesh: '" + path_ + "', line " + std::to_string(line_) + ": " + what);
 }
 
-double LineReader::number(std::string_view token) const {
+bool parse_number(std::string_view token, double& x) {
   // The common case without a copy; strtod's wider syntax (a leading '+', hexadecimal) after.
-  double fast = 0;
-  const auto [end_fast, error] = std::from_chars(token.data(), token.data() + token.size(), fast);
+  const auto [end_fast, error] = std::from_chars(token.data(), token.data() + token.size(), x);
   if (error == std::errc() && end_fast == token.data() + token.size() && !token.empty()) {
-    return fast;
+    return true;
   }
   const std::string text(token);
   char* end = nullptr;
   errno = 0;
-  const double x = std::strtod(text.c_str(), &end);
+  x = std::strtod(text.c_str(), &end);
   // NaN and infinity are numbers here: the mesh checks name the vertices that have them.
-  if (text.empty() || *end != '\0') fail("'" + text + "' is not a number");
+  return !text.empty() && *end == '\0';
+}
+
+double LineReader::number(std::string_view token) const {
+  double x = 0;
+  if (!parse_number(token, x)) fail("'" + std::string(token) + "' is not a number");
   return x;
 }
 
@@ -197,9 +201,7 @@ MeshFile read_mesh_bytes(const std::string& path, std::string_view bytes, std::s
   const bool known =
       format == "off" || format == "obj" || format == "ply" || format == "stl" || format == "gii";
   if (bytes.substr(0, 2) == "\x1f\x8b" && !known && !is_binary_stl(bytes)) {
-    const std::vector<unsigned char> in(bytes.begin(), bytes.end());
-    const std::vector<unsigned char> out = inflated(path, in, 1032 * in.size() + 64);
-    unzipped.assign(out.begin(), out.end());
+    unzipped = inflated(path, bytes, 1032 * bytes.size() + 64);
     bytes = unzipped;
     const std::string inner = path.size() > 3 && lowercase_extension(path) == "gz"
                                   ? lowercase_extension(path.substr(0, path.size() - 3))

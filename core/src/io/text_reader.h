@@ -21,6 +21,10 @@ inline bool is_space(char c) {
   return c == ' ' || (c >= '\t' && c <= '\r');
 }
 
+//! A number as every reader takes one: std::from_chars, else strtod's wider syntax (a leading '+',
+//! hexadecimal); NaN and infinity included. False where `token` is none.
+bool parse_number(std::string_view token, double& x);
+
 //! Splits a line into whitespace-separated tokens.
 std::vector<std::string_view> tokens(std::string_view line);
 //! The same into `out`, reusing its storage.
@@ -79,8 +83,7 @@ bool is_gifti(std::string_view bytes);
 MeshFile read_gifti(const std::string& path, std::string_view bytes);
 //! A zlib or gzip stream inflated, grown as it yields and never past `most` bytes.
 //! \throws IoError where it does not inflate whole within that.
-std::vector<unsigned char> inflated(const std::string& path, const std::vector<unsigned char>& in,
-                                    size_t most);
+std::string inflated(const std::string& path, std::string_view in, size_t most);
 
 //! The mesh a file's bytes hold, read as `format` ("off", "obj", "ply", "stl", "gii"; any other: by
 //! the first bytes; gzipped bytes read with no such format are inflated first, the format then by

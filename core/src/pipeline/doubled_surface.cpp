@@ -175,8 +175,8 @@ Layout face_by_face_layout(const Triangulation& mesh, Geometry geometry,
 namespace {
 
 // The corners of face g when its side `side` is the side of an unfolded neighbour from `from` to
-// `to` (the neighbour's orientation: g runs that side from `to` to `from`): the apex from g's
-// lengths, left of to -> from.
+// `to` (the neighbour's orientation: g runs that side from `to` to `from`; for the strip's first
+// face, where to go from `to`): the apex from g's lengths, left of to -> from.
 std::array<Eigen::Vector2d, 3> unfold_across(const Triangulation& t,
                                              const std::vector<double>& lengths, int g, int side,
                                              const Eigen::Vector2d& from,
@@ -230,13 +230,8 @@ std::vector<double> boundary_lengths_on_double(const CompactMesh& half, const Co
     if (face < 0) return {};
     int side = side_of(t, face, first.edge);
     if (side < 0 || t.face_vertex(face, side) != a) return {};
-    std::array<Eigen::Vector2d, 3> p;
-    p[(side + 1) % 3] = Eigen::Vector2d::Zero();
-    p[(side + 2) % 3] = Eigen::Vector2d(lengths[first.edge], 0);
-    const auto [ax, ay] =
-        triangle_apex(lengths[first.edge], lengths[t.face_edge(face, (side + 2) % 3)],
-                      lengths[t.face_edge(face, (side + 1) % 3)]);
-    p[side] = Eigen::Vector2d(ax, ay);
+    std::array<Eigen::Vector2d, 3> p = unfold_across(
+        t, lengths, face, side, Eigen::Vector2d(lengths[first.edge], 0), Eigen::Vector2d::Zero());
     const Eigen::Vector2d start = p[side];
     // Across each crossed edge into the next face, to the one whose corner is the last vertex.
     for (; c >= 0; c = crossings[c].next) {
